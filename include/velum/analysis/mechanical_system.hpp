@@ -1,0 +1,63 @@
+// The model as a SecondOrderSystem: maps the equations to node displacements (fixed,
+// prescribed and symmetry DOFs eliminated), assembles internal forces and tangents, applies
+// loads with their time functions (follower pressure with its load stiffness, payload drag),
+// and adds Rayleigh damping C = α M + β K. Also the bookkeeping the output needs: reactions,
+// energies, current positions.
+#pragma once
+
+#include <memory>
+
+#include "velum/assembly/assembler.hpp"
+#include "velum/time/second_order_system.hpp"
+
+namespace velum {
+
+class MechanicalSystem final : public SecondOrderSystem {
+ public:
+  explicit MechanicalSystem(const Model& model);
+
+  int size() const override { return dofs_.num_equations(); }
+  void evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu, double cv,
+                double ca, VecX& r, SparseMatrix* J) override;
+  const VecX& lumped_mass() const override { return lumped_eq_; }
+  double force_scale() const override { return force_scale_; }
+  bool symmetric() const override { return symmetric_; }
+  std::string diagnose_singular(const SparseMatrix& J) const override;
+
+  const Model& model() const { return model_; }
+  const DofMap& dofs() const { return dofs_; }
+  const Assembler& assembler() const { return assembler_; }
+  const SparseMatrix& mass_matrix() const { return M_; }
+
+  /// Full nodal displacements (3 x nodes) for equation values u at time t (prescribed
+  /// motions included).
+  NodePositions displacements(double t, const VecX& u) const;
+  NodePositions velocities(const VecX& v) const;
+  /// External forces at time t for displacements u (full, global).
+  NodePositions external_forces(double t, const VecX& u, const VecX& v);
+  /// Reactions: internal minus external force at eliminated components (full, global; zero
+  /// at free components). Valid after evaluate() at the same state.
+  const NodePositions& last_internal() const { return Fint_; }
+  const NodePositions& last_external() const { return Fext_; }
+
+  double kinetic_energy(const VecX& v) const { return 0.5 * v.dot(M_ * v); }
+  double strain_energy(double t, const VecX& u) const;
+
+ private:
+  void apply_prescribed(double t, NodePositions& U) const;
+
+  const Model& model_;
+  DofMap dofs_;
+  Assembler assembler_;
+  SparseMatrix M_, K_, Kp_;
+  VecX lumped_nodes_, lumped_eq_;
+  std::vector<NodePositions> edge_forces_;
+  NodePositions gravity_unit_;  // per gravity load: forces for f(t) = 1, summed per load below
+  std::vector<NodePositions> gravity_forces_;
+  NodePositions U_, V_, x_, Fint_, Fext_;
+  VecX fred_, mv_;
+  double force_scale_ = 0;
+  bool symmetric_ = true;
+};
+
+}  // namespace velum

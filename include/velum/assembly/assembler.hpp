@@ -1,0 +1,55 @@
+// Parallel assembly of element contributions into global vectors and one sparse matrix
+// pattern (built once). Elements of a block are coloured so that no two elements of a colour
+// share a node: threads then write disjoint entries, without locks, and every entry receives
+// its contributions in the same order whatever the thread count (deterministic results).
+#pragma once
+
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "velum/assembly/dof_map.hpp"
+
+namespace velum {
+
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+class Assembler {
+ public:
+  Assembler(const Model& model, const DofMap& dofs);
+
+  /// A matrix over the equations with the full pattern and zero values.
+  SparseMatrix make_matrix() const { return pattern_; }
+  const SparseMatrix& pattern() const { return pattern_; }
+
+  /// Internal forces (full, global; overwritten) and, if K != null, the tangent (values
+  /// overwritten, pattern of make_matrix()).
+  void internal(const NodePositions& x, NodePositions& F, SparseMatrix* K) const;
+  /// Follower pressure load i of the model at pressure p: forces added to Fext; the load
+  /// stiffness subtracted from K when K != null (K then becomes unsymmetric).
+  void pressure(int i, double p, const NodePositions& x, NodePositions& Fext,
+                SparseMatrix* K) const;
+  /// Consistent mass (values overwritten) and lumped nodal masses (row sum; HRZ for tri6 and
+  /// quad8, whose row sums are not all positive), point masses included in both.
+  void mass(SparseMatrix& M, VecX& lumped) const;
+  /// Nodal forces of gravity g: consistent mass times g (point masses included).
+  NodePositions gravity_forces(const Vec3& g) const;
+
+  int num_colors(int block) const { return static_cast<int>(colors_[block].size()); }
+
+ private:
+  struct Colored {
+    std::vector<std::vector<int>> colors;  // element lists
+  };
+  template <class Compute>
+  void run(int block, const std::vector<std::vector<int>>& colors, const Compute& compute,
+           bool tangent, NodePositions& F, SparseMatrix* K, double sign) const;
+
+  const Model& model_;
+  const DofMap& dofs_;
+  SparseMatrix pattern_;
+  std::vector<std::vector<std::vector<int>>> colors_;          // per block
+  std::vector<std::vector<int>> scatter_;                      // per block: ne x dofs² positions
+  std::vector<std::vector<std::vector<int>>> pressure_colors_; // per pressure load
+};
+
+}  // namespace velum

@@ -1,0 +1,71 @@
+// Membrane element kernels (THEORY §4-5, 7), templated on the surface shape: set-up of the
+// integration-point data (convected-frame stiffness computed once, total Lagrangian),
+// internal force, consistent tangent (material + geometric), mass, and follower pressure with
+// its load stiffness. Kernels see node positions and point data only, never global storage;
+// they allocate nothing. Frames: node coordinates are global Cartesian; stresses in
+// MembranePoint are contravariant convected components.
+#pragma once
+
+#include <array>
+
+#include "velum/material/axes.hpp"
+#include "velum/shape/shapes.hpp"
+
+namespace velum {
+
+template <class Shape>
+struct MembranePoint {
+  typename Shape::Values N;   ///< shape function values
+  typename Shape::Derivs dN;  ///< dN/dξ (n x 2)
+  Mat3 D;                     ///< E^{αβγδ} in engineering Voigt, times t0 dA w (ready to use)
+  Vec3 G;                     ///< reference metric G11, G22, G12
+  Mat2 T;                     ///< T(a,α) = m_a · G^α: sheet axes in the convected frame
+  double t0dA;                ///< t0 · dA · w (reference volume weight)
+  double w;                   ///< Gauss weight in ξ (for the current-surface pressure)
+};
+
+template <class Shape>
+struct Membrane {
+  static constexpr int kN = Shape::kNodes;
+  static constexpr int kQ = Shape::kPoints;
+  static constexpr int kDofs = 3 * kN;
+  using Nodes = Eigen::Matrix<double, 3, kN>;      ///< node coordinates, one column per node
+  using Vector = Eigen::Matrix<double, kDofs, 1>;  ///< node-major: (x1, y1, z1, x2, ...)
+  using Matrix = Eigen::Matrix<double, kDofs, kDofs>;
+  using NodeMatrix = Eigen::Matrix<double, kN, kN>;
+  using Points = std::array<MembranePoint<Shape>, kQ>;
+
+  /// Reference tangent basis at ξ: columns G1, G2.
+  static Eigen::Matrix<double, 3, 2> basis(const Nodes& X, const std::array<double, 2>& xi);
+
+  /// Unit normal of the reference surface at the element centre (for material axes).
+  static Vec3 centre_normal(const Nodes& X);
+
+  /// Fills the integration points. Q: sheet stiffness in the sector axes (m1, m2), which are
+  /// projected onto the tangent plane at each point. Returns the smallest dA/dξ found, so the
+  /// caller can reject degenerate or inverted elements (<= 0).
+  static double setup(const Nodes& X, const Mat3& Q, const SheetAxes& axes, double t0,
+                      Points& pts);
+
+  /// Internal force r_N = t0 ∫ S^{αβ} ∂γ_αβ/∂x_N dA at current positions x.
+  static void force(const Points& pts, const Nodes& x, Vector& r);
+  /// Internal force and consistent tangent dr/dx.
+  static void force_tangent(const Points& pts, const Nodes& x, Vector& r, Matrix& K);
+  /// Strain energy t0 ∫ ½ S:E dA.
+  static double strain_energy(const Points& pts, const Nodes& x);
+  /// Consistent mass per unit density (scalar n x n, to be multiplied by ρ and I3).
+  static NodeMatrix mass(const Points& pts);
+
+  /// Green-Lagrange strain [γ11, γ22, 2γ12] and 2nd PK stress [S11, S22, S12] (contravariant
+  /// convected components) at point q, and the current basis g.
+  static void strain_stress(const MembranePoint<Shape>& p, const Nodes& x, Vec3& e, Vec3& S,
+                            Eigen::Matrix<double, 3, 2>& g);
+
+  /// Follower pressure p on the current surface: f_N = p ∫ H_N (g1 x g2) dξ.
+  static void pressure_force(const Points& pts, const Nodes& x, double p, Vector& f);
+  /// ... and its load stiffness df/dx (unsymmetric).
+  static void pressure_force_tangent(const Points& pts, const Nodes& x, double p, Vector& f,
+                                     Matrix& K);
+};
+
+}  // namespace velum

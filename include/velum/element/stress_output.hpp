@@ -1,0 +1,24 @@
+// Output quantities of a membrane point (THEORY §9): true (Cauchy) stress σ = (1/J) F S Fᵀ with
+// the thickness held (t = t0, so J is the area stretch), its principal values and 3-D
+// directions, its components in the deformed sheet axes, and the change of the angle between
+// the material directions F m1 and F m2.
+#pragma once
+
+#include "velum/math/types.hpp"
+
+namespace velum {
+
+struct MembraneStress {
+  double max = 0, min = 0;                          ///< principal true stresses, max >= min
+  Vec3 dir_max = Vec3::Zero(), dir_min = Vec3::Zero();  ///< unit principal directions
+  Vec3 sheet = Vec3::Zero();     ///< σ11, σ22, σ12 in the deformed sheet axes (F m1 and normal)
+  Mat3 sigma = Mat3::Zero();     ///< Cartesian true stress (in the tangent plane)
+  double fiber_angle_change = 0; ///< angle(F m1, F m2) − angle(m1, m2), radians
+};
+
+/// g: current tangent basis (g1, g2); S: contravariant 2nd PK [S11, S22, S12];
+/// Gmetric: reference metric [G11, G22, G12]; T(a,α) = m_a · G^α.
+MembraneStress membrane_stress(const Eigen::Matrix<double, 3, 2>& g, const Vec3& S,
+                               const Vec3& Gmetric, const Mat2& T);
+
+}  // namespace velum

@@ -1,0 +1,107 @@
+// A block of elements of one shape sharing one section (material, thickness or area, axes).
+// Virtual dispatch happens once per call on a block, never per element: each call computes
+// a list of elements and writes their fixed-size results, element after element, into
+// caller-provided buffers (the assembler scatters them; blocks never see global storage).
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "velum/material/axes.hpp"
+#include "velum/material/cable_law.hpp"
+#include "velum/material/plane_stress.hpp"
+#include "velum/element/stress_output.hpp"
+
+namespace velum {
+
+/// Current node positions, one column per node (3 x nodes), global Cartesian.
+using NodePositions = Eigen::Matrix<double, 3, Eigen::Dynamic>;
+
+enum class ElementKind { kMembrane, kCable };
+
+struct ElementOutput {
+  MembraneStress stress;  ///< membranes: at the element centre (mean of the points)
+  double cable_force = 0; ///< cables: true axial force, mean over the points
+};
+
+class ElementBlock {
+ public:
+  virtual ~ElementBlock() = default;
+
+  virtual std::string_view type_name() const = 0;  ///< tri3 ... quad9, cable2, cable3
+  virtual ElementKind kind() const = 0;
+  virtual int nodes_per_element() const = 0;
+  int dofs_per_element() const { return 3 * nodes_per_element(); }
+  int size() const { return static_cast<int>(connectivity_.size()) / nodes_per_element(); }
+  /// Node indices (0-based, into the model's node arrays) of element e.
+  std::span<const int> nodes(int e) const {
+    const int n = nodes_per_element();
+    return {connectivity_.data() + static_cast<size_t>(e) * n, static_cast<size_t>(n)};
+  }
+  const std::vector<int>& connectivity() const { return connectivity_; }
+  const std::string& set_name() const { return set_name_; }
+  double density() const { return density_; }
+
+  /// Internal forces (stride dofs) and, when K is non-null, tangents (stride dofs², column-major)
+  /// of the listed elements.
+  virtual void internal(std::span<const int> elements, const NodePositions& x, double* r,
+                        double* K) const = 0;
+  /// Follower pressure forces and (when K non-null) load stiffness df/dx; membranes only.
+  virtual void pressure(std::span<const int> elements, const NodePositions& x, double p,
+                        double* f, double* K) const = 0;
+  /// Consistent mass of element e including density (scalar nodes x nodes, column-major).
+  virtual void mass(int e, double* M) const = 0;
+  /// Reference measure (area for membranes, length for cables) of element e.
+  virtual double measure(int e) const = 0;
+  virtual double strain_energy(const NodePositions& x) const = 0;
+  virtual ElementOutput output(int e, const NodePositions& x) const = 0;
+  /// Natural coordinates of the reference point P inside element e, if it lies there
+  /// (membranes; used to locate history points). Returns false otherwise.
+  virtual bool locate(int e, const Vec3& P, std::array<double, 2>& xi) const = 0;
+  /// Output at natural coordinates xi of element e (membranes).
+  virtual MembraneStress output_at(int e, const std::array<double, 2>& xi,
+                                   const NodePositions& x) const = 0;
+
+ protected:
+  ElementBlock(std::string set_name, std::vector<int> connectivity, double density)
+      : set_name_(std::move(set_name)), connectivity_(std::move(connectivity)), density_(density) {}
+
+ private:
+  std::string set_name_;
+  std::vector<int> connectivity_;
+  double density_;
+};
+
+/// Diagnostics of a block's set-up: the worst element found, for validation messages.
+struct BlockSetupReport {
+  int worst_element = -1;   ///< element with the smallest Jacobian / length
+  double worst_jacobian = 0;
+  int poor_axes_element = -1;  ///< element where the projected m1 is shortest
+  double poor_axes_quality = 1;
+};
+
+/// Membrane block of shape `type` (tri3 tri6 quad4 quad8 quad9). `axes` are the sector axes,
+/// or null for the default (global x projected). Throws std::invalid_argument for an unknown
+/// type; `report` receives degenerate elements (the caller decides how to complain).
+std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::string set_name,
+                                                  std::vector<int> connectivity,
+                                                  const NodePositions& X,
+                                                  const PlaneStressLaw& law, double density,
+                                                  double thickness, const SheetAxes* axes,
+                                                  BlockSetupReport& report);
+
+/// Cable block (cable2, cable3).
+std::unique_ptr<ElementBlock> make_cable_block(std::string_view type, std::string set_name,
+                                               std::vector<int> connectivity,
+                                               const NodePositions& X, const CableLaw& law,
+                                               double density, double area,
+                                               BlockSetupReport& report);
+
+/// Number of nodes of an element type name, or 0 when unknown.
+int nodes_of_type(std::string_view type);
+bool is_membrane_type(std::string_view type);
+
+}  // namespace velum

@@ -1,0 +1,99 @@
+// The assembled description of a problem: nodes, element blocks, point masses, constraints,
+// loads, time functions and damping. Built by io/ from a model file or directly through this
+// API (tests, generators). Node and element indices are 0-based; the user's ids are kept for
+// messages and output. Units are the user's, consistent, never converted.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "velum/model/element_block.hpp"
+#include "velum/model/time_function.hpp"
+
+namespace velum {
+
+struct PointMass {
+  int node = -1;
+  double mass = 0;
+  double drag_rho = 0, drag_cd_area = 0;  ///< f = −½ ρ C_D A |v| v, off when zero
+};
+
+/// Components x, y, z of a node held at zero displacement.
+struct FixedDofs {
+  std::vector<int> nodes;
+  std::array<bool, 3> fix{false, false, false};
+};
+
+/// Nodes that stay on a plane through their reference position with unit normal `normal`.
+struct SymmetryPlane {
+  std::vector<int> nodes;
+  Vec3 normal = Vec3::UnitZ();
+};
+
+/// u(t) = displacement · f(t) on every node of the set (all three components prescribed).
+struct PrescribedMotion {
+  std::vector<int> nodes;
+  Vec3 displacement = Vec3::Zero();
+  int function = -1;  ///< index into Model::functions, -1: constant 1
+};
+
+struct PointLoad {
+  std::vector<int> nodes;
+  Vec3 force = Vec3::Zero();  ///< on each node of the set
+  int function = -1;
+};
+
+/// Force per reference length on the boundary edges of membranes whose nodes are all in the
+/// set; converted to consistent nodal forces by Model::finalize.
+struct EdgeLoad {
+  std::vector<int> nodes;
+  Vec3 force_per_length = Vec3::Zero();
+  int function = -1;
+};
+
+struct PressureLoad {
+  int block = -1;
+  std::vector<int> elements;  ///< indices into the block
+  double value = 0;
+  int function = -1;
+};
+
+struct GravityLoad {
+  Vec3 acceleration = Vec3::Zero();
+  int function = -1;
+};
+
+struct Model {
+  // Nodes
+  NodePositions X;                 ///< reference coordinates, 3 x nodes
+  std::vector<long> node_ids;      ///< user ids, same order
+  std::map<long, int> node_index;  ///< user id -> index
+
+  std::vector<std::unique_ptr<ElementBlock>> blocks;
+  std::vector<PointMass> masses;
+
+  std::vector<FixedDofs> fixed;
+  std::vector<SymmetryPlane> symmetry;
+  std::vector<PrescribedMotion> prescribed;
+
+  std::vector<PointLoad> point_loads;
+  std::vector<EdgeLoad> edge_loads;
+  std::vector<PressureLoad> pressures;
+  std::vector<GravityLoad> gravity;
+  std::vector<TimeFunction> functions;
+
+  double rayleigh_mass = 0, rayleigh_stiffness = 0;
+
+  int num_nodes() const { return static_cast<int>(X.cols()); }
+  int add_node(long id, const Vec3& x);  ///< throws std::invalid_argument on a duplicate id
+  double function_value(int f, double t) const { return f < 0 ? 1.0 : functions[f](t); }
+  int num_elements() const;
+};
+
+/// Nodal forces (3 x nodes) of an edge load at f(t) = 1: ∫ t H_N dS over boundary edges.
+NodePositions edge_load_forces(const Model& model, const EdgeLoad& load);
+
+}  // namespace velum

@@ -1,0 +1,54 @@
+// Sparse direct solvers behind one interface (analyse / factorise / solve, as in Eigen):
+// CHOLMOD (symmetric positive definite), UMFPACK and KLU (unsymmetric). The symbolic analysis
+// is kept while the sparsity pattern holds; a failed factorisation returns a status, never
+// throws, so a time step can be cut.
+#pragma once
+
+#include <Eigen/SparseCore>
+#include <memory>
+#include <string>
+#include <string_view>
+
+namespace velum {
+
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+enum class SolverKind { kAuto, kCholmod, kUmfpack, kKlu };
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  virtual std::string_view name() const = 0;
+  /// Symbolic analysis (ordering) of the pattern.
+  virtual bool analyze(const SparseMatrix& A) = 0;
+  /// Numeric factorisation; false when A is singular (or indefinite, for CHOLMOD).
+  virtual bool factorize(const SparseMatrix& A) = 0;
+  /// Solves A x = b with the last factorisation; false when the result is not finite.
+  virtual bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
+  /// Whether the solver needs a symmetric matrix.
+  virtual bool symmetric_only() const = 0;
+
+  /// Factorises A, analysing its pattern first only when the pattern changed (size or number
+  /// of non-zeros) since the last analysis.
+  bool refactorize(const SparseMatrix& A) {
+    if (A.rows() != rows_ || A.nonZeros() != nnz_) {
+      if (!analyze(A)) return false;
+      rows_ = A.rows();
+      nnz_ = A.nonZeros();
+      ++analyses_;
+    }
+    ++factorizations_;
+    return factorize(A);
+  }
+  long analyses() const { return analyses_; }
+  long factorizations() const { return factorizations_; }
+
+ private:
+  Eigen::Index rows_ = -1, nnz_ = -1;
+  long analyses_ = 0, factorizations_ = 0;
+};
+
+std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind);
+SolverKind solver_kind_from_name(std::string_view name);  ///< throws std::invalid_argument
+
+}  // namespace velum

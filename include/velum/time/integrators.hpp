@@ -1,0 +1,101 @@
+// Time integrators on a SecondOrderSystem: the generalized-α family (Newmark β-γ, HHT-α and
+// Chung-Hulbert generalized-α) with full Newton-Raphson, explicit central difference with a
+// lumped mass, and static load stepping. One step at a time; the step-size control lives in
+// run_time_loop (time_loop.hpp).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "velum/solve/linear_solver.hpp"
+#include "velum/time/second_order_system.hpp"
+
+namespace velum {
+
+struct State {
+  VecX u, v, a;  ///< over the system's equations
+};
+
+struct NewtonSettings {
+  double tolerance = 1e-8;      ///< relative, on the residual and on the increment
+  double abs_residual = 1e-12;  ///< absolute floor on the residual norm
+  int max_iterations = 25;
+};
+
+struct StepReport {
+  bool converged = false;
+  int iterations = 0;
+  std::vector<double> residuals;  ///< residual norm at each iteration (before its solve)
+  std::string reason;             ///< why it failed
+};
+
+class TimeIntegrator {
+ public:
+  virtual ~TimeIntegrator() = default;
+  virtual std::string name() const = 0;
+  virtual bool implicit() const { return true; }
+  /// Advances `s` from t to t + h in place; on failure `s` is left unchanged.
+  virtual StepReport step(SecondOrderSystem& sys, LinearSolver& solver, double t, double h,
+                          State& s) = 0;
+  /// Initial acceleration consistent with the equation of motion at t (implicit schemes).
+  virtual StepReport start(SecondOrderSystem& sys, LinearSolver& solver, double t, State& s);
+
+  NewtonSettings newton;
+};
+
+/// Generalized-α: M a(n+1−αm) + C v(n+1−αf) + f_int(u(n+1−αf)) = f_ext(t(n+1−αf)).
+class GeneralizedAlpha : public TimeIntegrator {
+ public:
+  GeneralizedAlpha(double alpha_m, double alpha_f, double beta, double gamma, std::string name);
+  /// Chung-Hulbert with high-frequency spectral radius rho_inf in [0, 1].
+  static std::unique_ptr<GeneralizedAlpha> chung_hulbert(double rho_inf);
+  /// HHT-α with α in [0, 1/3] (αf = α; β = (1+α)²/4, γ = ½ + α).
+  static std::unique_ptr<GeneralizedAlpha> hht(double alpha);
+  static std::unique_ptr<GeneralizedAlpha> newmark(double beta = 0.25, double gamma = 0.5);
+
+  std::string name() const override { return name_; }
+  StepReport step(SecondOrderSystem& sys, LinearSolver& solver, double t, double h,
+                  State& s) override;
+
+  double alpha_m, alpha_f, beta, gamma;
+
+ private:
+  std::string name_;
+  VecX un_, vn_, an_, r_, du_, uf_, vf_, am_;
+};
+
+/// Explicit central difference (velocity Verlet form) with the lumped mass.
+class CentralDifference : public TimeIntegrator {
+ public:
+  std::string name() const override { return "central-difference"; }
+  bool implicit() const override { return false; }
+  StepReport step(SecondOrderSystem& sys, LinearSolver& solver, double t, double h,
+                  State& s) override;
+  StepReport start(SecondOrderSystem& sys, LinearSolver& solver, double t, State& s) override;
+
+ private:
+  VecX r_, zero_;
+};
+
+/// Static equilibrium f_int(u) = f_ext(t) at each load level t (no mass, no damping).
+class StaticNewton : public TimeIntegrator {
+ public:
+  std::string name() const override { return "static"; }
+  StepReport step(SecondOrderSystem& sys, LinearSolver& solver, double t, double h,
+                  State& s) override;
+  StepReport start(SecondOrderSystem&, LinearSolver&, double, State&) override {
+    StepReport r;
+    r.converged = true;
+    return r;
+  }
+
+ private:
+  VecX r_, du_, zero_;
+};
+
+/// Largest stable step of central difference, 2/ω_max, with ω_max² estimated by power
+/// iteration on M_lumped⁻¹ K at state s (K from the Jacobian with cu = 1).
+double stable_time_step(SecondOrderSystem& sys, double t, const State& s);
+
+}  // namespace velum

@@ -1,0 +1,33 @@
+// The one interface through which time integrators meet the physics (as PETSc's TS and
+// MFEM's ImplicitSolve): the residual of M a + C v + f_int(u) − f_ext(t, u, v) = 0 and its
+// shifted Jacobian cu ∂r/∂u + cv ∂r/∂v + ca ∂r/∂a. Integrators never see elements.
+#pragma once
+
+#include <Eigen/SparseCore>
+#include <string>
+
+#include "velum/math/types.hpp"
+
+namespace velum {
+
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+class SecondOrderSystem {
+ public:
+  virtual ~SecondOrderSystem() = default;
+  virtual int size() const = 0;
+  /// Residual r (and, when J != null, the shifted Jacobian, pattern fixed) at time t.
+  virtual void evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu,
+                        double cv, double ca, VecX& r, SparseMatrix* J) = 0;
+  /// Lumped (diagonal) mass per equation, for explicit integration.
+  virtual const VecX& lumped_mass() const = 0;
+  /// A force scale of the last evaluation (norms of internal and external forces), against
+  /// which residuals are judged.
+  virtual double force_scale() const = 0;
+  /// Whether the Jacobian is symmetric (no follower-pressure stiffness, no drag).
+  virtual bool symmetric() const = 0;
+  /// Explains a singular Jacobian: which equations have no stiffness and what to do.
+  virtual std::string diagnose_singular(const SparseMatrix& J) const = 0;
+};
+
+}  // namespace velum

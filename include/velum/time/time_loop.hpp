@@ -1,0 +1,44 @@
+// Step-size control around a TimeIntegrator: marches from t0 to t_end, halving the step on a
+// failed step down to min_step, regrowing it after easy steps, landing exactly on output
+// times, and reporting each accepted step to an observer (which may stop the run).
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "velum/time/integrators.hpp"
+
+namespace velum {
+
+struct TimeLoopSettings {
+  double t0 = 0, t_end = 1;
+  double step = 1e-2;      ///< nominal (and largest) step
+  double min_step = 1e-8;  ///< below this a failed step ends the run
+  bool adaptive = true;
+  double output_interval = 0;  ///< > 0: steps land on multiples of it
+  int easy_iterations = 4;     ///< steps converged within this many iterations may regrow
+};
+
+struct AcceptedStep {
+  double t = 0, h = 0;
+  int step = 0;
+  int iterations = 0;
+  int total_iterations = 0;
+  bool output_time = false;  ///< t is on an output interval (or the end)
+  const StepReport* report = nullptr;
+};
+
+struct TimeLoopResult {
+  bool completed = false;
+  bool stopped = false;  ///< the observer asked to stop
+  double t = 0;
+  int steps = 0, iterations = 0, cutbacks = 0;
+  std::string reason;  ///< when not completed: where and why
+};
+
+/// Runs the loop; `observer` returns false to stop early.
+TimeLoopResult run_time_loop(SecondOrderSystem& sys, TimeIntegrator& integrator,
+                             LinearSolver& solver, const TimeLoopSettings& settings, State& s,
+                             const std::function<bool(const AcceptedStep&, const State&)>& observer);
+
+}  // namespace velum

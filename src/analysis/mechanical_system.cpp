@@ -1,0 +1,165 @@
+#include "velum/analysis/mechanical_system.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <cmath>
+
+namespace velum {
+
+MechanicalSystem::MechanicalSystem(const Model& model)
+    : model_(model), dofs_(model), assembler_(model, dofs_) {
+  M_ = assembler_.make_matrix();
+  K_ = assembler_.make_matrix();
+  assembler_.mass(M_, lumped_nodes_);
+  lumped_eq_.setZero(size());
+  for (int n = 0; n < model.num_nodes(); ++n)
+    for (int c = 0; c < 3; ++c)
+      if (dofs_.equation(n, c) >= 0) lumped_eq_[dofs_.equation(n, c)] = lumped_nodes_[n];
+  for (const auto& e : model.edge_loads) edge_forces_.push_back(edge_load_forces(model, e));
+  for (const auto& g : model.gravity) gravity_forces_.push_back(assembler_.gravity_forces(g.acceleration));
+  symmetric_ = model.pressures.empty();
+  for (const auto& m : model.masses)
+    if (m.drag_cd_area > 0 && m.drag_rho > 0) symmetric_ = false;
+  if (!model.pressures.empty()) Kp_ = assembler_.make_matrix();
+  U_.setZero(3, model.num_nodes());
+}
+
+void MechanicalSystem::apply_prescribed(double t, NodePositions& U) const {
+  for (const auto& p : model_.prescribed) {
+    const Vec3 d = p.displacement * model_.function_value(p.function, t);
+    for (int n : p.nodes) U.col(n) = d;
+  }
+}
+
+NodePositions MechanicalSystem::displacements(double t, const VecX& u) const {
+  NodePositions U = NodePositions::Zero(3, model_.num_nodes());
+  apply_prescribed(t, U);
+  dofs_.scatter(u, U);
+  return U;
+}
+
+NodePositions MechanicalSystem::velocities(const VecX& v) const {
+  NodePositions V = NodePositions::Zero(3, model_.num_nodes());
+  dofs_.scatter(v, V);
+  return V;
+}
+
+void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu,
+                                double cv, double ca, VecX& r, SparseMatrix* J) {
+  U_.setZero(3, model_.num_nodes());
+  apply_prescribed(t, U_);
+  dofs_.scatter(u, U_);
+  x_ = model_.X + U_;
+  const double beta = model_.rayleigh_stiffness, alpha = model_.rayleigh_mass;
+  const bool need_K = J != nullptr || beta != 0;
+  assembler_.internal(x_, Fint_, need_K ? &K_ : nullptr);
+
+  // External forces.
+  Fext_.setZero(3, model_.num_nodes());
+  for (const auto& pl : model_.point_loads) {
+    const Vec3 f = pl.force * model_.function_value(pl.function, t);
+    for (int n : pl.nodes) Fext_.col(n) += f;
+  }
+  for (size_t i = 0; i < edge_forces_.size(); ++i)
+    Fext_ += model_.function_value(model_.edge_loads[i].function, t) * edge_forces_[i];
+  for (size_t i = 0; i < gravity_forces_.size(); ++i)
+    Fext_ += model_.function_value(model_.gravity[i].function, t) * gravity_forces_[i];
+  if (!model_.pressures.empty()) {
+    if (J) std::fill(Kp_.valuePtr(), Kp_.valuePtr() + Kp_.nonZeros(), 0.0);
+    for (size_t i = 0; i < model_.pressures.size(); ++i) {
+      const auto& pl = model_.pressures[i];
+      const double p = pl.value * model_.function_value(pl.function, t);
+      if (p != 0) assembler_.pressure(static_cast<int>(i), p, x_, Fext_, J ? &Kp_ : nullptr);
+    }
+  }
+  // Payload drag f = −½ ρ C_D A |v| v on the node velocity.
+  NodePositions Vfull;
+  bool drag = false;
+  for (const auto& m : model_.masses) drag = drag || (m.drag_cd_area > 0 && m.drag_rho > 0);
+  if (drag) {
+    Vfull = velocities(v);
+    for (const auto& m : model_.masses) {
+      const double c = 0.5 * m.drag_rho * m.drag_cd_area;
+      if (c > 0) Fext_.col(m.node) -= c * Vfull.col(m.node).norm() * Vfull.col(m.node);
+    }
+  }
+
+  dofs_.gather(Fint_ - Fext_, r);
+  mv_ = M_ * a;
+  r += mv_;
+  if (alpha != 0) r += alpha * (M_ * v);
+  if (beta != 0) r += beta * (K_ * v);
+  force_scale_ = std::max({Fint_.norm(), Fext_.norm(), mv_.norm()});
+
+  if (!J) return;
+  // J = (cu + β cv) K + (α cv + ca) M − cu Kp + cv ∂(drag)/∂v
+  *J = K_;  // same pattern; values combined below
+  double* jv = J->valuePtr();
+  const double* kv = K_.valuePtr();
+  const double* mvv = M_.valuePtr();
+  const double ck = cu + beta * cv, cm = alpha * cv + ca;
+  const Eigen::Index nnz = J->nonZeros();
+  for (Eigen::Index i = 0; i < nnz; ++i) jv[i] = ck * kv[i] + cm * mvv[i];
+  if (!model_.pressures.empty()) {
+    const double* pv = Kp_.valuePtr();
+    for (Eigen::Index i = 0; i < nnz; ++i) jv[i] += cu * pv[i];  // Kp holds −df/dx
+  }
+  if (drag && cv != 0) {
+    for (const auto& m : model_.masses) {
+      const double c = 0.5 * m.drag_rho * m.drag_cd_area;
+      if (c <= 0) continue;
+      const Vec3 vn = Vfull.col(m.node);
+      const double s = vn.norm();
+      Mat3 D = c * s * Mat3::Identity();
+      if (s > 0) D += (c / s) * vn * vn.transpose();
+      // Rotate into the node frame if it has one, then add to the equations.
+      const int f = dofs_.frame(m.node);
+      if (f >= 0) D = dofs_.rotation(f) * D * dofs_.rotation(f).transpose();
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          const int a1 = dofs_.equation(m.node, i), a2 = dofs_.equation(m.node, j);
+          if (a1 >= 0 && a2 >= 0) J->coeffRef(a1, a2) += cv * D(i, j);
+        }
+    }
+  }
+}
+
+NodePositions MechanicalSystem::external_forces(double t, const VecX& u, const VecX& v) {
+  VecX r, zero = VecX::Zero(size());
+  evaluate(t, u, v, zero, 0, 0, 0, r, nullptr);
+  return Fext_;
+}
+
+double MechanicalSystem::strain_energy(double t, const VecX& u) const {
+  const NodePositions x = model_.X + displacements(t, u);
+  double U = 0;
+  for (const auto& b : model_.blocks) U += b->strain_energy(x);
+  return U;
+}
+
+std::string MechanicalSystem::diagnose_singular(const SparseMatrix& J) const {
+  // Equations whose diagonal is negligible carry no stiffness (nor mass) at all.
+  const VecX d = J.diagonal().cwiseAbs();
+  const double dmax = d.size() ? d.maxCoeff() : 0.0;
+  std::vector<std::string> bad;
+  int count = 0;
+  for (int n = 0; n < model_.num_nodes(); ++n)
+    for (int c = 0; c < 3; ++c) {
+      const int e = dofs_.equation(n, c);
+      if (e >= 0 && !(d[e] > 1e-13 * dmax)) {
+        if (++count <= 8) bad.push_back(fmt::format("node {} {}", model_.node_ids[n], "xyz"[c]));
+      }
+    }
+  if (count == 0)
+    return "the matrix is singular or not positive definite (a mechanism, a buckled or slack "
+           "region, or an unsymmetric matrix given to cholmod); try a dynamic analysis, "
+           "smaller steps or linear_solver: umfpack";
+  return fmt::format(
+      "{} unconstrained DOF(s) with no stiffness and no mass ({}{}). A flat, unstressed membrane "
+      "has no stiffness normal to its plane: give it mass and run a dynamic analysis, add "
+      "prestress, or constrain those DOFs",
+      count, fmt::join(bad, ", "), count > 8 ? ", ..." : "");
+}
+
+}  // namespace velum

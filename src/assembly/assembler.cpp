@@ -1,0 +1,219 @@
+#include "velum/assembly/assembler.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+
+namespace velum {
+namespace {
+
+constexpr int kChunk = 16;  // elements computed per kernel call
+
+// Greedy colouring: an element takes the smallest colour none of its nodes has seen.
+std::vector<std::vector<int>> color_elements(const ElementBlock& b, const std::vector<int>& elems,
+                                             int num_nodes) {
+  std::vector<std::vector<int>> node_colors(num_nodes);
+  std::vector<std::vector<int>> colors;
+  std::vector<char> used;
+  for (int e : elems) {
+    used.assign(colors.size() + 1, 0);
+    for (int n : b.nodes(e))
+      for (int c : node_colors[n]) used[c] = 1;
+    const int c = static_cast<int>(std::find(used.begin(), used.end(), 0) - used.begin());
+    if (c == static_cast<int>(colors.size())) colors.emplace_back();
+    colors[c].push_back(e);
+    for (int n : b.nodes(e)) node_colors[n].push_back(c);
+  }
+  return colors;
+}
+
+// Rotates the rows/cols of framed nodes into their local frames (in place).
+void to_local_frames(const DofMap& dofs, std::span<const int> nodes, double* r, double* K,
+                     int ndof) {
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const int f = dofs.frame(nodes[i]);
+    if (f < 0) continue;
+    const Mat3& R = dofs.rotation(f);
+    Eigen::Map<Vec3> ri(r + 3 * i);
+    ri = R * ri;
+    if (K) {
+      Eigen::Map<MatX> Km(K, ndof, ndof);
+      Km.middleRows(3 * i, 3) = R * Km.middleRows(3 * i, 3);
+      Km.middleCols(3 * i, 3) = Km.middleCols(3 * i, 3) * R.transpose();
+    }
+  }
+}
+
+}  // namespace
+
+Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), dofs_(dofs) {
+  const int neq = dofs.num_equations();
+  std::vector<Eigen::Triplet<double, int>> trip;
+  std::vector<int> eqs;
+  auto element_eqs = [&](const ElementBlock& b, int e) {
+    eqs.clear();
+    for (int n : b.nodes(e))
+      for (int c = 0; c < 3; ++c) eqs.push_back(dofs.equation(n, c));
+  };
+  for (const auto& b : model.blocks)
+    for (int e = 0; e < b->size(); ++e) {
+      element_eqs(*b, e);
+      for (int i : eqs)
+        for (int j : eqs)
+          if (i >= 0 && j >= 0) trip.emplace_back(i, j, 0.0);
+    }
+  // Point masses and drag couple a node's own components only (frames mix them).
+  for (const auto& m : model.masses)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const int a = dofs.equation(m.node, i), c = dofs.equation(m.node, j);
+        if (a >= 0 && c >= 0) trip.emplace_back(a, c, 0.0);
+      }
+  for (int i = 0; i < neq; ++i) trip.emplace_back(i, i, 0.0);  // a diagonal for every equation
+  pattern_.resize(neq, neq);
+  pattern_.setFromTriplets(trip.begin(), trip.end());
+  pattern_.makeCompressed();
+  trip.clear();
+  trip.shrink_to_fit();
+
+  const int* outer = pattern_.outerIndexPtr();
+  const int* inner = pattern_.innerIndexPtr();
+  auto position = [&](int row, int col) {
+    const int* lo = inner + outer[col];
+    const int* hi = inner + outer[col + 1];
+    return static_cast<int>(std::lower_bound(lo, hi, row) - inner);
+  };
+  for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
+    const auto& b = *model.blocks[bi];
+    const int nd = b.dofs_per_element();
+    std::vector<int> all(b.size());
+    for (int e = 0; e < b.size(); ++e) all[e] = e;
+    colors_.push_back(color_elements(b, all, model.num_nodes()));
+    std::vector<int> map(static_cast<size_t>(b.size()) * nd * nd);
+    for (int e = 0; e < b.size(); ++e) {
+      element_eqs(b, e);
+      int* m = map.data() + static_cast<size_t>(e) * nd * nd;
+      for (int j = 0; j < nd; ++j)
+        for (int i = 0; i < nd; ++i)
+          m[j * nd + i] = (eqs[i] >= 0 && eqs[j] >= 0) ? position(eqs[i], eqs[j]) : -1;
+    }
+    scatter_.push_back(std::move(map));
+  }
+  for (const auto& p : model.pressures)
+    pressure_colors_.push_back(color_elements(*model.blocks[p.block], p.elements, model.num_nodes()));
+}
+
+template <class Compute>
+void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const Compute& compute,
+                    bool tangent, NodePositions& F, SparseMatrix* K, double sign) const {
+  const auto& b = *model_.blocks[bi];
+  const int nd = b.dofs_per_element();
+  const int* map = scatter_[bi].data();
+  double* values = K ? K->valuePtr() : nullptr;
+  for (const auto& list : colors) {
+    const int nchunks = (static_cast<int>(list.size()) + kChunk - 1) / kChunk;
+#pragma omp parallel
+    {
+      // Per-thread buffers, allocated once per colour pass (not per element).
+      std::vector<double> r(static_cast<size_t>(kChunk) * nd);
+      std::vector<double> Ke(tangent ? static_cast<size_t>(kChunk) * nd * nd : 0);
+#pragma omp for schedule(static)
+      for (int c = 0; c < nchunks; ++c) {
+        const int first = c * kChunk;
+        const int count = std::min<int>(kChunk, static_cast<int>(list.size()) - first);
+        std::span<const int> elems(list.data() + first, count);
+        compute(elems, r.data(), tangent ? Ke.data() : nullptr);
+        for (int k = 0; k < count; ++k) {
+          const int e = elems[k];
+          const auto nodes = b.nodes(e);
+          double* re = r.data() + static_cast<size_t>(k) * nd;
+          for (size_t i = 0; i < nodes.size(); ++i)
+            for (int d = 0; d < 3; ++d) F(d, nodes[i]) += sign * re[3 * i + d];
+          if (!tangent) continue;
+          double* ke = Ke.data() + static_cast<size_t>(k) * nd * nd;
+          if (dofs_.has_frames()) to_local_frames(dofs_, nodes, re, ke, nd);
+          const int* m = map + static_cast<size_t>(e) * nd * nd;
+          for (int q = 0; q < nd * nd; ++q)
+            if (m[q] >= 0) values[m[q]] += sign * ke[q];
+        }
+      }
+    }
+  }
+}
+
+void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix* K) const {
+  F.setZero(3, model_.num_nodes());
+  if (K) std::fill(K->valuePtr(), K->valuePtr() + K->nonZeros(), 0.0);
+  for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
+    const auto& b = *model_.blocks[bi];
+    run(static_cast<int>(bi), colors_[bi],
+        [&](std::span<const int> elems, double* r, double* Ke) { b.internal(elems, x, r, Ke); },
+        K != nullptr, F, K, 1.0);
+  }
+}
+
+void Assembler::pressure(int i, double p, const NodePositions& x, NodePositions& Fext,
+                         SparseMatrix* K) const {
+  const auto& load = model_.pressures[i];
+  const auto& b = *model_.blocks[load.block];
+  // Load stiffness enters the residual r = f_int − f_ext with a minus sign.
+  NodePositions f = NodePositions::Zero(3, model_.num_nodes());
+  run(load.block, pressure_colors_[i],
+      [&](std::span<const int> elems, double* r, double* Ke) { b.pressure(elems, x, p, r, Ke); },
+      K != nullptr, f, K, -1.0);
+  Fext -= f;  // run() accumulated −f
+}
+
+void Assembler::mass(SparseMatrix& M, VecX& lumped) const {
+  std::fill(M.valuePtr(), M.valuePtr() + M.nonZeros(), 0.0);
+  lumped.setZero(model_.num_nodes());
+  double* values = M.valuePtr();
+  for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
+    const auto& b = *model_.blocks[bi];
+    const int nn = b.nodes_per_element(), nd = 3 * nn;
+    const bool hrz = b.type_name() == "tri6" || b.type_name() == "quad8";
+    MatX Me(nn, nn);
+    for (int e = 0; e < b.size(); ++e) {
+      b.mass(e, Me.data());
+      const auto nodes = b.nodes(e);
+      const int* m = scatter_[bi].data() + static_cast<size_t>(e) * nd * nd;
+      for (int j = 0; j < nn; ++j)
+        for (int i = 0; i < nn; ++i)
+          for (int d = 0; d < 3; ++d) {  // frames leave R I Rᵀ = I unchanged
+            const int q = m[(3 * j + d) * nd + 3 * i + d];
+            if (q >= 0) values[q] += Me(i, j);
+          }
+      const double total = Me.sum();
+      const double diag = Me.diagonal().sum();
+      for (int i = 0; i < nn; ++i)
+        lumped[nodes[i]] += hrz ? Me(i, i) * total / diag : Me.row(i).sum();
+    }
+  }
+  auto add_point = [&](int node, double value) {
+    for (int d = 0; d < 3; ++d) {
+      const int a = dofs_.equation(node, d);
+      if (a < 0) continue;
+      M.coeffRef(a, a) += value;
+    }
+    lumped[node] += value;
+  };
+  for (const auto& pm : model_.masses) add_point(pm.node, pm.mass);
+}
+
+NodePositions Assembler::gravity_forces(const Vec3& g) const {
+  NodePositions F = NodePositions::Zero(3, model_.num_nodes());
+  for (const auto& bp : model_.blocks) {
+    const auto& b = *bp;
+    const int nn = b.nodes_per_element();
+    MatX Me(nn, nn);
+    for (int e = 0; e < b.size(); ++e) {
+      b.mass(e, Me.data());
+      const auto nodes = b.nodes(e);
+      for (int i = 0; i < nn; ++i) F.col(nodes[i]) += Me.row(i).sum() * g;
+    }
+  }
+  for (const auto& pm : model_.masses) F.col(pm.node) += pm.mass * g;
+  return F;
+}
+
+}  // namespace velum

@@ -1,0 +1,76 @@
+#include "velum/assembly/dof_map.hpp"
+
+#include <cmath>
+
+namespace velum {
+
+DofMap::DofMap(const Model& model) {
+  const int nn = model.num_nodes();
+  std::vector<char> eliminated(3 * nn, 0);
+  frame_of_.assign(nn, -1);
+  for (const auto& f : model.fixed)
+    for (int n : f.nodes)
+      for (int c = 0; c < 3; ++c)
+        if (f.fix[c]) eliminated[3 * n + c] = 1;
+  for (const auto& p : model.prescribed)
+    for (int n : p.nodes) eliminated[3 * n] = eliminated[3 * n + 1] = eliminated[3 * n + 2] = 1;
+  for (const auto& s : model.symmetry) {
+    const Vec3 nrm = s.normal.normalized();
+    int axis = -1;
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(std::abs(nrm[c]) - 1.0) < 1e-12) axis = c;
+    for (int n : s.nodes) {
+      if (axis >= 0 && frame_of_[n] < 0) {
+        eliminated[3 * n + axis] = 1;
+        continue;
+      }
+      // Skew plane (or a second plane on a node that already has a frame): local frame with
+      // the normal as first axis. A node on two skew planes keeps only the line they share.
+      if (frame_of_[n] < 0) {
+        const Vec3 t1 = (std::abs(nrm.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(nrm).normalized();
+        Mat3 R;
+        R.row(0) = nrm;
+        R.row(1) = t1;
+        R.row(2) = nrm.cross(t1);
+        frame_of_[n] = static_cast<int>(frames_.size());
+        frames_.push_back(R);
+        eliminated[3 * n] = 1;
+      } else {
+        // Second plane on a framed node: rebuild the frame as (n1, n2', line direction).
+        Mat3& R = frames_[frame_of_[n]];
+        const Vec3 n1 = R.row(0);
+        const Vec3 dir = n1.cross(nrm);
+        if (dir.norm() < 1e-12) continue;  // same plane twice
+        const Vec3 d = dir.normalized();
+        R.row(1) = d.cross(n1);
+        R.row(2) = d;
+        eliminated[3 * n + 1] = 1;
+      }
+    }
+  }
+  eq_.assign(3 * nn, -1);
+  for (int i = 0; i < 3 * nn; ++i)
+    if (!eliminated[i]) eq_[i] = neq_++;
+}
+
+void DofMap::scatter(const VecX& reduced, NodePositions& full) const {
+  const int nn = num_nodes();
+  for (int n = 0; n < nn; ++n) {
+    Vec3 local = to_local(n, full.col(n));
+    for (int c = 0; c < 3; ++c)
+      if (eq_[3 * n + c] >= 0) local[c] = reduced[eq_[3 * n + c]];
+    full.col(n) = to_global(n, local);
+  }
+}
+
+void DofMap::gather(const NodePositions& full, VecX& reduced) const {
+  reduced.resize(neq_);
+  const int nn = num_nodes();
+  for (int n = 0; n < nn; ++n) {
+    const Vec3 local = to_local(n, full.col(n));
+    for (int c = 0; c < 3; ++c)
+      if (eq_[3 * n + c] >= 0) reduced[eq_[3 * n + c]] = local[c];
+  }
+}
+
+}  // namespace velum

@@ -1,0 +1,162 @@
+#include "velum/element/membrane.hpp"
+
+#include "velum/material/plane_stress.hpp"
+
+namespace velum {
+
+template <class Shape>
+Eigen::Matrix<double, 3, 2> Membrane<Shape>::basis(const Nodes& X, const std::array<double, 2>& xi) {
+  typename Shape::Values N;
+  typename Shape::Derivs dN;
+  Shape::eval(xi[0], xi[1], N, dN);
+  return X * dN;
+}
+
+template <class Shape>
+Vec3 Membrane<Shape>::centre_normal(const Nodes& X) {
+  const std::array<double, 2> c = Shape::kNodes <= 6 ? std::array<double, 2>{1.0 / 3, 1.0 / 3}
+                                                     : std::array<double, 2>{0.0, 0.0};
+  const auto G = basis(X, c);
+  return G.col(0).cross(G.col(1)).normalized();
+}
+
+template <class Shape>
+double Membrane<Shape>::setup(const Nodes& X, const Mat3& Q, const SheetAxes& axes, double t0,
+                              Points& pts) {
+  constexpr auto rule = Shape::rule();
+  double min_jac = std::numeric_limits<double>::infinity();
+  const Vec3 n_centre = centre_normal(X);
+  for (int q = 0; q < kQ; ++q) {
+    auto& p = pts[q];
+    Shape::eval(rule.xi[q][0], rule.xi[q][1], p.N, p.dN);
+    const Eigen::Matrix<double, 3, 2> G = X * p.dN;
+    const Mat2 Gcov = G.transpose() * G;
+    const Vec3 normal = G.col(0).cross(G.col(1));
+    // Signed area ratio: negative when the element folds over relative to its centre.
+    const double jac = normal.norm() * (normal.dot(n_centre) >= 0 ? 1.0 : -1.0);
+    min_jac = std::min(min_jac, jac);
+    const Mat2 Ginv = Gcov.inverse();
+    const Eigen::Matrix<double, 3, 2> Gcontra = G * Ginv;  // G^α = G^{αβ} G_β
+    // Axes projected onto this point's tangent plane keep the fibres in the surface.
+    const SheetAxes m = project_axes(axes, normal.normalized());
+    for (int a = 0; a < 2; ++a) {
+      const Vec3& ma = a == 0 ? m.m1 : m.m2;
+      for (int al = 0; al < 2; ++al) p.T(a, al) = ma.dot(Gcontra.col(al));
+    }
+    p.w = rule.w[q];
+    p.t0dA = t0 * std::abs(jac) * rule.w[q];
+    p.G = Vec3(Gcov(0, 0), Gcov(1, 1), Gcov(0, 1));
+    p.D = transform_stiffness(Q, p.T) * p.t0dA;
+  }
+  return min_jac;
+}
+
+template <class Shape>
+void Membrane<Shape>::strain_stress(const MembranePoint<Shape>& p, const Nodes& x, Vec3& e,
+                                    Vec3& S, Eigen::Matrix<double, 3, 2>& g) {
+  g.noalias() = x * p.dN;
+  e << 0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
+      g.col(0).dot(g.col(1)) - p.G[2];
+  S.noalias() = p.D * e / p.t0dA;
+}
+
+template <class Shape>
+void Membrane<Shape>::force(const Points& pts, const Nodes& x, Vector& r) {
+  Eigen::Matrix<double, 3, kN> rn = Eigen::Matrix<double, 3, kN>::Zero();
+  for (const auto& p : pts) {
+    const Eigen::Matrix<double, 3, 2> g = x * p.dN;
+    const Vec3 e(0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
+                 g.col(0).dot(g.col(1)) - p.G[2]);
+    const Vec3 S = p.D * e;  // already weighted by t0 dA w
+    Mat2 Sm;
+    Sm << S[0], S[2], S[2], S[1];
+    rn.noalias() += (g * Sm) * p.dN.transpose();
+  }
+  r = Eigen::Map<const Vector>(rn.data());
+}
+
+template <class Shape>
+void Membrane<Shape>::force_tangent(const Points& pts, const Nodes& x, Vector& r, Matrix& K) {
+  Eigen::Matrix<double, 3, kN> rn = Eigen::Matrix<double, 3, kN>::Zero();
+  K.setZero();
+  NodeMatrix Kg = NodeMatrix::Zero();
+  Eigen::Matrix<double, 3, kDofs> B;
+  for (const auto& p : pts) {
+    const Eigen::Matrix<double, 3, 2> g = x * p.dN;
+    const Vec3 e(0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
+                 g.col(0).dot(g.col(1)) - p.G[2]);
+    const Vec3 S = p.D * e;
+    Mat2 Sm;
+    Sm << S[0], S[2], S[2], S[1];
+    rn.noalias() += (g * Sm) * p.dN.transpose();
+    // B: rows d(γ11), d(γ22), d(2γ12) with respect to x_N.
+    for (int n = 0; n < kN; ++n) {
+      const double a = p.dN(n, 0), b = p.dN(n, 1);
+      B.template block<1, 3>(0, 3 * n) = a * g.col(0).transpose();
+      B.template block<1, 3>(1, 3 * n) = b * g.col(1).transpose();
+      B.template block<1, 3>(2, 3 * n) = a * g.col(1).transpose() + b * g.col(0).transpose();
+    }
+    const Eigen::Matrix<double, 3, kDofs> DB = p.D * B;
+    K.noalias() += B.transpose() * DB;
+    Kg.noalias() += p.dN * Sm * p.dN.transpose();
+  }
+  for (int m = 0; m < kN; ++m)
+    for (int n = 0; n < kN; ++n) K.template block<3, 3>(3 * m, 3 * n).diagonal().array() += Kg(m, n);
+  r = Eigen::Map<const Vector>(rn.data());
+}
+
+template <class Shape>
+double Membrane<Shape>::strain_energy(const Points& pts, const Nodes& x) {
+  double U = 0;
+  for (const auto& p : pts) {
+    const Eigen::Matrix<double, 3, 2> g = x * p.dN;
+    const Vec3 e(0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
+                 g.col(0).dot(g.col(1)) - p.G[2]);
+    U += 0.5 * e.dot(p.D * e);
+  }
+  return U;
+}
+
+template <class Shape>
+typename Membrane<Shape>::NodeMatrix Membrane<Shape>::mass(const Points& pts) {
+  NodeMatrix M = NodeMatrix::Zero();
+  for (const auto& p : pts) M.noalias() += p.t0dA * p.N * p.N.transpose();
+  return M;
+}
+
+template <class Shape>
+void Membrane<Shape>::pressure_force(const Points& pts, const Nodes& x, double pr, Vector& f) {
+  Eigen::Matrix<double, 3, kN> fn = Eigen::Matrix<double, 3, kN>::Zero();
+  for (const auto& p : pts) {
+    const Eigen::Matrix<double, 3, 2> g = x * p.dN;
+    fn.noalias() += (pr * p.w) * g.col(0).cross(g.col(1)) * p.N.transpose();
+  }
+  f = Eigen::Map<const Vector>(fn.data());
+}
+
+template <class Shape>
+void Membrane<Shape>::pressure_force_tangent(const Points& pts, const Nodes& x, double pr,
+                                             Vector& f, Matrix& K) {
+  Eigen::Matrix<double, 3, kN> fn = Eigen::Matrix<double, 3, kN>::Zero();
+  K.setZero();
+  for (const auto& p : pts) {
+    const Eigen::Matrix<double, 3, 2> g = x * p.dN;
+    const double s = pr * p.w;
+    fn.noalias() += s * g.col(0).cross(g.col(1)) * p.N.transpose();
+    const Mat3 A1 = cross_matrix(g.col(0)), A2 = cross_matrix(g.col(1));
+    // d(g1 x g2)/dx_N = H_N,2 [g1]x - H_N,1 [g2]x
+    for (int n = 0; n < kN; ++n) {
+      const Mat3 dn = s * (p.dN(n, 1) * A1 - p.dN(n, 0) * A2);
+      for (int m = 0; m < kN; ++m) K.template block<3, 3>(3 * m, 3 * n) += p.N[m] * dn;
+    }
+  }
+  f = Eigen::Map<const Vector>(fn.data());
+}
+
+template struct Membrane<shape::Tri3>;
+template struct Membrane<shape::Tri6>;
+template struct Membrane<shape::Quad4>;
+template struct Membrane<shape::Quad8>;
+template struct Membrane<shape::Quad9>;
+
+}  // namespace velum

@@ -1,0 +1,296 @@
+// Concrete element blocks: the fixed-size kernels of element/ behind the ElementBlock interface.
+#include <Eigen/Cholesky>
+#include <stdexcept>
+
+#include "velum/element/cable.hpp"
+#include "velum/element/membrane.hpp"
+#include "velum/model/element_block.hpp"
+
+namespace velum {
+namespace {
+
+template <int N>
+Eigen::Matrix<double, 3, N> gather(const NodePositions& x, std::span<const int> nodes) {
+  Eigen::Matrix<double, 3, N> out;
+  for (int i = 0; i < N; ++i) out.col(i) = x.col(nodes[i]);
+  return out;
+}
+
+template <class Shape>
+class MembraneBlock final : public ElementBlock {
+  using K = Membrane<Shape>;
+  static constexpr int kN = Shape::kNodes;
+
+ public:
+  MembraneBlock(std::string set, std::vector<int> conn, const NodePositions& X,
+                const PlaneStressLaw& law, double density, double t0, const SheetAxes* axes,
+                BlockSetupReport& report)
+      : ElementBlock(std::move(set), std::move(conn), density), t0_(t0) {
+    const int ne = size();
+    points_.resize(ne);
+    mass_.resize(ne);
+    for (int e = 0; e < ne; ++e) {
+      const auto Xe = gather<kN>(X, nodes(e));
+      const Vec3 n = K::centre_normal(Xe);
+      double quality = 1.0;
+      const SheetAxes a = axes ? project_axes(*axes, n, &quality) : default_axes(n);
+      if (quality < report.poor_axes_quality) {
+        report.poor_axes_quality = quality;
+        report.poor_axes_element = e;
+      }
+      // Axes given for the sector are projected per point inside setup; default axes are
+      // already in this element's plane.
+      const double jac = K::setup(Xe, law.Q(), axes ? *axes : a, t0, points_[e]);
+      if (e == 0 || jac < report.worst_jacobian) {
+        report.worst_jacobian = jac;
+        report.worst_element = e;
+      }
+      mass_[e] = density * K::mass(points_[e]);
+    }
+  }
+
+  std::string_view type_name() const override { return Shape::kName; }
+  ElementKind kind() const override { return ElementKind::kMembrane; }
+  int nodes_per_element() const override { return kN; }
+
+  void internal(std::span<const int> elements, const NodePositions& x, double* r,
+                double* Kout) const override {
+    typename K::Vector re;
+    for (size_t i = 0; i < elements.size(); ++i) {
+      const int e = elements[i];
+      const auto xe = gather<kN>(x, nodes(e));
+      if (Kout) {
+        K::force_tangent(points_[e], xe, re,
+                         *reinterpret_cast<typename K::Matrix*>(Kout + i * K::kDofs * K::kDofs));
+      } else {
+        K::force(points_[e], xe, re);
+      }
+      Eigen::Map<typename K::Vector>(r + i * K::kDofs) = re;
+    }
+  }
+
+  void pressure(std::span<const int> elements, const NodePositions& x, double p, double* f,
+                double* Kout) const override {
+    typename K::Vector fe;
+    for (size_t i = 0; i < elements.size(); ++i) {
+      const int e = elements[i];
+      const auto xe = gather<kN>(x, nodes(e));
+      if (Kout) {
+        K::pressure_force_tangent(
+            points_[e], xe, p, fe,
+            *reinterpret_cast<typename K::Matrix*>(Kout + i * K::kDofs * K::kDofs));
+      } else {
+        K::pressure_force(points_[e], xe, p, fe);
+      }
+      Eigen::Map<typename K::Vector>(f + i * K::kDofs) = fe;
+    }
+  }
+
+  void mass(int e, double* M) const override {
+    Eigen::Map<typename K::NodeMatrix> out(M);
+    out = mass_[e];
+  }
+  double measure(int e) const override {
+    double A = 0;
+    for (const auto& p : points_[e]) A += p.t0dA;
+    return A / t0_;
+  }
+
+  double strain_energy(const NodePositions& x) const override {
+    double U = 0;
+    for (int e = 0; e < size(); ++e) U += K::strain_energy(points_[e], gather<kN>(x, nodes(e)));
+    return U;
+  }
+
+  ElementOutput output(int e, const NodePositions& x) const override {
+    // Stresses at the element centre: evaluate at the centroid with the point data of the
+    // nearest rule point for the constitutive matrix (constant within a flat element).
+    const std::array<double, 2> c = kN <= 6 ? std::array<double, 2>{1.0 / 3, 1.0 / 3}
+                                            : std::array<double, 2>{0.0, 0.0};
+    ElementOutput out;
+    out.stress = output_at(e, c, x);
+    return out;
+  }
+
+  bool locate(int e, const Vec3& P, std::array<double, 2>& xi) const override {
+    // Closest point on the reference surface by Gauss-Newton from the element centre.
+    const auto Xe = Xref_cols(e);
+    Vec2 r = kN <= 6 ? Vec2(1.0 / 3, 1.0 / 3) : Vec2(0, 0);
+    typename Shape::Values N;
+    typename Shape::Derivs dN;
+    for (int it = 0; it < 20; ++it) {
+      Shape::eval(r[0], r[1], N, dN);
+      const Eigen::Matrix<double, 3, 2> G = Xe * dN;
+      const Vec3 d = P - Xe * N;
+      const Vec2 step = (G.transpose() * G).ldlt().solve(G.transpose() * d);
+      r += step;
+      if (step.norm() < 1e-13) break;
+    }
+    Shape::eval(r[0], r[1], N, dN);
+    const double h = (Xe.col(1) - Xe.col(0)).norm();
+    const double tol = 1e-9;
+    const bool inside = kN <= 6 ? (r[0] >= -tol && r[1] >= -tol && r[0] + r[1] <= 1 + tol)
+                                : (std::abs(r[0]) <= 1 + tol && std::abs(r[1]) <= 1 + tol);
+    if (!inside || (P - Xe * N).norm() > 1e-6 * h) return false;
+    xi = {r[0], r[1]};
+    return true;
+  }
+
+  MembraneStress output_at(int e, const std::array<double, 2>& xi,
+                           const NodePositions& x) const override {
+    // Reference data at xi: recompute from the nearest integration point's stiffness and the
+    // reference metric reconstructed from the reference positions cached at set-up.
+    typename Shape::Values N;
+    typename Shape::Derivs dN;
+    Shape::eval(xi[0], xi[1], N, dN);
+    const auto xe = gather<kN>(x, nodes(e));
+    const Eigen::Matrix<double, 3, 2> g = xe * dN;
+    // Nearest integration point supplies D/t0dA and T (exact for flat elements).
+    const auto rule = Shape::rule();
+    int best = 0;
+    double dbest = 1e300;
+    for (int q = 0; q < Shape::kPoints; ++q) {
+      const double d = std::pow(rule.xi[q][0] - xi[0], 2) + std::pow(rule.xi[q][1] - xi[1], 2);
+      if (d < dbest) dbest = d, best = q;
+    }
+    const auto& p = points_[e][best];
+    const Eigen::Matrix<double, 3, 2> G = Xref_cols(e) * dN;
+    const Mat2 Gcov = G.transpose() * G;
+    const Vec3 Gm(Gcov(0, 0), Gcov(1, 1), Gcov(0, 1));
+    const Vec3 strain(0.5 * (g.col(0).squaredNorm() - Gm[0]), 0.5 * (g.col(1).squaredNorm() - Gm[1]),
+                      g.col(0).dot(g.col(1)) - Gm[2]);
+    const Vec3 S = p.D * strain / p.t0dA;
+    return membrane_stress(g, S, Gm, p.T);
+  }
+
+  void set_reference(const NodePositions& X) { X_ = X; }
+
+ private:
+  Eigen::Matrix<double, 3, kN> Xref_cols(int e) const { return gather<kN>(X_, nodes(e)); }
+
+  double t0_;
+  std::vector<typename K::Points> points_;
+  std::vector<typename K::NodeMatrix> mass_;
+  NodePositions X_;
+};
+
+template <class Shape>
+class CableBlock final : public ElementBlock {
+  using K = Cable<Shape>;
+  static constexpr int kN = Shape::kNodes;
+
+ public:
+  CableBlock(std::string set, std::vector<int> conn, const NodePositions& X, const CableLaw& law,
+             double density, double area, BlockSetupReport& report)
+      : ElementBlock(std::move(set), std::move(conn), density), law_(law), area_(area) {
+    const int ne = size();
+    points_.resize(ne);
+    for (int e = 0; e < ne; ++e) {
+      const double len = K::setup(gather<kN>(X, nodes(e)), law.E, area, points_[e]);
+      if (e == 0 || len < report.worst_jacobian) {
+        report.worst_jacobian = len;
+        report.worst_element = e;
+      }
+    }
+  }
+
+  std::string_view type_name() const override { return Shape::kName; }
+  ElementKind kind() const override { return ElementKind::kCable; }
+  int nodes_per_element() const override { return kN; }
+
+  void internal(std::span<const int> elements, const NodePositions& x, double* r,
+                double* Kout) const override {
+    typename K::Vector re;
+    for (size_t i = 0; i < elements.size(); ++i) {
+      const int e = elements[i];
+      const auto xe = gather<kN>(x, nodes(e));
+      if (Kout) {
+        K::force_tangent(points_[e], law_, xe, re,
+                         *reinterpret_cast<typename K::Matrix*>(Kout + i * K::kDofs * K::kDofs));
+      } else {
+        K::force(points_[e], law_, xe, re);
+      }
+      Eigen::Map<typename K::Vector>(r + i * K::kDofs) = re;
+    }
+  }
+  void pressure(std::span<const int>, const NodePositions&, double, double*,
+                double*) const override {
+    throw std::logic_error("pressure on a cable block");
+  }
+  void mass(int e, double* M) const override {
+    Eigen::Map<typename K::NodeMatrix> out(M);
+    out = (density() * area_) * K::mass(points_[e]);
+  }
+  double measure(int e) const override { return K::length(points_[e]); }
+  double strain_energy(const NodePositions& x) const override {
+    double U = 0;
+    for (int e = 0; e < size(); ++e)
+      U += K::strain_energy(points_[e], law_, gather<kN>(x, nodes(e)));
+    return U;
+  }
+  ElementOutput output(int e, const NodePositions& x) const override {
+    ElementOutput out;
+    out.cable_force = K::true_force(points_[e], law_, gather<kN>(x, nodes(e)));
+    return out;
+  }
+  bool locate(int, const Vec3&, std::array<double, 2>&) const override { return false; }
+  MembraneStress output_at(int, const std::array<double, 2>&, const NodePositions&) const override {
+    return {};
+  }
+
+ private:
+  CableLaw law_;
+  double area_;
+  std::vector<typename K::Points> points_;
+};
+
+}  // namespace
+
+int nodes_of_type(std::string_view t) {
+  if (t == "tri3") return 3;
+  if (t == "tri6") return 6;
+  if (t == "quad4") return 4;
+  if (t == "quad8") return 8;
+  if (t == "quad9") return 9;
+  if (t == "cable2") return 2;
+  if (t == "cable3") return 3;
+  return 0;
+}
+
+bool is_membrane_type(std::string_view t) {
+  return t == "tri3" || t == "tri6" || t == "quad4" || t == "quad8" || t == "quad9";
+}
+
+std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::string set,
+                                                  std::vector<int> conn, const NodePositions& X,
+                                                  const PlaneStressLaw& law, double density,
+                                                  double t0, const SheetAxes* axes,
+                                                  BlockSetupReport& report) {
+  auto build = [&]<class S>(S) -> std::unique_ptr<ElementBlock> {
+    auto b = std::make_unique<MembraneBlock<S>>(std::move(set), std::move(conn), X, law, density,
+                                                t0, axes, report);
+    b->set_reference(X);
+    return b;
+  };
+  if (type == "tri3") return build(shape::Tri3{});
+  if (type == "tri6") return build(shape::Tri6{});
+  if (type == "quad4") return build(shape::Quad4{});
+  if (type == "quad8") return build(shape::Quad8{});
+  if (type == "quad9") return build(shape::Quad9{});
+  throw std::invalid_argument("unknown membrane element type '" + std::string(type) + "'");
+}
+
+std::unique_ptr<ElementBlock> make_cable_block(std::string_view type, std::string set,
+                                               std::vector<int> conn, const NodePositions& X,
+                                               const CableLaw& law, double density, double area,
+                                               BlockSetupReport& report) {
+  if (type == "cable2")
+    return std::make_unique<CableBlock<shape::Line2>>(std::move(set), std::move(conn), X, law,
+                                                      density, area, report);
+  if (type == "cable3")
+    return std::make_unique<CableBlock<shape::Line3>>(std::move(set), std::move(conn), X, law,
+                                                      density, area, report);
+  throw std::invalid_argument("unknown cable element type '" + std::string(type) + "'");
+}
+
+}  // namespace velum

@@ -1,0 +1,84 @@
+#include "velum/model/model.hpp"
+
+#include <stdexcept>
+#include <unordered_set>
+
+#include "velum/shape/shapes.hpp"
+
+namespace velum {
+
+int Model::add_node(long id, const Vec3& x) {
+  if (node_index.count(id)) throw std::invalid_argument("duplicate node id " + std::to_string(id));
+  const int i = num_nodes();
+  X.conservativeResize(3, i + 1);
+  X.col(i) = x;
+  node_ids.push_back(id);
+  node_index[id] = i;
+  return i;
+}
+
+int Model::num_elements() const {
+  int n = 0;
+  for (const auto& b : blocks) n += b->size();
+  return n;
+}
+
+namespace {
+// Local node lists of the edges of each membrane shape (2 or 3 nodes, ends first).
+std::vector<std::vector<int>> edges_of(std::string_view type) {
+  if (type == "tri3") return {{0, 1}, {1, 2}, {2, 0}};
+  if (type == "tri6") return {{0, 1, 3}, {1, 2, 4}, {2, 0, 5}};
+  if (type == "quad4") return {{0, 1}, {1, 2}, {2, 3}, {3, 0}};
+  return {{0, 1, 4}, {1, 2, 5}, {2, 3, 6}, {3, 0, 7}};  // quad8, quad9
+}
+
+template <class Line>
+void add_edge(const NodePositions& X, const std::vector<int>& nodes, const Vec3& t,
+              NodePositions& F) {
+  constexpr auto rule = Line::rule();
+  typename Line::Values N, dN;
+  for (int q = 0; q < Line::kPoints; ++q) {
+    Line::eval(rule.xi[q][0], N, dN);
+    Vec3 Xp = Vec3::Zero();
+    for (int i = 0; i < Line::kNodes; ++i) Xp += dN[i] * X.col(nodes[i]);
+    const double ds = Xp.norm() * rule.w[q];
+    for (int i = 0; i < Line::kNodes; ++i) F.col(nodes[i]) += N[i] * ds * t;
+  }
+}
+}  // namespace
+
+NodePositions edge_load_forces(const Model& model, const EdgeLoad& load) {
+  NodePositions F = NodePositions::Zero(3, model.num_nodes());
+  const std::unordered_set<int> in_set(load.nodes.begin(), load.nodes.end());
+  // Count every membrane edge by its sorted end nodes: boundary edges appear once.
+  std::map<std::pair<int, int>, int> count;
+  std::vector<std::vector<int>> candidates;
+  for (const auto& b : model.blocks) {
+    if (b->kind() != ElementKind::kMembrane) continue;
+    const auto edges = edges_of(b->type_name());
+    for (int e = 0; e < b->size(); ++e) {
+      const auto nodes = b->nodes(e);
+      for (const auto& ed : edges) {
+        const int a = nodes[ed[0]], c = nodes[ed[1]];
+        ++count[{std::min(a, c), std::max(a, c)}];
+        bool all = true;
+        std::vector<int> global;
+        for (int l : ed) {
+          global.push_back(nodes[l]);
+          all = all && in_set.count(nodes[l]);
+        }
+        if (all) candidates.push_back(std::move(global));
+      }
+    }
+  }
+  for (const auto& ed : candidates) {
+    if (count[{std::min(ed[0], ed[1]), std::max(ed[0], ed[1])}] != 1) continue;
+    if (ed.size() == 2)
+      add_edge<shape::Line2>(model.X, ed, load.force_per_length, F);
+    else
+      add_edge<shape::Line3>(model.X, {ed[0], ed[1], ed[2]}, load.force_per_length, F);
+  }
+  return F;
+}
+
+}  // namespace velum

@@ -1,0 +1,203 @@
+#include "velum/time/integrators.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace velum {
+namespace {
+
+// Factorises J and solves J x = −r; fills `why` on failure.
+bool newton_solve(SecondOrderSystem& sys, LinearSolver& solver, const SparseMatrix& J,
+                  const VecX& r, VecX& x, std::string& why) {
+  if (!solver.refactorize(J)) {
+    why = fmt::format("the {} factorisation failed: {}", solver.name(), sys.diagnose_singular(J));
+    return false;
+  }
+  if (!solver.solve(-r, x)) {
+    why = fmt::format("the {} solve gave a non-finite result: {}", solver.name(),
+                      sys.diagnose_singular(J));
+    return false;
+  }
+  return true;
+}
+
+bool residual_converged(double rnorm, double ref, const NewtonSettings& ns) {
+  return rnorm <= std::max(ns.tolerance * ref, ns.abs_residual);
+}
+
+}  // namespace
+
+StepReport TimeIntegrator::start(SecondOrderSystem& sys, LinearSolver& solver, double t,
+                                 State& s) {
+  // M a0 = f_ext − f_int − C v0: one linear solve with the Jacobian shifted to M alone.
+  StepReport rep;
+  SparseMatrix J;
+  VecX r, zero = VecX::Zero(sys.size()), da;
+  sys.evaluate(t, s.u, s.v, zero, 0.0, 0.0, 1.0, r, &J);
+  if (!newton_solve(sys, solver, J, r, da, rep.reason)) {
+    rep.reason = "initial acceleration: " + rep.reason;
+    return rep;
+  }
+  s.a = da;
+  rep.converged = true;
+  return rep;
+}
+
+GeneralizedAlpha::GeneralizedAlpha(double am, double af, double b, double g, std::string name)
+    : alpha_m(am), alpha_f(af), beta(b), gamma(g), name_(std::move(name)) {}
+
+std::unique_ptr<GeneralizedAlpha> GeneralizedAlpha::chung_hulbert(double rho) {
+  const double am = (2 * rho - 1) / (rho + 1), af = rho / (rho + 1);
+  const double g = 0.5 - am + af;
+  return std::make_unique<GeneralizedAlpha>(am, af, 0.25 * (1 - am + af) * (1 - am + af), g,
+                                            "generalized-alpha");
+}
+
+std::unique_ptr<GeneralizedAlpha> GeneralizedAlpha::hht(double a) {
+  return std::make_unique<GeneralizedAlpha>(0.0, a, 0.25 * (1 + a) * (1 + a), 0.5 + a, "hht");
+}
+
+std::unique_ptr<GeneralizedAlpha> GeneralizedAlpha::newmark(double b, double g) {
+  return std::make_unique<GeneralizedAlpha>(0.0, 0.0, b, g, "newmark");
+}
+
+StepReport GeneralizedAlpha::step(SecondOrderSystem& sys, LinearSolver& solver, double t,
+                                  double h, State& s) {
+  StepReport rep;
+  un_ = s.u, vn_ = s.v, an_ = s.a;
+  const double tf = t + (1 - alpha_f) * h;
+  const double cu = 1 - alpha_f;
+  const double cv = (1 - alpha_f) * gamma / (beta * h);
+  const double ca = (1 - alpha_m) / (beta * h * h);
+  // Predictor: constant acceleration.
+  VecX u = un_ + h * vn_ + 0.5 * h * h * an_;
+  VecX a(u.size()), v(u.size());
+  auto kinematics = [&] {
+    a = (u - un_ - h * vn_ - (0.5 - beta) * h * h * an_) / (beta * h * h);
+    v = vn_ + h * ((1 - gamma) * an_ + gamma * a);
+    uf_ = (1 - alpha_f) * u + alpha_f * un_;
+    vf_ = (1 - alpha_f) * v + alpha_f * vn_;
+    am_ = (1 - alpha_m) * a + alpha_m * an_;
+  };
+  SparseMatrix J;
+  double ref = 0;
+  for (int it = 0; it <= newton.max_iterations; ++it) {
+    kinematics();
+    sys.evaluate(tf, uf_, vf_, am_, cu, cv, ca, r_, &J);
+    const double rn = r_.norm();
+    rep.residuals.push_back(rn);
+    if (!std::isfinite(rn)) {
+      rep.reason = fmt::format("non-finite residual at Newton iteration {}", it);
+      return rep;
+    }
+    ref = std::max({ref, rn, sys.force_scale()});
+    const double du_norm = it > 0 ? du_.norm() : INFINITY;
+    const double step_norm = (u - un_).norm();
+    if (it > 0 && residual_converged(rn, ref, newton) &&
+        du_norm <= std::max(newton.tolerance * step_norm, 1e-14 * (1 + u.norm()))) {
+      rep.converged = true;
+      rep.iterations = it;
+      s.u = u, s.v = v, s.a = a;
+      return rep;
+    }
+    if (it == newton.max_iterations) break;
+    if (!newton_solve(sys, solver, J, r_, du_, rep.reason)) return rep;
+    u += du_;
+    rep.iterations = it + 1;
+  }
+  rep.reason = fmt::format("Newton did not converge in {} iterations (residual {:.3e}, reference {:.3e})",
+                           newton.max_iterations, rep.residuals.back(), ref);
+  return rep;
+}
+
+StepReport CentralDifference::start(SecondOrderSystem& sys, LinearSolver&, double t, State& s) {
+  zero_ = VecX::Zero(sys.size());
+  sys.evaluate(t, s.u, s.v, zero_, 0, 0, 0, r_, nullptr);
+  s.a = -r_.cwiseQuotient(sys.lumped_mass());
+  StepReport rep;
+  rep.converged = s.a.allFinite();
+  if (!rep.converged) rep.reason = "a node without mass: central difference needs a positive lumped mass at every free DOF";
+  return rep;
+}
+
+StepReport CentralDifference::step(SecondOrderSystem& sys, LinearSolver&, double t, double h,
+                                   State& s) {
+  // v(n+½) = v + h/2 a; u(n+1) = u + h v(n+½); a(n+1) from M a = f_ext − f_int − C v(n+½).
+  StepReport rep;
+  const VecX vhalf = s.v + 0.5 * h * s.a;
+  const VecX u = s.u + h * vhalf;
+  zero_.setZero(sys.size());
+  sys.evaluate(t + h, u, vhalf, zero_, 0, 0, 0, r_, nullptr);
+  const VecX a = -r_.cwiseQuotient(sys.lumped_mass());
+  if (!a.allFinite()) {
+    rep.reason = "non-finite acceleration (step above the stable limit?)";
+    return rep;
+  }
+  s.u = u;
+  s.v = vhalf + 0.5 * h * a;
+  s.a = a;
+  rep.converged = true;
+  return rep;
+}
+
+StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, double t, double h,
+                              State& s) {
+  StepReport rep;
+  VecX u = s.u;
+  zero_.setZero(sys.size());
+  SparseMatrix J;
+  double ref = 0;
+  for (int it = 0; it <= newton.max_iterations; ++it) {
+    sys.evaluate(t + h, u, zero_, zero_, 1.0, 0.0, 0.0, r_, &J);
+    const double rn = r_.norm();
+    rep.residuals.push_back(rn);
+    if (!std::isfinite(rn)) {
+      rep.reason = fmt::format("non-finite residual at Newton iteration {}", it);
+      return rep;
+    }
+    ref = std::max({ref, rn, sys.force_scale()});
+    const double du_norm = it > 0 ? du_.norm() : INFINITY;
+    if (it > 0 && residual_converged(rn, ref, newton) &&
+        du_norm <= std::max(newton.tolerance * (u - s.u).norm(), 1e-14 * (1 + u.norm()))) {
+      rep.converged = true;
+      rep.iterations = it;
+      s.u = u;
+      return rep;
+    }
+    if (it == 0 && rn <= newton.abs_residual) {  // already in equilibrium
+      rep.converged = true;
+      s.u = u;
+      return rep;
+    }
+    if (it == newton.max_iterations) break;
+    if (!newton_solve(sys, solver, J, r_, du_, rep.reason)) return rep;
+    u += du_;
+    rep.iterations = it + 1;
+  }
+  rep.reason = fmt::format("Newton did not converge in {} iterations (residual {:.3e}, reference {:.3e})",
+                           newton.max_iterations, rep.residuals.back(), ref);
+  return rep;
+}
+
+double stable_time_step(SecondOrderSystem& sys, double t, const State& s) {
+  VecX r, zero = VecX::Zero(sys.size());
+  SparseMatrix K;
+  sys.evaluate(t, s.u, s.v, zero, 1.0, 0.0, 0.0, r, &K);
+  const VecX& m = sys.lumped_mass();
+  VecX x = VecX::Ones(sys.size());
+  double lambda = 0;
+  for (int it = 0; it < 50; ++it) {
+    const VecX y = (K * x).cwiseQuotient(m);
+    const double l = y.norm() / x.norm();
+    x = y / y.norm();
+    if (std::abs(l - lambda) < 1e-4 * l) {
+      lambda = l;
+      break;
+    }
+    lambda = l;
+  }
+  return lambda > 0 ? 2.0 / std::sqrt(lambda) : INFINITY;
+}
+
+}  // namespace velum
