@@ -11,8 +11,9 @@ struct CableLaw {
 
   /// Axial 2nd PK stress for Green strain eps.
   double stress(double eps) const { return (eps > 0 || compression) ? E * eps : 0.0; }
-  /// d stress / d eps.
-  double tangent(double eps) const { return (eps > 0 || compression) ? E : 0.0; }
+  /// d stress / d eps; at eps = 0 the tension side (a taut, unstressed cable is stiff along
+  /// its axis, so Newton can start from a straight cable at its unstressed length).
+  double tangent(double eps) const { return (eps >= 0 || compression) ? E : 0.0; }
 };
 
 }  // namespace velum
