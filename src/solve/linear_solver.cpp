@@ -45,6 +45,14 @@ class Cholmod final : public EigenSolver<Eigen::CholmodSupernodalLLT<SparseMatri
   }
 };
 
+class UmfPack final : public EigenSolver<Eigen::UmfPackLU<SparseMatrix>> {
+ public:
+  UmfPack() : EigenSolver("umfpack", false) {
+    // Newton corrects the solution anyway: iterative refinement only costs time.
+    impl_.umfpackControl()(UMFPACK_IRSTEP) = 0;
+  }
+};
+
 }  // namespace
 
 std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind) {
@@ -55,7 +63,7 @@ std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind) {
       return std::make_unique<EigenSolver<Eigen::KLU<SparseMatrix>>>("klu", false);
     case SolverKind::kAuto:
     case SolverKind::kUmfpack:
-      return std::make_unique<EigenSolver<Eigen::UmfPackLU<SparseMatrix>>>("umfpack", false);
+      return std::make_unique<UmfPack>();
   }
   return nullptr;
 }
