@@ -1,13 +1,38 @@
-// The velum command line (placeholder until the CLI issue lands the model-file commands).
+// The velum command line: parses arguments and hands over to velum::io's commands.
 #include <CLI/CLI.hpp>
-#include <fmt/format.h>
 
 #include "velum/config.hpp"
+#include "velum/io/commands.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"Velum: geometrically nonlinear dynamics of anisotropic membranes and cables"};
+  CLI::App app{
+      "Velum: geometrically nonlinear dynamics of anisotropic membranes and cables.\n"
+      "Units are the model's own (any consistent set) and never converted."};
   app.set_version_flag("--version", std::string("velum ") + VELUM_VERSION);
-  CLI11_PARSE(app, argc, argv);
-  fmt::print("{}", app.help());
-  return 0;
+  app.require_subcommand(1);
+
+  velum::io::RunOptions run;
+  std::string output;
+  auto* run_cmd = app.add_subcommand("run", "Solve a model file and write its results");
+  run_cmd->add_option("MODEL", run.model, "model file (YAML)")->required();
+  run_cmd->add_option("-o,--output", output, "output directory (overrides output.directory)");
+  run_cmd->add_option("--threads", run.threads, "number of OpenMP threads")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_flag("--quiet,-q", run.quiet, "print errors only");
+
+  std::filesystem::path check_model;
+  auto* check_cmd = app.add_subcommand("check", "Validate a model file and print its statistics");
+  check_cmd->add_option("MODEL", check_model, "model file (YAML)")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : velum::io::kExitBadInput;
+  }
+  if (run_cmd->parsed()) {
+    if (!output.empty()) run.output = output;
+    return velum::io::run_command(run);
+  }
+  return velum::io::check_command(check_model);
 }

@@ -105,7 +105,7 @@ class MembraneBlock final : public ElementBlock {
   ElementOutput output(int e, const NodePositions& x) const override {
     // Stresses at the element centre: evaluate at the centroid with the point data of the
     // nearest rule point for the constitutive matrix (constant within a flat element).
-    const std::array<double, 2> c = kN <= 6 ? std::array<double, 2>{1.0 / 3, 1.0 / 3}
+    const std::array<double, 2> c = Shape::kTriangle ? std::array<double, 2>{1.0 / 3, 1.0 / 3}
                                             : std::array<double, 2>{0.0, 0.0};
     ElementOutput out;
     out.stress = output_at(e, c, x);
@@ -115,7 +115,8 @@ class MembraneBlock final : public ElementBlock {
   bool locate(int e, const Vec3& P, std::array<double, 2>& xi) const override {
     // Closest point on the reference surface by Gauss-Newton from the element centre.
     const auto Xe = Xref_cols(e);
-    Vec2 r = kN <= 6 ? Vec2(1.0 / 3, 1.0 / 3) : Vec2(0, 0);
+    constexpr bool kTriangle = Shape::kTriangle;
+    Vec2 r = kTriangle ? Vec2(1.0 / 3, 1.0 / 3) : Vec2(0, 0);
     typename Shape::Values N;
     typename Shape::Derivs dN;
     for (int it = 0; it < 20; ++it) {
@@ -129,7 +130,7 @@ class MembraneBlock final : public ElementBlock {
     Shape::eval(r[0], r[1], N, dN);
     const double h = (Xe.col(1) - Xe.col(0)).norm();
     const double tol = 1e-9;
-    const bool inside = kN <= 6 ? (r[0] >= -tol && r[1] >= -tol && r[0] + r[1] <= 1 + tol)
+    const bool inside = kTriangle ? (r[0] >= -tol && r[1] >= -tol && r[0] + r[1] <= 1 + tol)
                                 : (std::abs(r[0]) <= 1 + tol && std::abs(r[1]) <= 1 + tol);
     if (!inside || (P - Xe * N).norm() > 1e-6 * h) return false;
     xi = {r[0], r[1]};

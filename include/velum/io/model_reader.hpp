@@ -1,0 +1,84 @@
+// Reads a model file (YAML, /work/shared/MODEL_FORMAT.md) into a Model, its analysis
+// settings and its output settings. Every problem found is reported with the file, the
+// 1-based line and the key path; all problems of a file are collected into one InputError.
+// Node and element ids are the user's; units are the user's and never converted.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "velum/analysis/analysis.hpp"
+#include "velum/model/model.hpp"
+
+namespace velum::io {
+
+/// One column of history.csv.
+struct HistoryEntry {
+  enum class Quantity {
+    kDisplacement,
+    kVelocity,
+    kPosition,
+    kReaction,
+    kFiberAngleChange,
+    kStress,
+    kKineticEnergy,
+    kStrainEnergy,
+    kExternalWork
+  };
+  std::string name;
+  Quantity quantity = Quantity::kDisplacement;
+  int node = -1;                   ///< displacement, velocity, position: node index
+  std::vector<int> nodes;          ///< reaction: node indices
+  int component = 0;               ///< x y z: 0 1 2; stress: kStressComponents index
+  Vec3 point = Vec3::Zero();       ///< fiber_angle_change, stress: reference point
+  int block = -1, element = -1;    ///< where the point lies
+  std::array<double, 2> xi{0, 0};  ///< natural coordinates of the point there
+  bool degrees = true;             ///< fiber_angle_change unit
+};
+
+/// Components of the `stress` history quantity, in order.
+inline constexpr std::array<const char*, 5> kStressComponents = {"max_principal", "min_principal",
+                                                                 "s11", "s22", "s12"};
+
+struct OutputSettings {
+  std::filesystem::path directory = "out";  ///< relative paths: to the working directory
+  double interval = 0;                      ///< simulated time between outputs; 0: each step
+  bool fields = true;                       ///< ParaView frames
+  std::vector<HistoryEntry> history;
+};
+
+struct MaterialSummary {
+  std::string name, type;
+};
+
+/// Everything a model file describes.
+struct ModelInput {
+  std::filesystem::path file;
+  std::string title;
+  Model model;
+  AnalysisSettings analysis;
+  OutputSettings output;
+  std::vector<MaterialSummary> materials;
+  std::vector<std::string> warnings;  ///< "file:line: key: text", not fatal
+};
+
+/// Bad input: the list of "file:line: key: problem" messages, all of them.
+class InputError : public std::runtime_error {
+ public:
+  explicit InputError(std::vector<std::string> messages);
+  const std::vector<std::string>& messages() const { return messages_; }
+
+ private:
+  std::vector<std::string> messages_;
+};
+
+/// Reads and validates a model file. Throws InputError.
+ModelInput read_model(const std::filesystem::path& file);
+
+/// Levenshtein distance (for "did you mean" suggestions).
+int edit_distance(std::string_view a, std::string_view b);
+
+}  // namespace velum::io

@@ -1,0 +1,68 @@
+// Writes the results of a run into a directory (MODEL_FORMAT.md): history.csv (one row per
+// output time, flushed), results.pvd + frames/frame_NNNNN.vtu (VTK XML, appended raw binary,
+// each written to a temporary file and renamed) and summary.json. Values are in the user's
+// units; angles in the fields are in degrees.
+#pragma once
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "velum/analysis/analysis.hpp"
+#include "velum/io/model_reader.hpp"
+
+namespace velum::io {
+
+/// The output directory or a file in it cannot be written.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct RunSummary {
+  bool converged = false;
+  int steps = 0, newton_iterations = 0;
+  double wall_seconds = 0, final_time = 0;
+  int dofs = 0, elements = 0;
+  Energies energy;
+  std::string reason, integrator, solver;
+};
+
+class ResultsWriter {
+ public:
+  /// Creates the directory (and frames/ when fields are on) and history.csv. `system` is the
+  /// one being solved (reactions re-evaluate its external forces). Throws OutputError.
+  ResultsWriter(const ModelInput& input, MechanicalSystem& system, std::filesystem::path directory);
+  ~ResultsWriter();
+  ResultsWriter(const ResultsWriter&) = delete;
+  ResultsWriter& operator=(const ResultsWriter&) = delete;
+
+  /// Writes the history row and, with fields on, a frame for an output time.
+  void write(const StepSnapshot& snap);
+  /// One history row (no frame).
+  void write_history(const StepSnapshot& snap);
+  void write_frame(const StepSnapshot& snap);
+  void write_summary(const RunSummary& s);
+
+  const std::filesystem::path& directory() const { return dir_; }
+  int frames() const { return static_cast<int>(frame_times_.size()); }
+
+ private:
+  double history_value(const HistoryEntry& h, const StepSnapshot& snap, const NodePositions& U,
+                       const NodePositions& V, const NodePositions& x, NodePositions& R,
+                       bool& have_R);
+  void write_pvd();
+
+  const ModelInput& input_;
+  MechanicalSystem& system_;
+  std::filesystem::path dir_;
+  std::FILE* history_ = nullptr;
+  std::vector<double> frame_times_;
+};
+
+/// Writes `text` to `path` through a temporary file and a rename. Throws OutputError.
+void write_file_atomically(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace velum::io

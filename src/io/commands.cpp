@@ -1,0 +1,236 @@
+#include "velum/io/commands.hpp"
+
+#include <fmt/format.h>
+#include <omp.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <map>
+
+#include "velum/assembly/dof_map.hpp"
+#include "velum/config.hpp"
+#include "velum/io/model_reader.hpp"
+#include "velum/io/results_writer.hpp"
+
+namespace velum::io {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kUnitsNote =
+    "units: the model's own (any consistent set); nothing is converted";
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::string duration_text(double s) {
+  if (!std::isfinite(s) || s < 0) return "--";
+  if (s < 60) return fmt::format("{:.0f}s", s);
+  if (s < 3600) return fmt::format("{:.0f}m{:02.0f}s", std::floor(s / 60), std::fmod(s, 60));
+  return fmt::format("{:.0f}h{:02.0f}m", std::floor(s / 3600), std::fmod(s / 60, 60));
+}
+
+/// Progress on stderr: a bar redrawn at most ten times a second on a terminal, otherwise
+/// one line at the start and one at the end.
+class Progress {
+ public:
+  Progress(bool quiet, double t0, double t_end)
+      : quiet_(quiet),
+        tty_(isatty(fileno(stderr)) != 0),
+        t0_(t0),
+        t_end_(t_end),
+        start_(Clock::now()) {}
+
+  void start(const std::string& what) {
+    if (quiet_) return;
+    if (!tty_) fmt::print(stderr, "velum: {} from t = {:.6g} to {:.6g}\n", what, t0_, t_end_);
+  }
+  void update(const AcceptedStep& s) {
+    if (quiet_ || !tty_) return;
+    const auto now = Clock::now();
+    if (now - last_ < std::chrono::milliseconds(100) && s.t < t_end_) return;
+    last_ = now;
+    const double frac = std::clamp((s.t - t0_) / (t_end_ - t0_), 0.0, 1.0);
+    const double elapsed = seconds_since(start_);
+    const double eta = frac > 0 ? elapsed * (1 - frac) / frac : -1;
+    constexpr int kWidth = 30;
+    const int filled = static_cast<int>(frac * kWidth);
+    fmt::print(stderr, "\r[{}{}] t = {:<10.4g} h = {:<9.3g} step {:<6d} newton {:<3d} ETA {:<8}",
+               std::string(static_cast<size_t>(filled), '#'),
+               std::string(static_cast<size_t>(kWidth - filled), '.'), s.t, s.h, s.step,
+               s.iterations, duration_text(eta));
+    std::fflush(stderr);
+    drawn_ = true;
+  }
+  void finish(const TimeLoopResult& r) {
+    if (quiet_) return;
+    if (drawn_) fmt::print(stderr, "\n");
+    fmt::print(
+        stderr,
+        "velum: {} at t = {:.6g} after {} steps, {} Newton iterations, {} cut-backs, {:.2f} s\n",
+        r.completed ? "finished" : "stopped", r.t, r.steps, r.iterations, r.cutbacks,
+        seconds_since(start_));
+  }
+
+ private:
+  bool quiet_, tty_;
+  double t0_, t_end_;
+  Clock::time_point start_, last_{};
+  bool drawn_ = false;
+};
+
+/// Reads the model; on bad input prints every message and returns nullopt.
+std::optional<ModelInput> load(const std::filesystem::path& file) {
+  try {
+    ModelInput in = read_model(file);
+    for (const auto& w : in.warnings) fmt::print(stderr, "warning: {}\n", w);
+    return in;
+  } catch (const InputError& e) {
+    for (const auto& m : e.messages()) fmt::print(stderr, "error: {}\n", m);
+    fmt::print(stderr, "velum: {} error{} in {}\n", e.messages().size(),
+               e.messages().size() == 1 ? "" : "s", file.string());
+    return std::nullopt;
+  }
+}
+
+std::map<std::string, int> elements_per_type(const Model& m) {
+  std::map<std::string, int> out;
+  for (const auto& b : m.blocks) out[std::string(b->type_name())] += b->size();
+  return out;
+}
+
+}  // namespace
+
+int check_command(const std::filesystem::path& file) {
+  fmt::print("velum {} check: {}\n{}\n", VELUM_VERSION, file.string(), kUnitsNote);
+  auto in = load(file);
+  if (!in) return kExitBadInput;
+  const Model& m = in->model;
+  int dofs = 0;
+  try {
+    dofs = DofMap(m).num_equations();
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "error: {}: {}\n", file.string(), e.what());
+    return kExitBadInput;
+  }
+  if (!in->title.empty()) fmt::print("title:      {}\n", in->title);
+  fmt::print("nodes:      {}\n", m.num_nodes());
+  std::string per_type;
+  for (const auto& [t, n] : elements_per_type(m)) per_type += fmt::format(" {} {}", t, n);
+  fmt::print("elements:   {} ({} )\n", m.num_elements(),
+             per_type.empty() ? "" : per_type.substr(1));
+  fmt::print("blocks:     {}\n", m.blocks.size());
+  fmt::print("dofs:       {} equations ({} fixed or prescribed components)\n", dofs,
+             3 * m.num_nodes() - dofs);
+  std::string mats;
+  for (const auto& mt : in->materials)
+    mats += fmt::format("{}{} ({})", mats.empty() ? "" : ", ", mt.name, mt.type);
+  fmt::print("materials:  {}\n", mats);
+  fmt::print("loads:      {} point, {} edge, {} pressure, {} gravity; {} point masses\n",
+             m.point_loads.size(), m.edge_loads.size(), m.pressures.size(), m.gravity.size(),
+             m.masses.size());
+  fmt::print("boundary:   {} fixed, {} prescribed, {} symmetry\n", m.fixed.size(),
+             m.prescribed.size(), m.symmetry.size());
+  const auto& a = in->analysis;
+  fmt::print("analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n",
+             a.type == AnalysisSettings::Type::kStatic ? "static" : "dynamic",
+             a.type == AnalysisSettings::Type::kStatic ? "load stepping" : a.scheme, a.time.t_end,
+             a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
+  fmt::print("output:     {} every {:.6g}, {} history column{}{}\n", in->output.directory.string(),
+             in->output.interval, in->output.history.size(),
+             in->output.history.size() == 1 ? "" : "s", in->output.fields ? ", fields" : "");
+  fmt::print("velum: {} is valid\n", file.string());
+  return kExitOk;
+}
+
+int run_command(const RunOptions& opt) {
+  const auto wall0 = Clock::now();
+  if (!opt.quiet)
+    fmt::print(stderr, "velum {} run: {}\n{}\n", VELUM_VERSION, opt.model.string(), kUnitsNote);
+  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  auto in = load(opt.model);
+  if (!in) return kExitBadInput;
+  if (opt.output) in->output.directory = *opt.output;
+
+  std::unique_ptr<MechanicalSystem> system;
+  try {
+    system = std::make_unique<MechanicalSystem>(in->model);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "error: {}: {}\n", opt.model.string(), e.what());
+    return kExitBadInput;
+  }
+  std::unique_ptr<ResultsWriter> writer;
+  try {
+    writer = std::make_unique<ResultsWriter>(*in, *system, in->output.directory);
+  } catch (const OutputError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kExitIo;
+  }
+  AnalysisSettings settings = in->analysis;
+  settings.time.output_interval = in->output.interval;
+  if (!opt.quiet)
+    fmt::print(stderr, "velum: {} nodes, {} elements, {} equations; results in {}\n",
+               in->model.num_nodes(), in->model.num_elements(), system->size(),
+               in->output.directory.string());
+
+  Progress progress(opt.quiet, settings.time.t0, settings.time.t_end);
+  progress.start(settings.type == AnalysisSettings::Type::kStatic
+                     ? "static load stepping"
+                     : "dynamic run (" + settings.scheme + ")");
+  AnalysisResult result;
+  RunSummary summary;
+  summary.elements = in->model.num_elements();
+  summary.dofs = system->size();
+  int status = kExitOk;
+  try {
+    result = run_analysis(*system, settings, [&](const StepSnapshot& snap) {
+      if (snap.step.output_time) writer->write(snap);
+      summary.final_time = snap.step.t;
+      progress.update(snap.step);
+      return true;
+    });
+    progress.finish(result.loop);
+    summary.converged = result.loop.completed;
+    summary.reason = result.loop.reason;
+    summary.steps = result.loop.steps;
+    summary.newton_iterations = result.loop.iterations;
+    summary.final_time = result.loop.completed ? result.loop.t : summary.final_time;
+    summary.energy = result.energy;
+    summary.integrator = result.integrator;
+    summary.solver = result.solver;
+    summary.dofs = result.dofs;
+    if (!result.loop.completed) status = kExitSolveFailed;
+  } catch (const OutputError& e) {
+    fmt::print(stderr, "\nerror: {}\n", e.what());
+    return kExitIo;
+  } catch (const std::exception& e) {
+    summary.converged = false;
+    summary.reason = e.what();
+    status = kExitSolveFailed;
+  }
+  summary.wall_seconds = seconds_since(wall0);
+  try {
+    writer->write_summary(summary);
+  } catch (const OutputError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kExitIo;
+  }
+  if (status == kExitSolveFailed) {
+    fmt::print(stderr,
+               "error: the solve failed at t = {:.6g} (step {}, last output kept in {}): {}\n",
+               result.loop.t, result.loop.steps + 1, in->output.directory.string(),
+               summary.reason.empty() ? "unknown reason" : summary.reason);
+    return status;
+  }
+  if (!opt.quiet)
+    fmt::print(stderr,
+               "velum: converged; energy: kinetic {:.6g}, strain {:.6g}, external work {:.6g}, "
+               "damping {:.6g}\n",
+               summary.energy.kinetic, summary.energy.strain, summary.energy.external_work,
+               summary.energy.damping);
+  return kExitOk;
+}
+
+}  // namespace velum::io
