@@ -18,9 +18,8 @@ MechanicalSystem::MechanicalSystem(const Model& model)
       if (dofs_.equation(n, c) >= 0) lumped_eq_[dofs_.equation(n, c)] = lumped_nodes_[n];
   for (const auto& e : model.edge_loads) edge_forces_.push_back(edge_load_forces(model, e));
   for (const auto& g : model.gravity) gravity_forces_.push_back(assembler_.gravity_forces(g.acceleration));
-  symmetric_ = model.pressures.empty();
-  for (const auto& m : model.masses)
-    if (m.drag_cd_area > 0 && m.drag_rho > 0) symmetric_ = false;
+  drag_ = has_drag();
+  symmetric_ = model.pressures.empty() && !drag_;
   if (!model.pressures.empty()) Kp_ = assembler_.make_matrix();
   U_.setZero(3, model.num_nodes());
 }
@@ -45,17 +44,20 @@ NodePositions MechanicalSystem::velocities(const VecX& v) const {
   return V;
 }
 
-void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu,
-                                double cv, double ca, VecX& r, SparseMatrix* J) {
+void MechanicalSystem::set_positions(double t, const VecX& u) {
   U_.setZero(3, model_.num_nodes());
   apply_prescribed(t, U_);
   dofs_.scatter(u, U_);
   x_ = model_.X + U_;
-  const double beta = model_.rayleigh_stiffness, alpha = model_.rayleigh_mass;
-  const bool need_K = J != nullptr || beta != 0;
-  assembler_.internal(x_, Fint_, need_K ? &K_ : nullptr);
+}
 
-  // External forces.
+bool MechanicalSystem::has_drag() const {
+  for (const auto& m : model_.masses)
+    if (m.drag_cd_area > 0 && m.drag_rho > 0) return true;
+  return false;
+}
+
+void MechanicalSystem::assemble_external(double t, const VecX& v, bool tangent) {
   Fext_.setZero(3, model_.num_nodes());
   for (const auto& pl : model_.point_loads) {
     const Vec3 f = pl.force * model_.function_value(pl.function, t);
@@ -66,24 +68,30 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
   for (size_t i = 0; i < gravity_forces_.size(); ++i)
     Fext_ += model_.function_value(model_.gravity[i].function, t) * gravity_forces_[i];
   if (!model_.pressures.empty()) {
-    if (J) std::fill(Kp_.valuePtr(), Kp_.valuePtr() + Kp_.nonZeros(), 0.0);
+    if (tangent) std::fill(Kp_.valuePtr(), Kp_.valuePtr() + Kp_.nonZeros(), 0.0);
     for (size_t i = 0; i < model_.pressures.size(); ++i) {
       const auto& pl = model_.pressures[i];
       const double p = pl.value * model_.function_value(pl.function, t);
-      if (p != 0) assembler_.pressure(static_cast<int>(i), p, x_, Fext_, J ? &Kp_ : nullptr);
+      if (p != 0) assembler_.pressure(static_cast<int>(i), p, x_, Fext_, tangent ? &Kp_ : nullptr);
     }
   }
   // Payload drag f = −½ ρ C_D A |v| v on the node velocity.
-  NodePositions Vfull;
-  bool drag = false;
-  for (const auto& m : model_.masses) drag = drag || (m.drag_cd_area > 0 && m.drag_rho > 0);
-  if (drag) {
-    Vfull = velocities(v);
+  if (drag_) {
+    V_ = velocities(v);
     for (const auto& m : model_.masses) {
       const double c = 0.5 * m.drag_rho * m.drag_cd_area;
-      if (c > 0) Fext_.col(m.node) -= c * Vfull.col(m.node).norm() * Vfull.col(m.node);
+      if (c > 0) Fext_.col(m.node) -= c * V_.col(m.node).norm() * V_.col(m.node);
     }
   }
+}
+
+void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu,
+                                double cv, double ca, VecX& r, SparseMatrix* J) {
+  set_positions(t, u);
+  const double beta = model_.rayleigh_stiffness, alpha = model_.rayleigh_mass;
+  const bool need_K = J != nullptr || beta != 0;
+  assembler_.internal(x_, Fint_, need_K ? &K_ : nullptr);
+  assemble_external(t, v, J != nullptr);
 
   dofs_.gather(Fint_ - Fext_, r);
   mv_ = M_ * a;
@@ -105,11 +113,11 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     const double* pv = Kp_.valuePtr();
     for (Eigen::Index i = 0; i < nnz; ++i) jv[i] += cu * pv[i];  // Kp holds −df/dx
   }
-  if (drag && cv != 0) {
+  if (drag_ && cv != 0) {
     for (const auto& m : model_.masses) {
       const double c = 0.5 * m.drag_rho * m.drag_cd_area;
       if (c <= 0) continue;
-      const Vec3 vn = Vfull.col(m.node);
+      const Vec3 vn = V_.col(m.node);
       const double s = vn.norm();
       Mat3 D = c * s * Mat3::Identity();
       if (s > 0) D += (c / s) * vn * vn.transpose();
@@ -125,9 +133,9 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
   }
 }
 
-NodePositions MechanicalSystem::external_forces(double t, const VecX& u, const VecX& v) {
-  VecX r, zero = VecX::Zero(size());
-  evaluate(t, u, v, zero, 0, 0, 0, r, nullptr);
+const NodePositions& MechanicalSystem::external_forces(double t, const VecX& u, const VecX& v) {
+  set_positions(t, u);
+  assemble_external(t, v, false);
   return Fext_;
 }
 

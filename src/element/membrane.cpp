@@ -14,7 +14,7 @@ Eigen::Matrix<double, 3, 2> Membrane<Shape>::basis(const Nodes& X, const std::ar
 
 template <class Shape>
 Vec3 Membrane<Shape>::centre_normal(const Nodes& X) {
-  const std::array<double, 2> c = Shape::kNodes <= 6 ? std::array<double, 2>{1.0 / 3, 1.0 / 3}
+  const std::array<double, 2> c = Shape::kTriangle ? std::array<double, 2>{1.0 / 3, 1.0 / 3}
                                                      : std::array<double, 2>{0.0, 0.0};
   const auto G = basis(X, c);
   return G.col(0).cross(G.col(1)).normalized();
@@ -97,7 +97,7 @@ void Membrane<Shape>::force_tangent(const Points& pts, const Nodes& x, Vector& r
       B.template block<1, 3>(2, 3 * n) = a * g.col(1).transpose() + b * g.col(0).transpose();
     }
     const Eigen::Matrix<double, 3, kDofs> DB = p.D * B;
-    K.noalias() += B.transpose() * DB;
+    K.noalias() += B.transpose().lazyProduct(DB);  // coefficient-based: no GEMM dispatch
     Kg.noalias() += p.dN * Sm * p.dN.transpose();
   }
   for (int m = 0; m < kN; ++m)

@@ -33,8 +33,9 @@ class MechanicalSystem final : public SecondOrderSystem {
   /// motions included).
   NodePositions displacements(double t, const VecX& u) const;
   NodePositions velocities(const VecX& v) const;
-  /// External forces at time t for displacements u (full, global).
-  NodePositions external_forces(double t, const VecX& u, const VecX& v);
+  /// External forces at time t for displacements u (full, global); no internal forces are
+  /// assembled. Overwrites last_external().
+  const NodePositions& external_forces(double t, const VecX& u, const VecX& v);
   /// Reactions: internal minus external force at eliminated components (full, global; zero
   /// at free components). Valid after evaluate() at the same state.
   const NodePositions& last_internal() const { return Fint_; }
@@ -45,6 +46,9 @@ class MechanicalSystem final : public SecondOrderSystem {
 
  private:
   void apply_prescribed(double t, NodePositions& U) const;
+  void set_positions(double t, const VecX& u);
+  void assemble_external(double t, const VecX& v, bool tangent);
+  bool has_drag() const;
 
   const Model& model_;
   DofMap dofs_;
@@ -52,12 +56,12 @@ class MechanicalSystem final : public SecondOrderSystem {
   SparseMatrix M_, K_, Kp_;
   VecX lumped_nodes_, lumped_eq_;
   std::vector<NodePositions> edge_forces_;
-  NodePositions gravity_unit_;  // per gravity load: forces for f(t) = 1, summed per load below
   std::vector<NodePositions> gravity_forces_;
   NodePositions U_, V_, x_, Fint_, Fext_;
   VecX fred_, mv_;
   double force_scale_ = 0;
   bool symmetric_ = true;
+  bool drag_ = false;
 };
 
 }  // namespace velum

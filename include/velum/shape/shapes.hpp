@@ -38,6 +38,7 @@ constexpr GaussRule<9, 2> quad_3x3() {
 struct Tri3 {
   static constexpr int kNodes = 3, kDim = 2, kPoints = 3;
   static constexpr std::string_view kName = "tri3";
+  static constexpr bool kTriangle = true;
   using Values = Eigen::Matrix<double, kNodes, 1>;
   using Derivs = Eigen::Matrix<double, kNodes, 2>;
   static constexpr GaussRule<kPoints, 2> rule() {
@@ -57,6 +58,7 @@ struct Tri3 {
 struct Tri6 {
   static constexpr int kNodes = 6, kDim = 2, kPoints = 6;
   static constexpr std::string_view kName = "tri6";
+  static constexpr bool kTriangle = true;
   using Values = Eigen::Matrix<double, kNodes, 1>;
   using Derivs = Eigen::Matrix<double, kNodes, 2>;
   static constexpr GaussRule<kPoints, 2> rule() {
@@ -81,6 +83,7 @@ struct Tri6 {
 struct Quad4 {
   static constexpr int kNodes = 4, kDim = 2, kPoints = 4;
   static constexpr std::string_view kName = "quad4";
+  static constexpr bool kTriangle = false;
   using Values = Eigen::Matrix<double, kNodes, 1>;
   using Derivs = Eigen::Matrix<double, kNodes, 2>;
   static constexpr GaussRule<kPoints, 2> rule() {
@@ -102,6 +105,7 @@ struct Quad4 {
 struct Quad8 {
   static constexpr int kNodes = 8, kDim = 2, kPoints = 9;
   static constexpr std::string_view kName = "quad8";
+  static constexpr bool kTriangle = false;
   using Values = Eigen::Matrix<double, kNodes, 1>;
   using Derivs = Eigen::Matrix<double, kNodes, 2>;
   static constexpr GaussRule<kPoints, 2> rule() { return detail::quad_3x3(); }
@@ -127,6 +131,7 @@ struct Quad8 {
 struct Quad9 {
   static constexpr int kNodes = 9, kDim = 2, kPoints = 9;
   static constexpr std::string_view kName = "quad9";
+  static constexpr bool kTriangle = false;
   using Values = Eigen::Matrix<double, kNodes, 1>;
   using Derivs = Eigen::Matrix<double, kNodes, 2>;
   static constexpr GaussRule<kPoints, 2> rule() { return detail::quad_3x3(); }
