@@ -139,6 +139,20 @@ const NodePositions& MechanicalSystem::external_forces(double t, const VecX& u, 
   return Fext_;
 }
 
+NodePositions MechanicalSystem::reactions(double t, const VecX& u, const VecX& v) {
+  set_positions(t, u);
+  assembler_.internal(x_, Fint_, nullptr);
+  assemble_external(t, v, false);
+  NodePositions R = Fint_ - Fext_;
+  for (int n = 0; n < model_.num_nodes(); ++n) {
+    Vec3 local = dofs_.to_local(n, R.col(n));
+    for (int c = 0; c < 3; ++c)
+      if (dofs_.equation(n, c) >= 0) local[c] = 0;
+    R.col(n) = dofs_.to_global(n, local);
+  }
+  return R;
+}
+
 double MechanicalSystem::strain_energy(double t, const VecX& u) const {
   const NodePositions x = model_.X + displacements(t, u);
   double U = 0;

@@ -41,6 +41,11 @@ class MechanicalSystem final : public SecondOrderSystem {
   const NodePositions& last_internal() const { return Fint_; }
   const NodePositions& last_external() const { return Fext_; }
 
+  /// Support reactions (full, global): internal minus external force at (t, u, v), kept only
+  /// at eliminated components (fixed, prescribed, normal to a symmetry plane). The inertia of
+  /// constrained nodes is not included. Overwrites last_internal() and last_external().
+  NodePositions reactions(double t, const VecX& u, const VecX& v);
+
   double kinetic_energy(const VecX& v) const { return 0.5 * v.dot(M_ * v); }
   double strain_energy(double t, const VecX& u) const;
 
