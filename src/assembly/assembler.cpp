@@ -112,7 +112,9 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
   double* values = K ? K->valuePtr() : nullptr;
   for (const auto& list : colors) {
     const int nchunks = (static_cast<int>(list.size()) + kChunk - 1) / kChunk;
-#pragma omp parallel
+    // A parallel region costs a fork and a barrier; for a single chunk (small blocks, the
+    // few elements of one colour) it is pure overhead, ruinous on a loaded machine.
+#pragma omp parallel if (nchunks > 1)
     {
       // Per-thread buffers, allocated once per colour pass (not per element).
       std::vector<double> r(static_cast<size_t>(kChunk) * nd);
