@@ -159,7 +159,8 @@ MeshData read_gmsh(const std::filesystem::path& file) {
   }
   const std::string why = last_gmsh_error();
   if (!why.empty())
-    throw MeshFileError(fmt::format("{}: cannot read the Gmsh file: {}", name, why));
+    throw MeshFileError(
+        fmt::format("{}: cannot read the Gmsh file (truncated or corrupt?): {}", name, why));
   try {
     return read_open_model(name);
   } catch (const MeshFileError&) {
