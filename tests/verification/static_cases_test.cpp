@@ -62,6 +62,7 @@ HenckyResult hencky(int n, std::string_view type) {
 }
 
 TEST(Solver, B1HenckyMembrane) {
+  hencky(2, "quad9");
   const HenckyResult r = hencky(4, "quad9");
   EXPECT_LT(r.error, 1.0);
 }
@@ -121,11 +122,11 @@ SphereResult sphere(double lambda, int n, std::string_view type, int steps,
 }
 
 // Observed rates log(r[k+1]/r[k]) / log(r[k]/r[k-1]) of a residual sequence, kept while the
-// residual is well above round-off (1e-12 of the first).
+// residual is well above round-off (1e-10 of the first).
 std::vector<double> convergence_rates(const std::vector<double>& r) {
   std::vector<double> q;
   for (size_t k = 1; k + 1 < r.size(); ++k)
-    if (r[k + 1] > 1e-12 * r[0]) q.push_back(std::log(r[k + 1] / r[k]) / std::log(r[k] / r[k - 1]));
+    if (r[k + 1] > 1e-10 * r[0]) q.push_back(std::log(r[k + 1] / r[k]) / std::log(r[k] / r[k - 1]));
   return q;
 }
 
