@@ -26,8 +26,17 @@ demo: build
 bench: build
 	@tools/run-bench $(BUILD) out/bench
 
+# Cases A and B through CTest (their log becomes the report's B section), then the paper's
+# membrane-versus-network experiments C1, C2 at every size (tools/network-verification), which
+# write docs/verification.md and its plots in docs/verification/.
 verify: build
-	@cd $(BUILD) && ctest -L verification -j $(JOBS) --output-on-failure
+	@mkdir -p out
+	@cd $(BUILD) && ctest -L verification -LE network -j $(JOBS) --output-on-failure \
+		> $(CURDIR)/out/ctest-verification.log 2>&1; status=$$?; \
+		cat $(CURDIR)/out/ctest-verification.log; cd $(CURDIR) && \
+		tools/network-verification --velum $(BUILD)/velum --full --out out/network-verification \
+			--ctest-log out/ctest-verification.log --report docs/verification.md \
+		&& exit $$status
 
 asan:
 	@$(MAKE) check PRESET=asan
