@@ -80,7 +80,7 @@ void Membrane<Shape>::force_tangent(const Points& pts, const Nodes& x, Vector& r
   Eigen::Matrix<double, 3, kN> rn = Eigen::Matrix<double, 3, kN>::Zero();
   K.setZero();
   NodeMatrix Kg = NodeMatrix::Zero();
-  Eigen::Matrix<double, 3, kDofs> B;
+  Eigen::Matrix<double, kDofs, 3> Bt;  // Bᵀ, column-major: K += (Bᵀ D) B vectorises down columns
   for (const auto& p : pts) {
     const Eigen::Matrix<double, 3, 2> g = x * p.dN;
     const Vec3 e(0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
@@ -89,15 +89,15 @@ void Membrane<Shape>::force_tangent(const Points& pts, const Nodes& x, Vector& r
     Mat2 Sm;
     Sm << S[0], S[2], S[2], S[1];
     rn.noalias() += (g * Sm) * p.dN.transpose();
-    // B: rows d(γ11), d(γ22), d(2γ12) with respect to x_N.
+    // B: rows d(γ11), d(γ22), d(2γ12) with respect to x_N (stored transposed).
     for (int n = 0; n < kN; ++n) {
       const double a = p.dN(n, 0), b = p.dN(n, 1);
-      B.template block<1, 3>(0, 3 * n) = a * g.col(0).transpose();
-      B.template block<1, 3>(1, 3 * n) = b * g.col(1).transpose();
-      B.template block<1, 3>(2, 3 * n) = a * g.col(1).transpose() + b * g.col(0).transpose();
+      Bt.template block<3, 1>(3 * n, 0) = a * g.col(0);
+      Bt.template block<3, 1>(3 * n, 1) = b * g.col(1);
+      Bt.template block<3, 1>(3 * n, 2) = a * g.col(1) + b * g.col(0);
     }
-    const Eigen::Matrix<double, 3, kDofs> DB = p.D * B;
-    K.noalias() += B.transpose().lazyProduct(DB);  // coefficient-based: no GEMM dispatch
+    const Eigen::Matrix<double, kDofs, 3> BtD = Bt * p.D;
+    K.noalias() += BtD.lazyProduct(Bt.transpose());  // coefficient-based: no GEMM dispatch
     Kg.noalias() += p.dN * Sm * p.dN.transpose();
   }
   for (int m = 0; m < kN; ++m)
