@@ -119,8 +119,7 @@ int check_command(const std::filesystem::path& file) {
   fmt::print("nodes:      {}\n", m.num_nodes());
   std::string per_type;
   for (const auto& [t, n] : elements_per_type(m)) per_type += fmt::format(" {} {}", t, n);
-  fmt::print("elements:   {} ({} )\n", m.num_elements(),
-             per_type.empty() ? "" : per_type.substr(1));
+  fmt::print("elements:   {} ({})\n", m.num_elements(), per_type.empty() ? "" : per_type.substr(1));
   fmt::print("blocks:     {}\n", m.blocks.size());
   fmt::print("dofs:       {} equations ({} fixed or prescribed components)\n", dofs,
              3 * m.num_nodes() - dofs);
