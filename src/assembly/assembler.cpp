@@ -118,7 +118,9 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
     {
       // Per-thread buffers, allocated once per colour pass (not per element).
       std::vector<double> r(static_cast<size_t>(kChunk) * nd);
-      std::vector<double> Ke(tangent ? static_cast<size_t>(kChunk) * nd * nd : 0);
+      // Aligned: blocks write element matrices through fixed-size Eigen references into it.
+      std::vector<double, Eigen::aligned_allocator<double>> Ke(
+          tangent ? static_cast<size_t>(kChunk) * nd * nd : 0);
 #pragma omp for schedule(static)
       for (int c = 0; c < nchunks; ++c) {
         const int first = c * kChunk;
