@@ -1,0 +1,165 @@
+// Structural checks of the C9 parachute model (VERIFICATION.md D): global equilibrium of the
+// settled canopy, mirror symmetry of the quarter model against the full canopy, and mesh
+// convergence of the centreline stresses. Models come from tools/c9-parachute.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "velum/analysis/analysis.hpp"
+#include "velum/io/model_reader.hpp"
+
+namespace velum {
+namespace {
+
+namespace fs = std::filesystem;
+
+io::ModelInput generate(const std::string& name, const std::string& args) {
+  const fs::path dir = fs::temp_directory_path() / "velum_parachute_test";
+  fs::create_directories(dir);
+  const fs::path file = dir / (name + ".yaml");
+  const std::string cmd =
+      std::string("/usr/bin/python3 ") + VELUM_C9_GENERATOR + " " + args + " -o " + file.string();
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  return io::read_model(file);
+}
+
+struct Settled {
+  VecX u, v;
+  double t = 0;
+  bool completed = false;
+};
+
+Settled run(io::ModelInput& in, MechanicalSystem& sys) {
+  Settled out;
+  const AnalysisResult res = run_analysis(sys, in.analysis, [&](const StepSnapshot& s) {
+    out.u = s.state.u, out.v = s.state.v, out.t = s.step.t;
+    return true;
+  });
+  out.completed = res.loop.completed;
+  EXPECT_TRUE(res.loop.completed) << res.loop.reason;
+  return out;
+}
+
+// Sum of the z components of the pressure loads at positions x.
+double pressure_resultant_z(const MechanicalSystem& sys, const NodePositions& x, double t) {
+  const Model& m = sys.model();
+  NodePositions F = NodePositions::Zero(3, m.num_nodes());
+  for (size_t i = 0; i < m.pressures.size(); ++i)
+    sys.assembler().pressure(static_cast<int>(i),
+                             m.pressures[i].value * m.function_value(m.pressures[i].function, t),
+                             x, F, nullptr);
+  return F.row(2).sum();
+}
+
+// Vertical pull of the suspension lines on the confluence point: true force times the unit
+// vector from the confluence node along each line element attached to it.
+double line_pull_z(const Model& m, const NodePositions& x, int conf) {
+  double pull = 0;
+  for (const auto& b : m.blocks) {
+    if (b->kind() != ElementKind::kCable) continue;
+    for (int e = 0; e < b->size(); ++e) {
+      const auto nodes = b->nodes(e);
+      if (nodes[0] != conf && nodes[1] != conf) continue;
+      const int other = nodes[0] == conf ? nodes[1] : nodes[0];
+      const Vec3 dir = (x.col(other) - x.col(conf)).normalized();
+      pull += b->output(e, x).cable_force * dir.z();
+    }
+  }
+  return pull;
+}
+
+TEST(C9, SettledCanopyIsInGlobalEquilibrium) {
+  // Without gravity the pressure resultant must be carried by the lines alone.
+  io::ModelInput in = generate("c9_equilibrium", "--no-gravity");
+  MechanicalSystem sys(in.model);
+  const Settled s = run(in, sys);
+  ASSERT_TRUE(s.completed);
+  const NodePositions x = in.model.X + sys.displacements(s.t, s.u);
+  const int conf = in.model.masses.at(0).node;  // the payload sits at the confluence point
+  const double P = pressure_resultant_z(sys, x, s.t);
+  const double L = line_pull_z(in.model, x, conf);
+  const NodePositions R = sys.reactions(s.t, s.u, s.v);
+  std::cout << "C9 equilibrium at t = " << s.t << ": pressure resultant " << P
+            << " lbf, line pull " << L << " lbf, confluence reaction " << R(2, conf)
+            << " lbf, relative difference " << std::abs(P + L) / std::abs(P) << "\n";
+  EXPECT_GT(P, 0.0);
+  EXPECT_LT(std::abs(P + L), 1e-3 * std::abs(P));  // lines pull down (L < 0) against pressure
+  EXPECT_LT(std::abs(P + R(2, conf)), 1e-3 * std::abs(P));
+}
+
+TEST(C9, QuarterModelMatchesTheMirroredFullCanopy) {
+  // A coarse canopy (8 gores, 1 x 4 quad9 per gore) inflated for 1.5 s, quarter and full.
+  const std::string common = "--gores 8 --across 1 --along 4 --end 1.5 --interval 0.5";
+  io::ModelInput qin = generate("c9_quarter", common);
+  io::ModelInput fin = generate("c9_full", common + " --full");
+  MechanicalSystem qsys(qin.model), fsys(fin.model);
+  const Settled qs = run(qin, qsys), fs_ = run(fin, fsys);
+  ASSERT_TRUE(qs.completed && fs_.completed);
+  const NodePositions qU = qsys.displacements(qs.t, qs.u);
+  const NodePositions fU = fsys.displacements(fs_.t, fs_.u);
+  const Model& qm = qin.model;
+  const Model& fm = fin.model;
+  // For every node of the full model, its mirror image into the first quadrant is a node of
+  // the quarter model; the displacements must mirror.
+  double worst = 0, scale = 0;
+  int matched = 0;
+  for (int n = 0; n < fm.num_nodes(); ++n) {
+    const Vec3 X = fm.X.col(n);
+    const Vec3 Xq(std::abs(X.x()), std::abs(X.y()), X.z());
+    int best = -1;
+    double dbest = 1e-6;
+    for (int k = 0; k < qm.num_nodes(); ++k) {
+      const double d = (qm.X.col(k) - Xq).norm();
+      if (d < dbest) dbest = d, best = k;
+    }
+    if (best < 0) continue;
+    ++matched;
+    const Vec3 sgn(X.x() < 0 ? -1 : 1, X.y() < 0 ? -1 : 1, 1);
+    const Vec3 mirrored = qU.col(best).cwiseProduct(sgn);
+    worst = std::max(worst, (fU.col(n) - mirrored).norm());
+    scale = std::max(scale, fU.col(n).norm());
+  }
+  std::cout << "C9 symmetry: " << matched << " of " << fm.num_nodes()
+            << " full-canopy nodes mirrored onto the quarter; worst displacement difference "
+            << worst << " ft of " << scale << " ft (" << worst / scale << ")\n";
+  EXPECT_EQ(matched, fm.num_nodes());
+  EXPECT_LT(worst, 1e-6 * scale);
+}
+
+// Centreline true principal stresses of the settled isotropic canopy, vent to skirt, sampled
+// at fixed fractions of the centreline (history columns smax_/smin_ of the model).
+std::vector<double> centreline_stresses(const std::string& args) {
+  io::ModelInput in = generate("c9_refine", args + " --interval 6.0");
+  MechanicalSystem sys(in.model);
+  const Settled s = run(in, sys);
+  const NodePositions x = in.model.X + sys.displacements(s.t, s.u);
+  std::vector<double> out;
+  for (const auto& h : in.output.history)
+    if (h.quantity == io::HistoryEntry::Quantity::kStress && h.component == 0)
+      out.push_back(in.model.blocks[h.block]->output_at(h.element, h.xi, x).max);
+  return out;
+}
+
+TEST(C9, CentrelineStressesConvergeUnderRefinement) {
+  // 1x, 2x and 4x the elements of the paper's mesh (2 x 11, 2 x 22, 4 x 22 per gore); compare
+  // the maximum principal stress at the 11 element-corner stations shared by all meshes.
+  const auto s1 = centreline_stresses("--across 2 --along 11");
+  const auto s2 = centreline_stresses("--across 2 --along 22");
+  const auto s4 = centreline_stresses("--across 4 --along 22");
+  auto at = [](const std::vector<double>& s, int i, int of) { return s[i * (s.size() - 1) / of]; };
+  double d12 = 0, d24 = 0, ref = 0;
+  for (int i = 0; i <= 11; ++i) {
+    d12 += std::pow(at(s1, i, 11) - at(s2, i, 11), 2);
+    d24 += std::pow(at(s2, i, 11) - at(s4, i, 11), 2);
+    ref += std::pow(at(s4, i, 11), 2);
+  }
+  std::cout << "C9 refinement: relative change 1x->2x " << std::sqrt(d12 / ref) << ", 2x->4x "
+            << std::sqrt(d24 / ref) << "\n";
+  EXPECT_LT(d24, d12);
+}
+
+}  // namespace
+}  // namespace velum
