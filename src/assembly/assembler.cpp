@@ -7,7 +7,8 @@
 namespace velum {
 namespace {
 
-constexpr int kChunk = 16;  // elements computed per kernel call
+constexpr int kChunk = 16;             // elements computed per kernel call
+constexpr int kMinParallelChunks = 8;  // chunks per colour worth a parallel region
 
 // Greedy colouring: an element takes the smallest colour none of its nodes has seen.
 std::vector<std::vector<int>> color_elements(const ElementBlock& b, const std::vector<int>& elems,
@@ -112,9 +113,11 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
   double* values = K ? K->valuePtr() : nullptr;
   for (const auto& list : colors) {
     const int nchunks = (static_cast<int>(list.size()) + kChunk - 1) / kChunk;
-    // A parallel region costs a fork and a barrier; for a single chunk (small blocks, the
-    // few elements of one colour) it is pure overhead, ruinous on a loaded machine.
-#pragma omp parallel if (nchunks > 1)
+    // A parallel region costs a fork and a barrier (and spin-waiting threads on a loaded
+    // machine): below a few thousand element-dofs² of work per colour it costs more than it
+    // saves, so small colours run on the calling thread.
+    const bool parallel = nchunks >= kMinParallelChunks;
+#pragma omp parallel if (parallel)
     {
       // Per-thread buffers, allocated once per colour pass (not per element).
       std::vector<double> r(static_cast<size_t>(kChunk) * nd);
