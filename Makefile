@@ -36,6 +36,7 @@ verify: build
 		cat $(CURDIR)/out/ctest-verification.log; cd $(CURDIR) && \
 		tools/network-verification --velum $(BUILD)/velum --full --out out/network-verification \
 			--ctest-log out/ctest-verification.log --report docs/verification.md \
+			--notes tests/network/verification-notes.md \
 		&& exit $$status
 
 asan:
