@@ -1,10 +1,16 @@
 // The velum command line: parses arguments and hands over to velum::io's commands.
+#include <malloc.h>
+
 #include <CLI/CLI.hpp>
 
 #include "velum/config.hpp"
 #include "velum/io/commands.hpp"
 
 int main(int argc, char** argv) {
+  // The sparse factorisations allocate and free large blocks at every Newton iteration: keep
+  // them in the heap instead of mapping fresh (page-faulting, zeroed) memory each time.
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
   CLI::App app{
       "Velum: geometrically nonlinear dynamics of anisotropic membranes and cables.\n"
       "Units are the model's own (any consistent set) and never converted."};
