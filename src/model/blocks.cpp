@@ -129,7 +129,7 @@ class MembraneBlock final : public ElementBlock {
     }
     Shape::eval(r[0], r[1], N, dN);
     const double h = (Xe.col(1) - Xe.col(0)).norm();
-    const double tol = 1e-9;
+    const double tol = 1e-7;  // in ξ: points on element edges and corners must be found
     const bool inside = kTriangle ? (r[0] >= -tol && r[1] >= -tol && r[0] + r[1] <= 1 + tol)
                                 : (std::abs(r[0]) <= 1 + tol && std::abs(r[1]) <= 1 + tol);
     if (!inside || (P - Xe * N).norm() > 1e-6 * h) return false;
