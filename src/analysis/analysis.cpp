@@ -23,7 +23,9 @@ std::unique_ptr<TimeIntegrator> make_integrator(const AnalysisSettings& s) {
 }
 
 std::unique_ptr<LinearSolver> make_solver_for(SolverKind kind, const SecondOrderSystem& sys) {
-  if (kind == SolverKind::kAuto) kind = sys.symmetric() ? SolverKind::kCholmod : SolverKind::kUmfpack;
+  // A symmetric system may still lose positive definiteness (compression, slack cables):
+  // `auto` then falls back from CHOLMOD to UMFPACK by itself.
+  (void)sys;
   return make_linear_solver(kind);
 }
 
@@ -73,6 +75,7 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
         U_prev = U, F_prev = F, v_prev = cur.v, t_prev = st.t;
         return !observer || observer(StepSnapshot{st, sys, cur, E});
       });
+  result.solver = std::string(solver->name());  // what `auto` settled on
   result.factorizations = solver->factorizations();
   result.analyses = solver->analyses();
   return result;

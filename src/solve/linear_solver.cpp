@@ -3,7 +3,10 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/KLUSupport>
 #include <Eigen/UmfPackSupport>
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
+#include <vector>
 
 namespace velum {
 namespace {
@@ -53,6 +56,68 @@ class UmfPack final : public EigenSolver<Eigen::UmfPackLU<SparseMatrix>> {
   }
 };
 
+// CHOLMOD while the assembled matrix is numerically symmetric and positive definite, UMFPACK
+// otherwise. A follower-pressure load stiffness is unsymmetric element by element, but on a
+// surface whose boundary is held (a clamped or closed membrane) the assembled sum is
+// symmetric: there the Cholesky factorisation is exact and several times cheaper than LU.
+class AutoSolver final : public LinearSolver {
+ public:
+  std::string_view name() const override { return active_ ? active_->name() : "auto"; }
+  bool symmetric_only() const override { return false; }
+  bool analyze(const SparseMatrix& A) override {
+    // Index of the transposed entry of every stored entry (the pattern is structurally
+    // symmetric), so the symmetry test costs one pass without allocating.
+    mirror_.assign(A.nonZeros(), -1);
+    for (int j = 0; j < A.outerSize(); ++j)
+      for (int k = A.outerIndexPtr()[j]; k < A.outerIndexPtr()[j + 1]; ++k) {
+        const int i = A.innerIndexPtr()[k];
+        const int* lo = A.innerIndexPtr() + A.outerIndexPtr()[i];
+        const int* hi = A.innerIndexPtr() + A.outerIndexPtr()[i + 1];
+        const int* pos = std::lower_bound(lo, hi, j);
+        if (pos == hi || *pos != j) {  // structurally unsymmetric: LU only
+          cholmod_ok_ = false;
+          return lu_analyzed_ = lu_->analyze(A);
+        }
+        mirror_[k] = static_cast<int>(pos - A.innerIndexPtr());
+      }
+    chol_analyzed_ = lu_analyzed_ = false;
+    return true;
+  }
+  bool factorize(const SparseMatrix& A) override {
+    if (cholmod_ok_ && symmetric(A)) {
+      if (!chol_analyzed_) chol_analyzed_ = chol_->analyze(A);
+      if (chol_analyzed_ && chol_->factorize(A)) {
+        active_ = chol_.get();
+        return true;
+      }
+      cholmod_ok_ = false;  // indefinite: LU from now on
+    }
+    if (!lu_analyzed_) lu_analyzed_ = lu_->analyze(A);
+    active_ = lu_.get();
+    return lu_analyzed_ && lu_->factorize(A);
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    return active_ && active_->solve(b, x);
+  }
+
+ private:
+  bool symmetric(const SparseMatrix& A) const {
+    const double* v = A.valuePtr();
+    double vmax = 0, dmax = 0;
+    for (size_t k = 0; k < mirror_.size(); ++k) {
+      vmax = std::max(vmax, std::abs(v[k]));
+      dmax = std::max(dmax, std::abs(v[k] - v[mirror_[k]]));
+    }
+    return dmax <= 1e-10 * vmax;
+  }
+
+  std::unique_ptr<LinearSolver> chol_ = std::make_unique<Cholmod>();
+  std::unique_ptr<LinearSolver> lu_ = std::make_unique<UmfPack>();
+  LinearSolver* active_ = nullptr;
+  std::vector<int> mirror_;
+  bool cholmod_ok_ = true, chol_analyzed_ = false, lu_analyzed_ = false;
+};
+
 }  // namespace
 
 std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind) {
@@ -62,6 +127,7 @@ std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind) {
     case SolverKind::kKlu:
       return std::make_unique<EigenSolver<Eigen::KLU<SparseMatrix>>>("klu", false);
     case SolverKind::kAuto:
+      return std::make_unique<AutoSolver>();
     case SolverKind::kUmfpack:
       return std::make_unique<UmfPack>();
   }

@@ -48,8 +48,8 @@ struct AnalysisResult {
 };
 
 std::unique_ptr<TimeIntegrator> make_integrator(const AnalysisSettings& s);
-/// The linear solver for a system: `auto` picks CHOLMOD when the Jacobian is symmetric and
-/// UMFPACK otherwise (follower pressure, drag).
+/// The linear solver for a system: `auto` factorises with CHOLMOD while the assembled
+/// Jacobian is numerically symmetric and positive definite, with UMFPACK otherwise.
 std::unique_ptr<LinearSolver> make_solver_for(SolverKind kind, const SecondOrderSystem& sys);
 
 /// Runs the analysis from rest at the reference configuration. The observer is called after

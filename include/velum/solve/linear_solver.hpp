@@ -13,6 +13,8 @@ namespace velum {
 
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
+/// kAuto: CHOLMOD while the matrix is numerically symmetric (|A - Aᵀ| <= 1e-10 |A|, checked
+/// at every factorisation) and positive definite, UMFPACK otherwise.
 enum class SolverKind { kAuto, kCholmod, kUmfpack, kKlu };
 
 class LinearSolver {
