@@ -70,7 +70,8 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
         E.external_work += 0.5 * ((F + F_prev).array() * (U - U_prev).array()).sum();
         if (alpha != 0)
           E.damping += 0.5 * st.h * alpha * (cur.v.dot(M * cur.v) + v_prev.dot(M * v_prev));
-        E.kinetic = settings.type == AnalysisSettings::Type::kStatic ? 0.0 : sys.kinetic_energy(cur.v);
+        E.kinetic =
+            settings.type == AnalysisSettings::Type::kStatic ? 0.0 : sys.kinetic_energy(cur.v);
         E.strain = sys.strain_energy(st.t, cur.u);
         U_prev = U, F_prev = F, v_prev = cur.v, t_prev = st.t;
         return !observer || observer(StepSnapshot{st, sys, cur, E});

@@ -17,7 +17,8 @@ MechanicalSystem::MechanicalSystem(const Model& model)
     for (int c = 0; c < 3; ++c)
       if (dofs_.equation(n, c) >= 0) lumped_eq_[dofs_.equation(n, c)] = lumped_nodes_[n];
   for (const auto& e : model.edge_loads) edge_forces_.push_back(edge_load_forces(model, e));
-  for (const auto& g : model.gravity) gravity_forces_.push_back(assembler_.gravity_forces(g.acceleration));
+  for (const auto& g : model.gravity)
+    gravity_forces_.push_back(assembler_.gravity_forces(g.acceleration));
   drag_ = has_drag();
   symmetric_ = model.pressures.empty() && !drag_;
   if (!model.pressures.empty()) Kp_ = assembler_.make_matrix();

@@ -101,7 +101,8 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
     scatter_.push_back(std::move(map));
   }
   for (const auto& p : model.pressures)
-    pressure_colors_.push_back(color_elements(*model.blocks[p.block], p.elements, model.num_nodes()));
+    pressure_colors_.push_back(
+        color_elements(*model.blocks[p.block], p.elements, model.num_nodes()));
 }
 
 template <class Compute>
@@ -153,7 +154,8 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
   if (K) std::fill(K->valuePtr(), K->valuePtr() + K->nonZeros(), 0.0);
   for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
     const auto& b = *model_.blocks[bi];
-    run(static_cast<int>(bi), colors_[bi],
+    run(
+        static_cast<int>(bi), colors_[bi],
         [&](std::span<const int> elems, double* r, double* Ke) { b.internal(elems, x, r, Ke); },
         K != nullptr, F, K, 1.0);
   }
@@ -165,7 +167,8 @@ void Assembler::pressure(int i, double p, const NodePositions& x, NodePositions&
   const auto& b = *model_.blocks[load.block];
   // Load stiffness enters the residual r = f_int − f_ext with a minus sign.
   NodePositions f = NodePositions::Zero(3, model_.num_nodes());
-  run(load.block, pressure_colors_[i],
+  run(
+      load.block, pressure_colors_[i],
       [&](std::span<const int> elems, double* r, double* Ke) { b.pressure(elems, x, p, r, Ke); },
       K != nullptr, f, K, -1.0);
   Fext -= f;  // run() accumulated −f

@@ -27,7 +27,8 @@ DofMap::DofMap(const Model& model) {
       // Skew plane (or a second plane on a node that already has a frame): local frame with
       // the normal as first axis. A node on two skew planes keeps only the line they share.
       if (frame_of_[n] < 0) {
-        const Vec3 t1 = (std::abs(nrm.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(nrm).normalized();
+        const Vec3 t1 =
+            (std::abs(nrm.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(nrm).normalized();
         Mat3 R;
         R.row(0) = nrm;
         R.row(1) = t1;

@@ -5,7 +5,8 @@
 namespace velum {
 
 template <class Shape>
-Eigen::Matrix<double, 3, 2> Membrane<Shape>::basis(const Nodes& X, const std::array<double, 2>& xi) {
+Eigen::Matrix<double, 3, 2> Membrane<Shape>::basis(const Nodes& X,
+                                                   const std::array<double, 2>& xi) {
   typename Shape::Values N;
   typename Shape::Derivs dN;
   Shape::eval(xi[0], xi[1], N, dN);
@@ -14,8 +15,8 @@ Eigen::Matrix<double, 3, 2> Membrane<Shape>::basis(const Nodes& X, const std::ar
 
 template <class Shape>
 Vec3 Membrane<Shape>::centre_normal(const Nodes& X) {
-  const std::array<double, 2> c = Shape::kTriangle ? std::array<double, 2>{1.0 / 3, 1.0 / 3}
-                                                     : std::array<double, 2>{0.0, 0.0};
+  const std::array<double, 2> c =
+      Shape::kTriangle ? std::array<double, 2>{1.0 / 3, 1.0 / 3} : std::array<double, 2>{0.0, 0.0};
   const auto G = basis(X, c);
   return G.col(0).cross(G.col(1)).normalized();
 }
@@ -52,8 +53,8 @@ double Membrane<Shape>::setup(const Nodes& X, const Mat3& Q, const SheetAxes& ax
 }
 
 template <class Shape>
-void Membrane<Shape>::strain_stress(const MembranePoint<Shape>& p, const Nodes& x, Vec3& e,
-                                    Vec3& S, Eigen::Matrix<double, 3, 2>& g) {
+void Membrane<Shape>::strain_stress(const MembranePoint<Shape>& p, const Nodes& x, Vec3& e, Vec3& S,
+                                    Eigen::Matrix<double, 3, 2>& g) {
   g.noalias() = x * p.dN;
   e << 0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
       g.col(0).dot(g.col(1)) - p.G[2];
@@ -101,7 +102,8 @@ void Membrane<Shape>::force_tangent(const Points& pts, const Nodes& x, Vector& r
     Kg.noalias() += p.dN * Sm * p.dN.transpose();
   }
   for (int m = 0; m < kN; ++m)
-    for (int n = 0; n < kN; ++n) K.template block<3, 3>(3 * m, 3 * n).diagonal().array() += Kg(m, n);
+    for (int n = 0; n < kN; ++n)
+      K.template block<3, 3>(3 * m, 3 * n).diagonal().array() += Kg(m, n);
   r = Eigen::Map<const Vector>(rn.data());
 }
 

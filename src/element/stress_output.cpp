@@ -6,8 +6,8 @@
 
 namespace velum {
 
-MembraneStress membrane_stress(const Eigen::Matrix<double, 3, 2>& g, const Vec3& S,
-                               const Vec3& Gm, const Mat2& T) {
+MembraneStress membrane_stress(const Eigen::Matrix<double, 3, 2>& g, const Vec3& S, const Vec3& Gm,
+                               const Mat2& T) {
   MembraneStress out;
   const Mat2 gcov = g.transpose() * g;
   const double detG = Gm[0] * Gm[1] - Gm[2] * Gm[2];

@@ -44,7 +44,7 @@ Mat3 compliance(const AnisotropicConstants& c) {
   const double nu21 = c.nu12 * c.E2 / c.E1;
   const double G = c.use_firt ? firt_shear_modulus(c.E1, c.E2, c.nu12) : c.G12;
   Mat3 S;
-  S << 1 / c.E1, -nu21 / c.E2, c.eta1 / c.E1,  //
+  S << 1 / c.E1, -nu21 / c.E2, c.eta1 / c.E1,   //
       -c.nu12 / c.E1, 1 / c.E2, c.eta2 / c.E2,  //
       c.eta1 / c.E1, c.eta2 / c.E2, 1 / G;
   return S;
@@ -65,14 +65,16 @@ PlaneStressLaw PlaneStressLaw::orthotropic(const std::string& name, double E1, d
 PlaneStressLaw PlaneStressLaw::anisotropic(const std::string& name, const AnisotropicConstants& c) {
   require(c.E1 > 0, name, fmt::format("E1 must be positive (got {})", c.E1));
   require(c.E2 > 0, name, fmt::format("E2 must be positive (got {})", c.E2));
-  require(c.nu12 * c.nu12 < c.E1 / c.E2, name,
-          fmt::format("nu12^2 = {:.6g} must be below E1/E2 = {:.6g}", c.nu12 * c.nu12, c.E1 / c.E2));
+  require(
+      c.nu12 * c.nu12 < c.E1 / c.E2, name,
+      fmt::format("nu12^2 = {:.6g} must be below E1/E2 = {:.6g}", c.nu12 * c.nu12, c.E1 / c.E2));
   require(c.nu12 >= 0 || !c.use_firt, name, "Firt's approximation needs nu12 >= 0");
   const double G = c.use_firt ? firt_shear_modulus(c.E1, c.E2, c.nu12) : c.G12;
   require(G > 0, name, fmt::format("shear modulus G12 must be positive (got {})", G));
   const double E1 = c.E1, E2 = c.E2, n12 = c.nu12, n21 = n12 * E2 / E1;
   const double e1 = c.eta1, e2 = c.eta2;
-  const double delta = (1 - n12 * n21) - (G / E1) * (2 * n12 * e1 * e2 + e1 * e1 + (E1 / E2) * e2 * e2);
+  const double delta =
+      (1 - n12 * n21) - (G / E1) * (2 * n12 * e1 * e2 + e1 * e1 + (E1 / E2) * e2 * e2);
   require(delta > 0, name,
           fmt::format("the law is not admissible: Delta = {:.6g} <= 0 (Eq. 21); reduce eta1, eta2 "
                       "or nu12",
@@ -128,7 +130,8 @@ Mat3 transform_stiffness(const Mat3& Q, const Mat2& T) {
     const int row = kVoigt[pa[r]][pb[r]];
     for (int k = 0; k < 3; ++k) {
       double s = 0;
-      for (int c = 0; c < 4; ++c) s += Q(row, kVoigt[pa[c]][pb[c]]) * T(pa[c], va[k]) * T(pb[c], vb[k]);
+      for (int c = 0; c < 4; ++c)
+        s += Q(row, kVoigt[pa[c]][pb[c]]) * T(pa[c], va[k]) * T(pb[c], vb[k]);
       P(r, k) = s;
     }
   }

@@ -106,7 +106,7 @@ class MembraneBlock final : public ElementBlock {
     // Stresses at the element centre: evaluate at the centroid with the point data of the
     // nearest rule point for the constitutive matrix (constant within a flat element).
     const std::array<double, 2> c = Shape::kTriangle ? std::array<double, 2>{1.0 / 3, 1.0 / 3}
-                                            : std::array<double, 2>{0.0, 0.0};
+                                                     : std::array<double, 2>{0.0, 0.0};
     ElementOutput out;
     out.stress = output_at(e, c, x);
     return out;
@@ -131,7 +131,7 @@ class MembraneBlock final : public ElementBlock {
     const double h = (Xe.col(1) - Xe.col(0)).norm();
     const double tol = 1e-7;  // in ξ: points on element edges and corners must be found
     const bool inside = kTriangle ? (r[0] >= -tol && r[1] >= -tol && r[0] + r[1] <= 1 + tol)
-                                : (std::abs(r[0]) <= 1 + tol && std::abs(r[1]) <= 1 + tol);
+                                  : (std::abs(r[0]) <= 1 + tol && std::abs(r[1]) <= 1 + tol);
     if (!inside || (P - Xe * N).norm() > 1e-6 * h) return false;
     xi = {r[0], r[1]};
     return true;
@@ -158,8 +158,8 @@ class MembraneBlock final : public ElementBlock {
     const Eigen::Matrix<double, 3, 2> G = Xref_cols(e) * dN;
     const Mat2 Gcov = G.transpose() * G;
     const Vec3 Gm(Gcov(0, 0), Gcov(1, 1), Gcov(0, 1));
-    const Vec3 strain(0.5 * (g.col(0).squaredNorm() - Gm[0]), 0.5 * (g.col(1).squaredNorm() - Gm[1]),
-                      g.col(0).dot(g.col(1)) - Gm[2]);
+    const Vec3 strain(0.5 * (g.col(0).squaredNorm() - Gm[0]),
+                      0.5 * (g.col(1).squaredNorm() - Gm[1]), g.col(0).dot(g.col(1)) - Gm[2]);
     const Vec3 S = p.D * strain / p.t0dA;
     return membrane_stress(g, S, Gm, p.T);
   }

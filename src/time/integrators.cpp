@@ -28,8 +28,7 @@ bool residual_converged(double rnorm, double ref, const NewtonSettings& ns) {
 
 }  // namespace
 
-StepReport TimeIntegrator::start(SecondOrderSystem& sys, LinearSolver& solver, double t,
-                                 State& s) {
+StepReport TimeIntegrator::start(SecondOrderSystem& sys, LinearSolver& solver, double t, State& s) {
   // M a0 = f_ext − f_int − C v0: one linear solve with the Jacobian shifted to M alone.
   StepReport rep;
   SparseMatrix J;
@@ -62,8 +61,8 @@ std::unique_ptr<GeneralizedAlpha> GeneralizedAlpha::newmark(double b, double g) 
   return std::make_unique<GeneralizedAlpha>(0.0, 0.0, b, g, "newmark");
 }
 
-StepReport GeneralizedAlpha::step(SecondOrderSystem& sys, LinearSolver& solver, double t,
-                                  double h, State& s) {
+StepReport GeneralizedAlpha::step(SecondOrderSystem& sys, LinearSolver& solver, double t, double h,
+                                  State& s) {
   StepReport rep;
   un_ = s.u, vn_ = s.v, an_ = s.a;
   const double tf = t + (1 - alpha_f) * h;
@@ -106,8 +105,9 @@ StepReport GeneralizedAlpha::step(SecondOrderSystem& sys, LinearSolver& solver, 
     u += du_;
     rep.iterations = it + 1;
   }
-  rep.reason = fmt::format("Newton did not converge in {} iterations (residual {:.3e}, reference {:.3e})",
-                           newton.max_iterations, rep.residuals.back(), ref);
+  rep.reason =
+      fmt::format("Newton did not converge in {} iterations (residual {:.3e}, reference {:.3e})",
+                  newton.max_iterations, rep.residuals.back(), ref);
   return rep;
 }
 
@@ -117,7 +117,9 @@ StepReport CentralDifference::start(SecondOrderSystem& sys, LinearSolver&, doubl
   s.a = -r_.cwiseQuotient(sys.lumped_mass());
   StepReport rep;
   rep.converged = s.a.allFinite();
-  if (!rep.converged) rep.reason = "a node without mass: central difference needs a positive lumped mass at every free DOF";
+  if (!rep.converged)
+    rep.reason =
+        "a node without mass: central difference needs a positive lumped mass at every free DOF";
   return rep;
 }
 
@@ -175,8 +177,9 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
     u += du_;
     rep.iterations = it + 1;
   }
-  rep.reason = fmt::format("Newton did not converge in {} iterations (residual {:.3e}, reference {:.3e})",
-                           newton.max_iterations, rep.residuals.back(), ref);
+  rep.reason =
+      fmt::format("Newton did not converge in {} iterations (residual {:.3e}, reference {:.3e})",
+                  newton.max_iterations, rep.residuals.back(), ref);
   return rep;
 }
 

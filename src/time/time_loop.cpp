@@ -6,9 +6,10 @@
 
 namespace velum {
 
-TimeLoopResult run_time_loop(SecondOrderSystem& sys, TimeIntegrator& integrator,
-                             LinearSolver& solver, const TimeLoopSettings& cfg, State& s,
-                             const std::function<bool(const AcceptedStep&, const State&)>& observer) {
+TimeLoopResult run_time_loop(
+    SecondOrderSystem& sys, TimeIntegrator& integrator, LinearSolver& solver,
+    const TimeLoopSettings& cfg, State& s,
+    const std::function<bool(const AcceptedStep&, const State&)>& observer) {
   TimeLoopResult res;
   double t = cfg.t0;
   res.t = t;
@@ -48,8 +49,13 @@ TimeLoopResult run_time_loop(SecondOrderSystem& sys, TimeIntegrator& integrator,
     ++res.steps;
     res.iterations += rep.iterations;
     res.t = t;
-    AcceptedStep info{t, hs, res.steps, rep.iterations, res.iterations,
-                      hits_target && (cfg.output_interval > 0 || t >= cfg.t_end - eps), &rep};
+    AcceptedStep info{t,
+                      hs,
+                      res.steps,
+                      rep.iterations,
+                      res.iterations,
+                      hits_target && (cfg.output_interval > 0 || t >= cfg.t_end - eps),
+                      &rep};
     if (observer && !observer(info, s)) {
       res.stopped = true;
       return res;

@@ -50,8 +50,8 @@ double pressure_resultant_z(const MechanicalSystem& sys, const NodePositions& x,
   NodePositions F = NodePositions::Zero(3, m.num_nodes());
   for (size_t i = 0; i < m.pressures.size(); ++i)
     sys.assembler().pressure(static_cast<int>(i),
-                             m.pressures[i].value * m.function_value(m.pressures[i].function, t),
-                             x, F, nullptr);
+                             m.pressures[i].value * m.function_value(m.pressures[i].function, t), x,
+                             F, nullptr);
   return F.row(2).sum();
 }
 
@@ -83,8 +83,8 @@ TEST(C9, SettledCanopyIsInGlobalEquilibrium) {
   const double P = pressure_resultant_z(sys, x, s.t);
   const double L = line_pull_z(in.model, x, conf);
   const NodePositions R = sys.reactions(s.t, s.u, s.v);
-  std::cout << std::setprecision(9) << "C9 equilibrium at t = " << s.t << ": pressure resultant " << P
-            << " lbf, line pull " << L << " lbf, confluence reaction " << R(2, conf)
+  std::cout << std::setprecision(9) << "C9 equilibrium at t = " << s.t << ": pressure resultant "
+            << P << " lbf, line pull " << L << " lbf, confluence reaction " << R(2, conf)
             << " lbf, relative differences " << std::abs(P - L) / P << " (lines), "
             << std::abs(P + R(2, conf)) / P << " (reaction)\n";
   EXPECT_GT(P, 0.0);

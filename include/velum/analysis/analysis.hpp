@@ -18,8 +18,8 @@ struct AnalysisSettings {
   Type type = Type::kDynamic;
   /// newmark | hht | generalized-alpha | central-difference
   std::string scheme = "generalized-alpha";
-  double rho_inf = 0.8;                      ///< generalized-alpha
-  double hht_alpha = 0.05;                   ///< hht, in [0, 1/3]
+  double rho_inf = 0.8;     ///< generalized-alpha
+  double hht_alpha = 0.05;  ///< hht, in [0, 1/3]
   double newmark_beta = 0.25, newmark_gamma = 0.5;
   TimeLoopSettings time;
   NewtonSettings newton;

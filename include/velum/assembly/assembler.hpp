@@ -47,9 +47,9 @@ class Assembler {
   const Model& model_;
   const DofMap& dofs_;
   SparseMatrix pattern_;
-  std::vector<std::vector<std::vector<int>>> colors_;          // per block
-  std::vector<std::vector<int>> scatter_;                      // per block: ne x dofs² positions
-  std::vector<std::vector<std::vector<int>>> pressure_colors_; // per pressure load
+  std::vector<std::vector<std::vector<int>>> colors_;           // per block
+  std::vector<std::vector<int>> scatter_;                       // per block: ne x dofs² positions
+  std::vector<std::vector<std::vector<int>>> pressure_colors_;  // per pressure load
 };
 
 }  // namespace velum

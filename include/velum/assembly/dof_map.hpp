@@ -30,7 +30,9 @@ class DofMap {
   /// Reduced vector from full global components.
   void gather(const NodePositions& full, VecX& reduced) const;
   /// Components of node n's local frame for a global vector.
-  Vec3 to_local(int n, const Vec3& v) const { return frame_of_[n] < 0 ? v : frames_[frame_of_[n]] * v; }
+  Vec3 to_local(int n, const Vec3& v) const {
+    return frame_of_[n] < 0 ? v : frames_[frame_of_[n]] * v;
+  }
   Vec3 to_global(int n, const Vec3& v) const {
     return frame_of_[n] < 0 ? v : Vec3(frames_[frame_of_[n]].transpose() * v);
   }

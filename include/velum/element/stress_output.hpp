@@ -9,11 +9,11 @@
 namespace velum {
 
 struct MembraneStress {
-  double max = 0, min = 0;                          ///< principal true stresses, max >= min
+  double max = 0, min = 0;                              ///< principal true stresses, max >= min
   Vec3 dir_max = Vec3::Zero(), dir_min = Vec3::Zero();  ///< unit principal directions
-  Vec3 sheet = Vec3::Zero();     ///< σ11, σ22, σ12 in the deformed sheet axes (F m1 and normal)
-  Mat3 sigma = Mat3::Zero();     ///< Cartesian true stress (in the tangent plane)
-  double fiber_angle_change = 0; ///< angle(F m1, F m2) − angle(m1, m2), radians
+  Vec3 sheet = Vec3::Zero();      ///< σ11, σ22, σ12 in the deformed sheet axes (F m1 and normal)
+  Mat3 sigma = Mat3::Zero();      ///< Cartesian true stress (in the tangent plane)
+  double fiber_angle_change = 0;  ///< angle(F m1, F m2) − angle(m1, m2), radians
 };
 
 /// g: current tangent basis (g1, g2); S: contravariant 2nd PK [S11, S22, S12];

@@ -22,8 +22,8 @@ class MaterialError : public std::runtime_error {
 /// Engineering constants of an anisotropic sheet in its principal axes.
 struct AnisotropicConstants {
   double E1 = 0, E2 = 0, nu12 = 0;
-  double G12 = 0;        ///< in-plane shear modulus; ignored when use_firt
-  bool use_firt = false; ///< G12 from Firt's approximation (Eq. 19)
+  double G12 = 0;             ///< in-plane shear modulus; ignored when use_firt
+  bool use_firt = false;      ///< G12 from Firt's approximation (Eq. 19)
   double eta1 = 0, eta2 = 0;  ///< Lekhnitskii coefficients of mutual influence
 };
 

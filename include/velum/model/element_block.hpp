@@ -10,10 +10,10 @@
 #include <string_view>
 #include <vector>
 
+#include "velum/element/stress_output.hpp"
 #include "velum/material/axes.hpp"
 #include "velum/material/cable_law.hpp"
 #include "velum/material/plane_stress.hpp"
-#include "velum/element/stress_output.hpp"
 
 namespace velum {
 
@@ -23,8 +23,8 @@ using NodePositions = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 enum class ElementKind { kMembrane, kCable };
 
 struct ElementOutput {
-  MembraneStress stress;  ///< membranes: at the element centre (mean of the points)
-  double cable_force = 0; ///< cables: true axial force, mean over the points
+  MembraneStress stress;   ///< membranes: at the element centre (mean of the points)
+  double cable_force = 0;  ///< cables: true axial force, mean over the points
 };
 
 class ElementBlock {
@@ -50,8 +50,8 @@ class ElementBlock {
   virtual void internal(std::span<const int> elements, const NodePositions& x, double* r,
                         double* K) const = 0;
   /// Follower pressure forces and (when K non-null) load stiffness df/dx; membranes only.
-  virtual void pressure(std::span<const int> elements, const NodePositions& x, double p,
-                        double* f, double* K) const = 0;
+  virtual void pressure(std::span<const int> elements, const NodePositions& x, double p, double* f,
+                        double* K) const = 0;
   /// Consistent mass of element e including density (scalar nodes x nodes, column-major).
   virtual void mass(int e, double* M) const = 0;
   /// Reference measure (area for membranes, length for cables) of element e.
@@ -77,7 +77,7 @@ class ElementBlock {
 
 /// Diagnostics of a block's set-up: the worst element found, for validation messages.
 struct BlockSetupReport {
-  int worst_element = -1;   ///< element with the smallest Jacobian / length
+  int worst_element = -1;  ///< element with the smallest Jacobian / length
   double worst_jacobian = 0;
   int poor_axes_element = -1;  ///< element where the projected m1 is shortest
   double poor_axes_quality = 1;
@@ -88,10 +88,9 @@ struct BlockSetupReport {
 /// type; `report` receives degenerate elements (the caller decides how to complain).
 std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::string set_name,
                                                   std::vector<int> connectivity,
-                                                  const NodePositions& X,
-                                                  const PlaneStressLaw& law, double density,
-                                                  double thickness, const SheetAxes* axes,
-                                                  BlockSetupReport& report);
+                                                  const NodePositions& X, const PlaneStressLaw& law,
+                                                  double density, double thickness,
+                                                  const SheetAxes* axes, BlockSetupReport& report);
 
 /// Cable block (cable2, cable3).
 std::unique_ptr<ElementBlock> make_cable_block(std::string_view type, std::string set_name,

@@ -71,8 +71,8 @@ struct Tri6 {
   static void eval(double r, double s, Values& N, Derivs& dN) {
     const double t = 1 - r - s;
     N << t * (2 * t - 1), r * (2 * r - 1), s * (2 * s - 1), 4 * t * r, 4 * r * s, 4 * s * t;
-    dN << -(4 * t - 1), -(4 * t - 1), 4 * r - 1, 0, 0, 4 * s - 1, 4 * (t - r), -4 * r, 4 * s,
-        4 * r, -4 * s, 4 * (t - s);
+    dN << -(4 * t - 1), -(4 * t - 1), 4 * r - 1, 0, 0, 4 * s - 1, 4 * (t - r), -4 * r, 4 * s, 4 * r,
+        -4 * s, 4 * (t - s);
   }
   static constexpr std::array<std::array<double, 2>, kNodes> nodes() {
     return {{{0, 0}, {1, 0}, {0, 1}, {0.5, 0}, {0.5, 0.5}, {0, 0.5}}};

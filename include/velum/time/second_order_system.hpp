@@ -17,8 +17,8 @@ class SecondOrderSystem {
   virtual ~SecondOrderSystem() = default;
   virtual int size() const = 0;
   /// Residual r (and, when J != null, the shifted Jacobian, pattern fixed) at time t.
-  virtual void evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu,
-                        double cv, double ca, VecX& r, SparseMatrix* J) = 0;
+  virtual void evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu, double cv,
+                        double ca, VecX& r, SparseMatrix* J) = 0;
   /// Lumped (diagonal) mass per equation, for explicit integration.
   virtual const VecX& lumped_mass() const = 0;
   /// A force scale of the last evaluation (norms of internal and external forces), against

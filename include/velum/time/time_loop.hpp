@@ -37,8 +37,9 @@ struct TimeLoopResult {
 };
 
 /// Runs the loop; `observer` returns false to stop early.
-TimeLoopResult run_time_loop(SecondOrderSystem& sys, TimeIntegrator& integrator,
-                             LinearSolver& solver, const TimeLoopSettings& settings, State& s,
-                             const std::function<bool(const AcceptedStep&, const State&)>& observer);
+TimeLoopResult run_time_loop(
+    SecondOrderSystem& sys, TimeIntegrator& integrator, LinearSolver& solver,
+    const TimeLoopSettings& settings, State& s,
+    const std::function<bool(const AcceptedStep&, const State&)>& observer);
 
 }  // namespace velum
