@@ -29,8 +29,10 @@ class MembraneBlock final : public ElementBlock {
     const int ne = size();
     points_.resize(ne);
     mass_.resize(ne);
+    Xref_.resize(ne);
     for (int e = 0; e < ne; ++e) {
       const auto Xe = gather<kN>(X, nodes(e));
+      Xref_[e] = Xe;
       const Vec3 n = K::centre_normal(Xe);
       double quality = 1.0;
       const SheetAxes a = axes ? project_axes(*axes, n, &quality) : default_axes(n);
@@ -164,15 +166,14 @@ class MembraneBlock final : public ElementBlock {
     return membrane_stress(g, S, Gm, p.T);
   }
 
-  void set_reference(const NodePositions& X) { X_ = X; }
-
  private:
-  Eigen::Matrix<double, 3, kN> Xref_cols(int e) const { return gather<kN>(X_, nodes(e)); }
+  const Eigen::Matrix<double, 3, kN>& Xref_cols(int e) const { return Xref_[e]; }
 
   double t0_;
   std::vector<typename K::Points> points_;
   std::vector<typename K::NodeMatrix> mass_;
-  NodePositions X_;
+  std::vector<Eigen::Matrix<double, 3, kN>, Eigen::aligned_allocator<Eigen::Matrix<double, 3, kN>>>
+      Xref_;  // reference coordinates per element (locate, output_at)
 };
 
 template <class Shape>
@@ -268,10 +269,8 @@ std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::st
                                                   double t0, const SheetAxes* axes,
                                                   BlockSetupReport& report) {
   auto build = [&]<class S>(S) -> std::unique_ptr<ElementBlock> {
-    auto b = std::make_unique<MembraneBlock<S>>(std::move(set), std::move(conn), X, law, density,
-                                                t0, axes, report);
-    b->set_reference(X);
-    return b;
+    return std::make_unique<MembraneBlock<S>>(std::move(set), std::move(conn), X, law, density, t0,
+                                              axes, report);
   };
   if (type == "tri3") return build(shape::Tri3{});
   if (type == "tri6") return build(shape::Tri6{});

@@ -14,12 +14,9 @@ TimeLoopResult run_time_loop(
   double t = cfg.t0;
   res.t = t;
   const double eps = 1e-9 * cfg.step;
-  {
-    const StepReport rep = integrator.start(sys, solver, t, s);
-    if (!rep.converged) {
-      res.reason = fmt::format("at t = {:g}: {}", t, rep.reason);
-      return res;
-    }
+  if (const StepReport rep = integrator.start(sys, solver, t, s); !rep.converged) {
+    res.reason = fmt::format("at t = {:g}: {}", t, rep.reason);
+    return res;
   }
   double h = cfg.step;
   int easy = 0;
