@@ -11,6 +11,7 @@
 
 #include <chrono>
 
+#include "square_membrane.hpp"
 #include "velum/analysis/analysis.hpp"
 #include "velum/model/model.hpp"
 
@@ -29,35 +30,6 @@ double process_cpu() {
   getrusage(RUSAGE_SELF, &ru);
   return static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
          1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
-}
-
-// Square [0, 1]² of n x n quad4 (E t = 1e6 N/m, ν = 0.3, ρ t = 1 kg/m²), edges clamped,
-// 100 Pa follower pressure.
-std::unique_ptr<Model> pressurised_square(int n) {
-  auto m = std::make_unique<Model>();
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      m->add_node(j * (n + 1) + i + 1, Vec3(double(i) / n, double(j) / n, 0));
-  std::vector<int> conn;
-  std::vector<int> edge;
-  auto id = [&](int i, int j) { return j * (n + 1) + i; };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i)
-      conn.insert(conn.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      if (i == 0 || j == 0 || i == n || j == n) edge.push_back(id(i, j));
-  BlockSetupReport report;
-  m->blocks.push_back(make_membrane_block("quad4", "sheet", std::move(conn), m->X,
-                                          PlaneStressLaw::isotropic("film", 1e9, 0.3), 1000.0, 1e-3,
-                                          nullptr, report));
-  m->fixed.push_back({edge, {true, true, true}});
-  PressureLoad p;
-  p.block = 0;
-  p.value = 100;
-  for (int e = 0; e < m->blocks[0]->size(); ++e) p.elements.push_back(e);
-  m->pressures.push_back(std::move(p));
-  return m;
 }
 
 void BM_ImplicitStep(benchmark::State& state) {
