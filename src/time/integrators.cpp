@@ -8,15 +8,29 @@ namespace velum {
 namespace {
 
 // Factorises J and solves J x = −r; fills `why` on failure.
+std::string explain_singular(const SecondOrderSystem& sys, const SparseMatrix& J) {
+  std::string d = sys.diagnose_singular(J);
+  return d.empty() ? "the matrix is singular or not positive definite (a mechanism, a slack or "
+                     "buckled region); try a dynamic analysis, smaller steps or another "
+                     "linear_solver"
+                   : d;
+}
+
+// Newton on a matrix with unsupported DOFs (zero rows of stiffness and mass, made invertible
+// only by load-stiffness couplings) diverges: the failure names the DOFs found at the start.
+std::string with_diagnosis(std::string why, const std::string& diagnosis) {
+  return diagnosis.empty() ? why : why + "; " + diagnosis;
+}
+
 bool newton_solve(SecondOrderSystem& sys, LinearSolver& solver, const SparseMatrix& J,
                   const VecX& r, VecX& x, std::string& why) {
   if (!solver.refactorize(J)) {
-    why = fmt::format("the {} factorisation failed: {}", solver.name(), sys.diagnose_singular(J));
+    why = fmt::format("the {} factorisation failed: {}", solver.name(), explain_singular(sys, J));
     return false;
   }
   if (!solver.solve(-r, x)) {
     why = fmt::format("the {} solve gave a non-finite result: {}", solver.name(),
-                      sys.diagnose_singular(J));
+                      explain_singular(sys, J));
     return false;
   }
   return true;
@@ -80,7 +94,8 @@ StepReport GeneralizedAlpha::step(SecondOrderSystem& sys, LinearSolver& solver, 
     am_ = (1 - alpha_m) * a + alpha_m * an_;
   };
   SparseMatrix J;
-  double ref = 0;
+  double ref = 0, start = 0;
+  std::string diagnosis;
   for (int it = 0; it <= newton.max_iterations; ++it) {
     kinematics();
     sys.evaluate(tf, uf_, vf_, am_, cu, cv, ca, r_, &J);
@@ -88,6 +103,16 @@ StepReport GeneralizedAlpha::step(SecondOrderSystem& sys, LinearSolver& solver, 
     rep.residuals.push_back(rn);
     if (!std::isfinite(rn)) {
       rep.reason = fmt::format("non-finite residual at Newton iteration {}", it);
+      return rep;
+    }
+    if (it == 0) {
+      start = std::max({rn, sys.force_scale(), newton.abs_residual});
+      diagnosis = sys.diagnose_singular(J);
+    }
+    if (it >= 3 && rn > 1e6 * start) {  // diverging: stop now, the step will be cut
+      rep.reason = with_diagnosis(
+          fmt::format("Newton diverged (residual {:.3e} from {:.3e})", rn, rep.residuals[0]),
+          diagnosis);
       return rep;
     }
     ref = std::max({ref, rn, sys.force_scale()});
@@ -149,13 +174,24 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
   VecX u = s.u;
   zero_.setZero(sys.size());
   SparseMatrix J;
-  double ref = 0;
+  double ref = 0, start = 0;
+  std::string diagnosis;
   for (int it = 0; it <= newton.max_iterations; ++it) {
     sys.evaluate(t + h, u, zero_, zero_, 1.0, 0.0, 0.0, r_, &J);
     const double rn = r_.norm();
     rep.residuals.push_back(rn);
     if (!std::isfinite(rn)) {
       rep.reason = fmt::format("non-finite residual at Newton iteration {}", it);
+      return rep;
+    }
+    if (it == 0) {
+      start = std::max({rn, sys.force_scale(), newton.abs_residual});
+      diagnosis = sys.diagnose_singular(J);
+    }
+    if (it >= 3 && rn > 1e6 * start) {  // diverging: stop now, the step will be cut
+      rep.reason = with_diagnosis(
+          fmt::format("Newton diverged (residual {:.3e} from {:.3e})", rn, rep.residuals[0]),
+          diagnosis);
       return rep;
     }
     ref = std::max({ref, rn, sys.force_scale()});

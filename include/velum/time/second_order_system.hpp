@@ -26,7 +26,8 @@ class SecondOrderSystem {
   virtual double force_scale() const = 0;
   /// Whether the Jacobian is symmetric (no follower-pressure stiffness, no drag).
   virtual bool symmetric() const = 0;
-  /// Explains a singular Jacobian: which equations have no stiffness and what to do.
+  /// Names the equations of J that carry no stiffness and no mass, and what to do about them;
+  /// empty when there are none.
   virtual std::string diagnose_singular(const SparseMatrix& J) const = 0;
 };
 
