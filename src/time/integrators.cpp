@@ -40,6 +40,59 @@ bool residual_converged(double rnorm, double ref, const NewtonSettings& ns) {
   return rnorm <= std::max(ns.tolerance * ref, ns.abs_residual);
 }
 
+// Full Newton-Raphson on the unknown u, starting from its predictor: `evaluate(u, r, J)` gives
+// the residual and the (shifted) Jacobian there. Converged when the residual is below the
+// tolerance relative to the largest force seen and the last correction is below the tolerance
+// relative to the step's change u − u_start. Stops early on a non-finite or diverging residual.
+template <class Evaluate>
+StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const NewtonSettings& ns,
+                          const VecX& u_start, VecX& u, VecX& r, VecX& du,
+                          const Evaluate& evaluate) {
+  StepReport rep;
+  SparseMatrix J;
+  double ref = 0, start = 0;
+  std::string diagnosis;
+  for (int it = 0; it <= ns.max_iterations; ++it) {
+    evaluate(u, r, J);
+    const double rn = r.norm();
+    rep.residuals.push_back(rn);
+    if (!std::isfinite(rn)) {
+      rep.reason = fmt::format("non-finite residual at Newton iteration {}", it);
+      return rep;
+    }
+    if (it == 0) {
+      start = std::max({rn, sys.force_scale(), ns.abs_residual});
+      diagnosis = sys.diagnose_singular(J);
+      if (rn <= ns.abs_residual) {  // already in equilibrium
+        rep.converged = true;
+        return rep;
+      }
+    }
+    if (it >= 3 && rn > 1e6 * start) {  // diverging: stop now, the step will be cut
+      rep.reason = with_diagnosis(
+          fmt::format("Newton diverged (residual {:.3e} from {:.3e})", rn, rep.residuals[0]),
+          diagnosis);
+      return rep;
+    }
+    ref = std::max({ref, rn, sys.force_scale()});
+    if (it > 0 && residual_converged(rn, ref, ns) &&
+        du.norm() <= std::max(ns.tolerance * (u - u_start).norm(), 1e-14 * (1 + u.norm()))) {
+      rep.converged = true;
+      rep.iterations = it;
+      return rep;
+    }
+    if (it == ns.max_iterations) break;
+    if (!newton_solve(sys, solver, J, r, du, rep.reason)) return rep;
+    u += du;
+    rep.iterations = it + 1;
+  }
+  rep.reason = with_diagnosis(
+      fmt::format("Newton did not converge in {} iterations (residual {:.3e}, reference {:.3e})",
+                  ns.max_iterations, rep.residuals.back(), ref),
+      diagnosis);
+  return rep;
+}
+
 }  // namespace
 
 StepReport TimeIntegrator::start(SecondOrderSystem& sys, LinearSolver& solver, double t, State& s) {
@@ -77,62 +130,30 @@ std::unique_ptr<GeneralizedAlpha> GeneralizedAlpha::newmark(double b, double g) 
 
 StepReport GeneralizedAlpha::step(SecondOrderSystem& sys, LinearSolver& solver, double t, double h,
                                   State& s) {
-  StepReport rep;
   un_ = s.u, vn_ = s.v, an_ = s.a;
   const double tf = t + (1 - alpha_f) * h;
   const double cu = 1 - alpha_f;
   const double cv = (1 - alpha_f) * gamma / (beta * h);
   const double ca = (1 - alpha_m) / (beta * h * h);
-  // Predictor: constant acceleration.
-  VecX u = un_ + h * vn_ + 0.5 * h * h * an_;
-  VecX a(u.size()), v(u.size());
-  auto kinematics = [&] {
+  VecX a(un_.size()), v(un_.size());
+  auto kinematics = [&](const VecX& u) {
     a = (u - un_ - h * vn_ - (0.5 - beta) * h * h * an_) / (beta * h * h);
     v = vn_ + h * ((1 - gamma) * an_ + gamma * a);
-    uf_ = (1 - alpha_f) * u + alpha_f * un_;
-    vf_ = (1 - alpha_f) * v + alpha_f * vn_;
-    am_ = (1 - alpha_m) * a + alpha_m * an_;
   };
-  SparseMatrix J;
-  double ref = 0, start = 0;
-  std::string diagnosis;
-  for (int it = 0; it <= newton.max_iterations; ++it) {
-    kinematics();
-    sys.evaluate(tf, uf_, vf_, am_, cu, cv, ca, r_, &J);
-    const double rn = r_.norm();
-    rep.residuals.push_back(rn);
-    if (!std::isfinite(rn)) {
-      rep.reason = fmt::format("non-finite residual at Newton iteration {}", it);
-      return rep;
-    }
-    if (it == 0) {
-      start = std::max({rn, sys.force_scale(), newton.abs_residual});
-      diagnosis = sys.diagnose_singular(J);
-    }
-    if (it >= 3 && rn > 1e6 * start) {  // diverging: stop now, the step will be cut
-      rep.reason = with_diagnosis(
-          fmt::format("Newton diverged (residual {:.3e} from {:.3e})", rn, rep.residuals[0]),
-          diagnosis);
-      return rep;
-    }
-    ref = std::max({ref, rn, sys.force_scale()});
-    const double du_norm = it > 0 ? du_.norm() : INFINITY;
-    const double step_norm = (u - un_).norm();
-    if (it > 0 && residual_converged(rn, ref, newton) &&
-        du_norm <= std::max(newton.tolerance * step_norm, 1e-14 * (1 + u.norm()))) {
-      rep.converged = true;
-      rep.iterations = it;
-      s.u = u, s.v = v, s.a = a;
-      return rep;
-    }
-    if (it == newton.max_iterations) break;
-    if (!newton_solve(sys, solver, J, r_, du_, rep.reason)) return rep;
-    u += du_;
-    rep.iterations = it + 1;
+  // Predictor: constant acceleration.
+  VecX u = un_ + h * vn_ + 0.5 * h * h * an_;
+  const StepReport rep = newton_iterate(sys, solver, newton, un_, u, r_, du_,
+                                        [&](const VecX& x, VecX& r, SparseMatrix& J) {
+                                          kinematics(x);
+                                          uf_ = (1 - alpha_f) * x + alpha_f * un_;
+                                          vf_ = (1 - alpha_f) * v + alpha_f * vn_;
+                                          am_ = (1 - alpha_m) * a + alpha_m * an_;
+                                          sys.evaluate(tf, uf_, vf_, am_, cu, cv, ca, r, &J);
+                                        });
+  if (rep.converged) {
+    kinematics(u);
+    s.u = u, s.v = v, s.a = a;
   }
-  rep.reason =
-      fmt::format("Newton did not converge in {} iterations (residual {:.3e}, reference {:.3e})",
-                  newton.max_iterations, rep.residuals.back(), ref);
   return rep;
 }
 
@@ -170,52 +191,13 @@ StepReport CentralDifference::step(SecondOrderSystem& sys, LinearSolver&, double
 
 StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, double t, double h,
                               State& s) {
-  StepReport rep;
   VecX u = s.u;
   zero_.setZero(sys.size());
-  SparseMatrix J;
-  double ref = 0, start = 0;
-  std::string diagnosis;
-  for (int it = 0; it <= newton.max_iterations; ++it) {
-    sys.evaluate(t + h, u, zero_, zero_, 1.0, 0.0, 0.0, r_, &J);
-    const double rn = r_.norm();
-    rep.residuals.push_back(rn);
-    if (!std::isfinite(rn)) {
-      rep.reason = fmt::format("non-finite residual at Newton iteration {}", it);
-      return rep;
-    }
-    if (it == 0) {
-      start = std::max({rn, sys.force_scale(), newton.abs_residual});
-      diagnosis = sys.diagnose_singular(J);
-    }
-    if (it >= 3 && rn > 1e6 * start) {  // diverging: stop now, the step will be cut
-      rep.reason = with_diagnosis(
-          fmt::format("Newton diverged (residual {:.3e} from {:.3e})", rn, rep.residuals[0]),
-          diagnosis);
-      return rep;
-    }
-    ref = std::max({ref, rn, sys.force_scale()});
-    const double du_norm = it > 0 ? du_.norm() : INFINITY;
-    if (it > 0 && residual_converged(rn, ref, newton) &&
-        du_norm <= std::max(newton.tolerance * (u - s.u).norm(), 1e-14 * (1 + u.norm()))) {
-      rep.converged = true;
-      rep.iterations = it;
-      s.u = u;
-      return rep;
-    }
-    if (it == 0 && rn <= newton.abs_residual) {  // already in equilibrium
-      rep.converged = true;
-      s.u = u;
-      return rep;
-    }
-    if (it == newton.max_iterations) break;
-    if (!newton_solve(sys, solver, J, r_, du_, rep.reason)) return rep;
-    u += du_;
-    rep.iterations = it + 1;
-  }
-  rep.reason =
-      fmt::format("Newton did not converge in {} iterations (residual {:.3e}, reference {:.3e})",
-                  newton.max_iterations, rep.residuals.back(), ref);
+  const StepReport rep = newton_iterate(
+      sys, solver, newton, s.u, u, r_, du_, [&](const VecX& x, VecX& r, SparseMatrix& J) {
+        sys.evaluate(t + h, x, zero_, zero_, 1.0, 0.0, 0.0, r, &J);
+      });
+  if (rep.converged) s.u = u;
   return rep;
 }
 
