@@ -8,8 +8,9 @@
 
 int main(int argc, char** argv) {
   // The sparse factorisations allocate and free large blocks at every Newton iteration: keep
-  // them in the heap instead of mapping fresh (page-faulting, zeroed) memory each time.
-  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  // them in the heap instead of mapping fresh (page-faulting, zeroed) memory each time
+  // (an M_MMAP_THRESHOLD above 32 MiB is refused by glibc, so mapping is switched off).
+  mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
   CLI::App app{
       "Velum: geometrically nonlinear dynamics of anisotropic membranes and cables.\n"

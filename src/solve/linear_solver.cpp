@@ -48,8 +48,23 @@ class Cholmod final : public EigenSolver<Eigen::CholmodSupernodalLLT<SparseMatri
   }
 };
 
-class UmfPack final : public EigenSolver<Eigen::UmfPackLU<SparseMatrix>> {
+// Eigen's UmfPackLU keeps the numeric factorisation's return code protected (its accessor
+// asserts on a factorisation that failed to allocate): expose it.
+class UmfPackLUWithStatus : public Eigen::UmfPackLU<SparseMatrix> {
  public:
+  int return_code() const { return static_cast<int>(m_fact_errorCode); }
+};
+
+class UmfPack final : public EigenSolver<UmfPackLUWithStatus> {
+ public:
+  std::string status() const override {
+    // UMFPACK_WARNING_singular_matrix (1) versus out of memory (-1) and the like.
+    const int code = impl_.return_code();
+    return code == UMFPACK_OK                        ? std::string()
+           : code == UMFPACK_WARNING_singular_matrix ? "UMFPACK: singular matrix"
+           : code == UMFPACK_ERROR_out_of_memory     ? "UMFPACK: out of memory (status -1)"
+                                                     : "UMFPACK status " + std::to_string(code);
+  }
   UmfPack() : EigenSolver("umfpack", false) {
     // Newton corrects the solution anyway: iterative refinement only costs time.
     impl_.umfpackControl()(UMFPACK_IRSTEP) = 0;
@@ -99,6 +114,7 @@ class AutoSolver final : public LinearSolver {
   bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
     return active_ && active_->solve(b, x);
   }
+  std::string status() const override { return active_ ? active_->status() : std::string(); }
 
  private:
   bool symmetric(const SparseMatrix& A) const {

@@ -25,7 +25,9 @@ std::string with_diagnosis(std::string why, const std::string& diagnosis) {
 bool newton_solve(SecondOrderSystem& sys, LinearSolver& solver, const SparseMatrix& J,
                   const VecX& r, VecX& x, std::string& why) {
   if (!solver.refactorize(J)) {
-    why = fmt::format("the {} factorisation failed: {}", solver.name(), explain_singular(sys, J));
+    const std::string status = solver.status();
+    why = fmt::format("the {} factorisation failed{}: {}", solver.name(),
+                      status.empty() ? "" : " (" + status + ")", explain_singular(sys, J));
     return false;
   }
   if (!solver.solve(-r, x)) {
@@ -68,7 +70,9 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const Ne
         return rep;
       }
     }
-    if (it >= 3 && rn > 1e6 * start) {  // diverging: stop now, the step will be cut
+    // Newton from a nearly stress-free state may overshoot by many orders and recover; only a
+    // blow-up beyond any recovery is cut short.
+    if (it >= 3 && rn > 1e30 * start) {
       rep.reason = with_diagnosis(
           fmt::format("Newton diverged (residual {:.3e} from {:.3e})", rn, rep.residuals[0]),
           diagnosis);

@@ -29,6 +29,8 @@ class LinearSolver {
   virtual bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
   /// Whether the solver needs a symmetric matrix.
   virtual bool symmetric_only() const = 0;
+  /// The back-end's own words on its last failure (status codes), or empty.
+  virtual std::string status() const { return {}; }
 
   /// Factorises A, analysing its pattern first only when the pattern changed (size or number
   /// of non-zeros) since the last analysis.
