@@ -65,10 +65,9 @@ class UmfPack final : public EigenSolver<UmfPackLUWithStatus> {
            : code == UMFPACK_ERROR_out_of_memory     ? "UMFPACK: out of memory (status -1)"
                                                      : "UMFPACK status " + std::to_string(code);
   }
-  UmfPack() : EigenSolver("umfpack", false) {
-    // Newton corrects the solution anyway: iterative refinement only costs time.
-    impl_.umfpackControl()(UMFPACK_IRSTEP) = 0;
-  }
+  // UMFPACK's iterative refinement is kept: it costs about 10% of a small run, but without
+  // it Newton stalled at 1.2x the tolerance on a 152k-DOF static membrane.
+  UmfPack() : EigenSolver("umfpack", false) {}
 };
 
 // CHOLMOD while the assembled matrix is numerically symmetric and positive definite, UMFPACK
