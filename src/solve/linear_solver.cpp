@@ -40,7 +40,9 @@ class EigenSolver : public LinearSolver {
 
 class Cholmod final : public EigenSolver<Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>> {
  public:
-  Cholmod() : EigenSolver("cholmod", true) {}
+  // A non-positive pivot is reported through the status (and `auto` falls back to LU), not
+  // printed on the user's console by CHOLMOD itself.
+  Cholmod() : EigenSolver("cholmod", true) { impl_.cholmod().print = 0; }
   bool factorize(const SparseMatrix& A) override {
     impl_.factorize(A);
     // CHOLMOD reports a non-positive pivot through its common status, not through info().
