@@ -22,18 +22,11 @@ std::unique_ptr<TimeIntegrator> make_integrator(const AnalysisSettings& s) {
   return out;
 }
 
-std::unique_ptr<LinearSolver> make_solver_for(SolverKind kind, const SecondOrderSystem& sys) {
-  // A symmetric system may still lose positive definiteness (compression, slack cables):
-  // `auto` then falls back from CHOLMOD to UMFPACK by itself.
-  (void)sys;
-  return make_linear_solver(kind);
-}
-
 AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& settings,
                             const std::function<bool(const StepSnapshot&)>& observer) {
   AnalysisResult result;
   auto integrator = make_integrator(settings);
-  auto solver = make_solver_for(settings.solver, sys);
+  auto solver = make_linear_solver(settings.solver);
   result.integrator = integrator->name();
   result.solver = std::string(solver->name());
   result.dofs = sys.size();

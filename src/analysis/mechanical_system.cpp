@@ -20,7 +20,6 @@ MechanicalSystem::MechanicalSystem(const Model& model)
   for (const auto& g : model.gravity)
     gravity_forces_.push_back(assembler_.gravity_forces(g.acceleration));
   drag_ = has_drag();
-  symmetric_ = model.pressures.empty() && !drag_;
   if (!model.pressures.empty()) Kp_ = assembler_.make_matrix();
   U_.setZero(3, model.num_nodes());
 }

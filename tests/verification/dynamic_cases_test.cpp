@@ -54,7 +54,7 @@ double prestretched_square(int n, std::string_view type, int steps_per_period, i
   const double f11 = std::sqrt(2.0) / (2 * a) * std::sqrt(S / (rho * t));
   const double T = 1 / f11;
   auto integrator = GeneralizedAlpha::newmark();
-  auto solver = make_solver_for(SolverKind::kAuto, sys);
+  auto solver = make_linear_solver(SolverKind::kAuto);
   TimeLoopSettings loop;
   loop.t_end = periods * T;
   loop.step = T / steps_per_period;
@@ -200,7 +200,7 @@ double step_response(const std::string& scheme, double param, int N,
 double spectral_radius(TimeIntegrator& integrator, double wh) {
   auto o = oscillator(0);
   MechanicalSystem sys(o->model);
-  auto solver = make_solver_for(SolverKind::kAuto, sys);
+  auto solver = make_linear_solver(SolverKind::kAuto);
   const double h = wh / std::sqrt(o->k / o->mass), delta = 1e-4;
   auto step = [&](int j, double d) {
     State s;

@@ -216,7 +216,7 @@ inline StaticRun run_static(MechanicalSystem& sys, State& s, int steps,
                             const NewtonSettings& newton = {}) {
   StaticNewton integrator;
   integrator.newton = newton;
-  auto solver = make_solver_for(SolverKind::kAuto, sys);
+  auto solver = make_linear_solver(SolverKind::kAuto);
   TimeLoopSettings loop;
   loop.t0 = 0;
   loop.t_end = 1;

@@ -23,7 +23,8 @@ struct AnalysisSettings {
   double newmark_beta = 0.25, newmark_gamma = 0.5;
   TimeLoopSettings time;
   NewtonSettings newton;
-  SolverKind solver = SolverKind::kAuto;
+  SolverKind solver =
+      SolverKind::kAuto;  ///< auto: CHOLMOD while symmetric and definite, else UMFPACK
 };
 
 struct Energies {
@@ -48,9 +49,6 @@ struct AnalysisResult {
 };
 
 std::unique_ptr<TimeIntegrator> make_integrator(const AnalysisSettings& s);
-/// The linear solver for a system: `auto` factorises with CHOLMOD while the assembled
-/// Jacobian is numerically symmetric and positive definite, with UMFPACK otherwise.
-std::unique_ptr<LinearSolver> make_solver_for(SolverKind kind, const SecondOrderSystem& sys);
 
 /// Runs the analysis from rest at the reference configuration. The observer is called after
 /// each accepted step (and once at t0 with step 0); returning false stops the run.

@@ -21,7 +21,6 @@ class MechanicalSystem final : public SecondOrderSystem {
                 double ca, VecX& r, SparseMatrix* J) override;
   const VecX& lumped_mass() const override { return lumped_eq_; }
   double force_scale() const override { return force_scale_; }
-  bool symmetric() const override { return symmetric_; }
   std::string diagnose_singular(const SparseMatrix& J) const override;
 
   const Model& model() const { return model_; }
@@ -65,7 +64,6 @@ class MechanicalSystem final : public SecondOrderSystem {
   NodePositions U_, V_, x_, Fint_, Fext_;
   VecX fred_, mv_;
   double force_scale_ = 0;
-  bool symmetric_ = true;
   bool drag_ = false;
 };
 

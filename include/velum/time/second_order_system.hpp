@@ -24,8 +24,6 @@ class SecondOrderSystem {
   /// A force scale of the last evaluation (norms of internal and external forces), against
   /// which residuals are judged.
   virtual double force_scale() const = 0;
-  /// Whether the Jacobian is symmetric (no follower-pressure stiffness, no drag).
-  virtual bool symmetric() const = 0;
   /// Names the equations of J that carry no stiffness and no mass, and what to do about them;
   /// empty when there are none.
   virtual std::string diagnose_singular(const SparseMatrix& J) const = 0;
