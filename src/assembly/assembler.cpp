@@ -100,6 +100,7 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
     }
     scatter_.push_back(std::move(map));
   }
+  for (const auto& b : model.blocks) max_dofs_ = std::max(max_dofs_, b->dofs_per_element());
   for (const auto& p : model.pressures)
     pressure_colors_.push_back(
         color_elements(*model.blocks[p.block], p.elements, model.num_nodes()));
@@ -107,8 +108,17 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
 
 template <class Compute>
 void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const Compute& compute,
-                    bool tangent, NodePositions& F, SparseMatrix* K, double sign) const {
+                    bool tangent, NodePositions& F, SparseMatrix* K, double matrix_sign) const {
   const auto& b = *model_.blocks[bi];
+  // Element buffers per thread, sized for the largest element once and reused by every call.
+  const int threads = omp_get_max_threads();
+  if (static_cast<int>(buffers_.size()) < threads) {
+    buffers_.resize(threads);
+    for (auto& buf : buffers_) {
+      buf.r.resize(static_cast<size_t>(kChunk) * max_dofs_);
+      buf.K.resize(static_cast<size_t>(kChunk) * max_dofs_ * max_dofs_);
+    }
+  }
   const int nd = b.dofs_per_element();
   const int* map = scatter_[bi].data();
   double* values = K ? K->valuePtr() : nullptr;
@@ -120,11 +130,9 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
     const bool parallel = nchunks >= kMinParallelChunks;
 #pragma omp parallel if (parallel)
     {
-      // Per-thread buffers, allocated once per colour pass (not per element).
-      std::vector<double> r(static_cast<size_t>(kChunk) * nd);
-      // Aligned: blocks write element matrices through fixed-size Eigen references into it.
-      std::vector<double, Eigen::aligned_allocator<double>> Ke(
-          tangent ? static_cast<size_t>(kChunk) * nd * nd : 0);
+      ElementBuffers& buf = buffers_[omp_get_thread_num()];
+      auto& r = buf.r;
+      auto& Ke = buf.K;
 #pragma omp for schedule(static)
       for (int c = 0; c < nchunks; ++c) {
         const int first = c * kChunk;
@@ -136,13 +144,13 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
           const auto nodes = b.nodes(e);
           double* re = r.data() + static_cast<size_t>(k) * nd;
           for (size_t i = 0; i < nodes.size(); ++i)
-            for (int d = 0; d < 3; ++d) F(d, nodes[i]) += sign * re[3 * i + d];
+            for (int d = 0; d < 3; ++d) F(d, nodes[i]) += re[3 * i + d];
           if (!tangent) continue;
           double* ke = Ke.data() + static_cast<size_t>(k) * nd * nd;
           if (dofs_.has_frames()) to_local_frames(dofs_, nodes, re, ke, nd);
           const int* m = map + static_cast<size_t>(e) * nd * nd;
           for (int q = 0; q < nd * nd; ++q)
-            if (m[q] >= 0) values[m[q]] += sign * ke[q];
+            if (m[q] >= 0) values[m[q]] += matrix_sign * ke[q];
         }
       }
     }
@@ -165,13 +173,11 @@ void Assembler::pressure(int i, double p, const NodePositions& x, NodePositions&
                          SparseMatrix* K) const {
   const auto& load = model_.pressures[i];
   const auto& b = *model_.blocks[load.block];
-  // Load stiffness enters the residual r = f_int − f_ext with a minus sign.
-  NodePositions f = NodePositions::Zero(3, model_.num_nodes());
+  // Forces add to Fext; the load stiffness enters the residual r = f_int − f_ext negated.
   run(
       load.block, pressure_colors_[i],
       [&](std::span<const int> elems, double* r, double* Ke) { b.pressure(elems, x, p, r, Ke); },
-      K != nullptr, f, K, -1.0);
-  Fext -= f;  // run() accumulated −f
+      K != nullptr, Fext, K, -1.0);
 }
 
 void Assembler::mass(SparseMatrix& M, VecX& lumped) const {

@@ -4,6 +4,7 @@
 // its contributions in the same order whatever the thread count (deterministic results).
 #pragma once
 
+#include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <vector>
 
@@ -40,9 +41,17 @@ class Assembler {
   struct Colored {
     std::vector<std::vector<int>> colors;  // element lists
   };
+  /// Adds the element vectors of the listed colours to F and matrix_sign times their matrices
+  /// to K (when tangent).
   template <class Compute>
   void run(int block, const std::vector<std::vector<int>>& colors, const Compute& compute,
-           bool tangent, NodePositions& F, SparseMatrix* K, double sign) const;
+           bool tangent, NodePositions& F, SparseMatrix* K, double matrix_sign) const;
+
+  struct ElementBuffers {
+    std::vector<double> r;
+    // Aligned: blocks write element matrices through fixed-size Eigen references into it.
+    std::vector<double, Eigen::aligned_allocator<double>> K;
+  };
 
   const Model& model_;
   const DofMap& dofs_;
@@ -50,6 +59,8 @@ class Assembler {
   std::vector<std::vector<std::vector<int>>> colors_;           // per block
   std::vector<std::vector<int>> scatter_;                       // per block: ne x dofs² positions
   std::vector<std::vector<std::vector<int>>> pressure_colors_;  // per pressure load
+  int max_dofs_ = 0;
+  mutable std::vector<ElementBuffers> buffers_;  // one per thread, reused across calls
 };
 
 }  // namespace velum
