@@ -26,7 +26,7 @@ inline std::unique_ptr<Model> pressurised_square(int n) {
   BlockSetupReport report;
   m->blocks.push_back(make_membrane_block("quad4", "sheet", std::move(conn), m->X,
                                           PlaneStressLaw::isotropic("film", 1e9, 0.3), 1000.0, 1e-3,
-                                          nullptr, report));
+                                          nullptr, shape::Integration::kGauss, report));
   m->fixed.push_back({edge, {true, true, true}});
   PressureLoad p;
   p.block = 0;

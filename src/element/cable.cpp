@@ -6,8 +6,9 @@
 namespace velum {
 
 template <class Shape>
-double Cable<Shape>::setup(const Nodes& X, double E, double area, Points& pts) {
-  constexpr auto rule = Shape::rule();
+double Cable<Shape>::setup(const Nodes& X, double E, double area, Points& pts,
+                           shape::Integration integration) {
+  const auto rule = shape::rule_of<Shape>(integration);
   double min_len = std::numeric_limits<double>::infinity();
   for (int q = 0; q < kQ; ++q) {
     auto& p = pts[q];

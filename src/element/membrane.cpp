@@ -23,8 +23,8 @@ Vec3 Membrane<Shape>::centre_normal(const Nodes& X) {
 
 template <class Shape>
 double Membrane<Shape>::setup(const Nodes& X, const Mat3& Q, const SheetAxes& axes, double t0,
-                              Points& pts) {
-  constexpr auto rule = Shape::rule();
+                              Points& pts, shape::Integration integration) {
+  const auto rule = shape::rule_of<Shape>(integration);
   double min_jac = std::numeric_limits<double>::infinity();
   const Vec3 n_centre = centre_normal(X);
   for (int q = 0; q < kQ; ++q) {

@@ -772,7 +772,8 @@ class Reader {
     for (size_t i = 0; i < ss.size(); ++i) {
       const Node s = ss[i];
       const std::string p = item("sections", i);
-      if (!check_map(s, p, {"elements", "material", "thickness", "area", "axes"})) continue;
+      if (!check_map(s, p, {"elements", "material", "thickness", "area", "axes", "integration"}))
+        continue;
       auto set = text(s, "elements", p, true);
       auto mat = text(s, "material", p, true);
       if (!set || !mat) continue;
@@ -830,8 +831,21 @@ class Reader {
         axes = parse_axes(s["axes"], sub(p, "axes"));
         axes_ok = axes.has_value();
       }
-      if (!size || !md.ok || !axes_ok || !mesh_ok_) continue;
-      build_blocks(*set, es, md, *size, axes ? &*axes : nullptr, s, p);
+      auto integration = shape::Integration::kGauss;
+      bool integration_ok = true;
+      if (has(s, "integration")) {
+        const auto how = text(s, "integration", p, true);
+        if (how && *how == "nodal")
+          integration = shape::Integration::kNodal;
+        else if (how && *how != "gauss") {
+          error(s["integration"], sub(p, "integration"),
+                fmt::format("unknown integration '{}' (gauss | nodal)", *how));
+          integration_ok = false;
+        } else if (!how)
+          integration_ok = false;
+      }
+      if (!size || !md.ok || !axes_ok || !integration_ok || !mesh_ok_) continue;
+      build_blocks(*set, es, md, *size, axes ? &*axes : nullptr, integration, s, p);
     }
   }
 
@@ -869,7 +883,8 @@ class Reader {
   }
 
   void build_blocks(const std::string& set, const ElementSet& es, const MaterialDef& md,
-                    double size, const SheetAxes* axes, const Node& at, const std::string& p) {
+                    double size, const SheetAxes* axes, shape::Integration integration,
+                    const Node& at, const std::string& p) {
     for (const auto& g : es.groups) {
       std::vector<int> conn;
       conn.reserve(g.node_ids.size());
@@ -889,10 +904,10 @@ class Reader {
       try {
         if (md.cable)
           block = make_cable_block(g.type, set, std::move(conn), in_.model.X, md.cable_law,
-                                   md.density, size, report);
+                                   md.density, size, integration, report);
         else
           block = make_membrane_block(g.type, set, std::move(conn), in_.model.X, *md.law,
-                                      md.density, size, axes, report);
+                                      md.density, size, axes, integration, report);
       } catch (const std::exception& e) {
         error(at, p, fmt::format("set '{}': {}", set, e.what()));
         continue;

@@ -1,5 +1,7 @@
 // Concrete element blocks: the fixed-size kernels of element/ behind the ElementBlock interface.
+#include <fmt/format.h>
 #include <Eigen/Cholesky>
+
 #include <stdexcept>
 
 #include "velum/element/cable.hpp"
@@ -24,8 +26,10 @@ class MembraneBlock final : public ElementBlock {
  public:
   MembraneBlock(std::string set, std::vector<int> conn, const NodePositions& X,
                 const PlaneStressLaw& law, double density, double t0, const SheetAxes* axes,
-                BlockSetupReport& report)
-      : ElementBlock(std::move(set), std::move(conn), density), t0_(t0) {
+                shape::Integration integration, BlockSetupReport& report)
+      : ElementBlock(std::move(set), std::move(conn), density),
+        t0_(t0),
+        rule_(shape::rule_of<Shape>(integration)) {
     const int ne = size();
     points_.resize(ne);
     mass_.resize(ne);
@@ -42,7 +46,7 @@ class MembraneBlock final : public ElementBlock {
       }
       // Axes given for the sector are projected per point inside setup; default axes are
       // already in this element's plane.
-      const double jac = K::setup(Xe, law.Q(), axes ? *axes : a, t0, points_[e]);
+      const double jac = K::setup(Xe, law.Q(), axes ? *axes : a, t0, points_[e], integration);
       if (e == 0 || jac < report.worst_jacobian) {
         report.worst_jacobian = jac;
         report.worst_element = e;
@@ -149,11 +153,10 @@ class MembraneBlock final : public ElementBlock {
     const auto xe = gather<kN>(x, nodes(e));
     const Eigen::Matrix<double, 3, 2> g = xe * dN;
     // Nearest integration point supplies D/t0dA and T (exact for flat elements).
-    const auto rule = Shape::rule();
     int best = 0;
     double dbest = 1e300;
     for (int q = 0; q < Shape::kPoints; ++q) {
-      const double d = std::pow(rule.xi[q][0] - xi[0], 2) + std::pow(rule.xi[q][1] - xi[1], 2);
+      const double d = std::pow(rule_.xi[q][0] - xi[0], 2) + std::pow(rule_.xi[q][1] - xi[1], 2);
       if (d < dbest) dbest = d, best = q;
     }
     const auto& p = points_[e][best];
@@ -170,6 +173,7 @@ class MembraneBlock final : public ElementBlock {
   const Eigen::Matrix<double, 3, kN>& Xref_cols(int e) const { return Xref_[e]; }
 
   double t0_;
+  shape::GaussRule<Shape::kPoints, 2> rule_;
   std::vector<typename K::Points> points_;
   std::vector<typename K::NodeMatrix> mass_;
   std::vector<Eigen::Matrix<double, 3, kN>, Eigen::aligned_allocator<Eigen::Matrix<double, 3, kN>>>
@@ -183,12 +187,12 @@ class CableBlock final : public ElementBlock {
 
  public:
   CableBlock(std::string set, std::vector<int> conn, const NodePositions& X, const CableLaw& law,
-             double density, double area, BlockSetupReport& report)
+             double density, double area, shape::Integration integration, BlockSetupReport& report)
       : ElementBlock(std::move(set), std::move(conn), density), law_(law), area_(area) {
     const int ne = size();
     points_.resize(ne);
     for (int e = 0; e < ne; ++e) {
-      const double len = K::setup(gather<kN>(X, nodes(e)), law.E, area, points_[e]);
+      const double len = K::setup(gather<kN>(X, nodes(e)), law.E, area, points_[e], integration);
       if (e == 0 || len < report.worst_jacobian) {
         report.worst_jacobian = len;
         report.worst_element = e;
@@ -267,10 +271,14 @@ std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::st
                                                   std::vector<int> conn, const NodePositions& X,
                                                   const PlaneStressLaw& law, double density,
                                                   double t0, const SheetAxes* axes,
+                                                  shape::Integration integration,
                                                   BlockSetupReport& report) {
   auto build = [&]<class S>(S) -> std::unique_ptr<ElementBlock> {
+    if (integration == shape::Integration::kNodal && !S::kNodalRule)
+      throw std::invalid_argument(fmt::format(
+          "nodal integration is available for tri3, quad4 and quad9, not {}", S::kName));
     return std::make_unique<MembraneBlock<S>>(std::move(set), std::move(conn), X, law, density, t0,
-                                              axes, report);
+                                              axes, integration, report);
   };
   if (type == "tri3") return build(shape::Tri3{});
   if (type == "tri6") return build(shape::Tri6{});
@@ -283,13 +291,14 @@ std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::st
 std::unique_ptr<ElementBlock> make_cable_block(std::string_view type, std::string set,
                                                std::vector<int> conn, const NodePositions& X,
                                                const CableLaw& law, double density, double area,
+                                               shape::Integration integration,
                                                BlockSetupReport& report) {
   if (type == "cable2")
     return std::make_unique<CableBlock<shape::Line2>>(std::move(set), std::move(conn), X, law,
-                                                      density, area, report);
+                                                      density, area, integration, report);
   if (type == "cable3")
     return std::make_unique<CableBlock<shape::Line3>>(std::move(set), std::move(conn), X, law,
-                                                      density, area, report);
+                                                      density, area, integration, report);
   throw std::invalid_argument("unknown cable element type '" + std::string(type) + "'");
 }
 

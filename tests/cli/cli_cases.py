@@ -146,6 +146,8 @@ CASES = [
     ("section_twice", mutate(sections=BASE["sections"] + [BASE["sections"][0]]), {}, [], 1, ["already has a section"]),
     ("axes_collinear", mutate(sections__0__axes={"points": [1, 2, 3]}), {}, [], 1, ["do not define a plane"]),
     ("axes_undefined_node", mutate(sections__0__axes={"points": [1, 2, 77]}), {}, [], 1, ["undefined node 77"]),
+    ("integration_unknown", mutate(sections__0__integration="lobatto"), {}, [], 1, ["sections[0].integration", "unknown integration 'lobatto' (gauss | nodal)"]),
+    ("integration_nodal_tri6", mutate(mesh__nodes=BASE["mesh"]["nodes"] + [[7, 1, 0.5, 0], [8, 0, 0.5, 0]], mesh__elements__0={"set": "sheet", "type": "tri6", "connectivity": [[1, 3, 4, 2, 7, 8]]}, sections__0__integration="nodal"), {}, [], 1, ["nodal integration is available for tri3, quad4 and quad9, not tri6"]),
     # ---- boundary, loads, functions ----
     ("undefined_node_set", mutate(boundary__0__nodes="lefft"), {}, [], 1, ["undefined node set 'lefft'", "did you mean 'left'"]),
     ("bad_fix_component", mutate(boundary__0__fix=["x", "w"]), {}, [], 1, ["unknown component 'w'"]),

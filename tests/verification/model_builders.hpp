@@ -162,18 +162,20 @@ inline int nearest_node(const Model& m, const Vec3& P) {
 }
 
 inline int add_membrane(Model& m, std::string_view type, std::vector<int> conn,
-                        const PlaneStressLaw& law, double density, double thickness) {
+                        const PlaneStressLaw& law, double density, double thickness,
+                        shape::Integration integration = shape::Integration::kGauss) {
   BlockSetupReport report;
   m.blocks.push_back(make_membrane_block(type, "sheet", std::move(conn), m.X, law, density,
-                                         thickness, nullptr, report));
+                                         thickness, nullptr, integration, report));
   return static_cast<int>(m.blocks.size()) - 1;
 }
 
 inline int add_cable(Model& m, std::string_view type, std::vector<int> conn, const CableLaw& law,
-                     double density, double area) {
+                     double density, double area,
+                     shape::Integration integration = shape::Integration::kGauss) {
   BlockSetupReport report;
-  m.blocks.push_back(
-      make_cable_block(type, "cable", std::move(conn), m.X, law, density, area, report));
+  m.blocks.push_back(make_cable_block(type, "cable", std::move(conn), m.X, law, density, area,
+                                      integration, report));
   return static_cast<int>(m.blocks.size()) - 1;
 }
 

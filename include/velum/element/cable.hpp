@@ -29,7 +29,8 @@ struct Cable {
   using Points = std::array<CablePoint<Shape>, kQ>;
 
   /// Fills the points; returns the smallest |X'| (<= 0: zero-length or degenerate cable).
-  static double setup(const Nodes& X, double E, double area, Points& pts);
+  static double setup(const Nodes& X, double E, double area, Points& pts,
+                      shape::Integration integration = shape::Integration::kGauss);
   static void force(const Points& pts, const CableLaw& law, const Nodes& x, Vector& r);
   static void force_tangent(const Points& pts, const CableLaw& law, const Nodes& x, Vector& r,
                             Matrix& K);

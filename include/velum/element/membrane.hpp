@@ -43,8 +43,10 @@ struct Membrane {
 
   /// Fills the integration points. Q: sheet stiffness in the sector axes (m1, m2), which are
   /// projected onto the tangent plane at each point. Returns the smallest dA/dξ found, so the
-  /// caller can reject degenerate or inverted elements (<= 0).
-  static double setup(const Nodes& X, const Mat3& Q, const SheetAxes& axes, double t0, Points& pts);
+  /// caller can reject degenerate or inverted elements (<= 0). Nodal integration needs
+  /// Shape::kNodalRule.
+  static double setup(const Nodes& X, const Mat3& Q, const SheetAxes& axes, double t0, Points& pts,
+                      shape::Integration integration = shape::Integration::kGauss);
 
   /// Internal force r_N = t0 ∫ S^{αβ} ∂γ_αβ/∂x_N dA at current positions x.
   static void force(const Points& pts, const Nodes& x, Vector& r);

@@ -14,6 +14,7 @@
 #include "velum/material/axes.hpp"
 #include "velum/material/cable_law.hpp"
 #include "velum/material/plane_stress.hpp"
+#include "velum/shape/shapes.hpp"
 
 namespace velum {
 
@@ -85,18 +86,19 @@ struct BlockSetupReport {
 
 /// Membrane block of shape `type` (tri3 tri6 quad4 quad8 quad9). `axes` are the sector axes,
 /// or null for the default (global x projected). Throws std::invalid_argument for an unknown
-/// type; `report` receives degenerate elements (the caller decides how to complain).
-std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::string set_name,
-                                                  std::vector<int> connectivity,
-                                                  const NodePositions& X, const PlaneStressLaw& law,
-                                                  double density, double thickness,
-                                                  const SheetAxes* axes, BlockSetupReport& report);
+/// type or a nodal integration the shape has no rule for; `report` receives degenerate
+/// elements (the caller decides how to complain).
+std::unique_ptr<ElementBlock> make_membrane_block(
+    std::string_view type, std::string set_name, std::vector<int> connectivity,
+    const NodePositions& X, const PlaneStressLaw& law, double density, double thickness,
+    const SheetAxes* axes, shape::Integration integration, BlockSetupReport& report);
 
 /// Cable block (cable2, cable3).
 std::unique_ptr<ElementBlock> make_cable_block(std::string_view type, std::string set_name,
                                                std::vector<int> connectivity,
                                                const NodePositions& X, const CableLaw& law,
                                                double density, double area,
+                                               shape::Integration integration,
                                                BlockSetupReport& report);
 
 /// Number of nodes of an element type name, or 0 when unknown.

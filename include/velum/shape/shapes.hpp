@@ -1,7 +1,9 @@
 // Isoparametric shape functions and Gauss rules for Velum's element shapes, in Gmsh node order.
 // Surfaces: tri3, tri6 (natural coordinates on the unit triangle), quad4, quad8, quad9 (on
 // [-1,1]^2). Lines: line2, line3 (on [-1,1], Gmsh order: ends first, then the middle node).
-// Each rule integrates the consistent mass of an undistorted element exactly.
+// Each Gauss rule integrates the consistent mass of an undistorted element exactly. Nodal
+// (Lobatto) rules put the points on the nodes: the mass comes out lumped, and a quad4 of a
+// fibre material becomes exactly the pin-jointed net along its edges.
 #pragma once
 
 #include <array>
@@ -16,6 +18,9 @@ struct GaussRule {
   std::array<std::array<double, Dim>, Points> xi;
   std::array<double, Points> w;
 };
+
+/// Where an element's integration points are: Gauss (the default) or on the nodes.
+enum class Integration { kGauss, kNodal };
 
 namespace detail {
 inline constexpr double kG2 = 0.57735026918962576451;  // 1/sqrt(3)
@@ -45,6 +50,10 @@ struct Tri3 {
     return {{{{1.0 / 6, 1.0 / 6}, {2.0 / 3, 1.0 / 6}, {1.0 / 6, 2.0 / 3}}},
             {1.0 / 6, 1.0 / 6, 1.0 / 6}};
   }
+  static constexpr bool kNodalRule = true;
+  static constexpr GaussRule<kPoints, 2> nodal_rule() {
+    return {{{{0, 0}, {1, 0}, {0, 1}}}, {1.0 / 6, 1.0 / 6, 1.0 / 6}};
+  }
   static void eval(double r, double s, Values& N, Derivs& dN) {
     N << 1 - r - s, r, s;
     dN << -1, -1, 1, 0, 0, 1;
@@ -68,6 +77,8 @@ struct Tri6 {
     return {{{{a, a}, {1 - 2 * a, a}, {a, 1 - 2 * a}, {b, b}, {1 - 2 * b, b}, {b, 1 - 2 * b}}},
             {wa, wa, wa, wb, wb, wb}};
   }
+  static constexpr bool kNodalRule = false;  // a nodal rule puts zero weight on the corners
+  static constexpr GaussRule<kPoints, 2> nodal_rule() { return rule(); }
   static void eval(double r, double s, Values& N, Derivs& dN) {
     const double t = 1 - r - s;
     N << t * (2 * t - 1), r * (2 * r - 1), s * (2 * s - 1), 4 * t * r, 4 * r * s, 4 * s * t;
@@ -90,6 +101,10 @@ struct Quad4 {
     using detail::kG2;
     return {{{{-kG2, -kG2}, {kG2, -kG2}, {kG2, kG2}, {-kG2, kG2}}}, {1, 1, 1, 1}};
   }
+  static constexpr bool kNodalRule = true;
+  static constexpr GaussRule<kPoints, 2> nodal_rule() {
+    return {{{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}}, {1, 1, 1, 1}};
+  }
   static void eval(double r, double s, Values& N, Derivs& dN) {
     N << 0.25 * (1 - r) * (1 - s), 0.25 * (1 + r) * (1 - s), 0.25 * (1 + r) * (1 + s),
         0.25 * (1 - r) * (1 + s);
@@ -109,6 +124,8 @@ struct Quad8 {
   using Values = Eigen::Matrix<double, kNodes, 1>;
   using Derivs = Eigen::Matrix<double, kNodes, 2>;
   static constexpr GaussRule<kPoints, 2> rule() { return detail::quad_3x3(); }
+  static constexpr bool kNodalRule = false;  // Lobatto's centre point is not a node
+  static constexpr GaussRule<kPoints, 2> nodal_rule() { return rule(); }
   static void eval(double r, double s, Values& N, Derivs& dN) {
     constexpr double rc[4] = {-1, 1, 1, -1}, sc[4] = {-1, -1, 1, 1};
     for (int i = 0; i < 4; ++i) {
@@ -135,6 +152,12 @@ struct Quad9 {
   using Values = Eigen::Matrix<double, kNodes, 1>;
   using Derivs = Eigen::Matrix<double, kNodes, 2>;
   static constexpr GaussRule<kPoints, 2> rule() { return detail::quad_3x3(); }
+  static constexpr bool kNodalRule = true;
+  static constexpr GaussRule<kPoints, 2> nodal_rule() {  // 3x3 Lobatto (Simpson), Gmsh order
+    constexpr double c = 1.0 / 9, e = 4.0 / 9, m = 16.0 / 9;
+    return {{{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {0, -1}, {1, 0}, {0, 1}, {-1, 0}, {0, 0}}},
+            {c, c, c, c, e, e, e, e, m}};
+  }
   static void eval(double r, double s, Values& N, Derivs& dN) {
     // 1-D quadratic Lagrange at -1, 0, 1 and the tensor product in Gmsh order.
     const double l[3] = {0.5 * r * (r - 1), 1 - r * r, 0.5 * r * (r + 1)};
@@ -161,6 +184,8 @@ struct Line2 {
   static constexpr GaussRule<kPoints, 1> rule() {
     return {{{{-detail::kG2}, {detail::kG2}}}, {1, 1}};
   }
+  static constexpr bool kNodalRule = true;
+  static constexpr GaussRule<kPoints, 1> nodal_rule() { return {{{{-1}, {1}}}, {1, 1}}; }
   static void eval(double r, Values& N, Values& dN) {
     N << 0.5 * (1 - r), 0.5 * (1 + r);
     dN << -0.5, 0.5;
@@ -176,10 +201,20 @@ struct Line3 {
     using detail::kG3;
     return {{{{-kG3}, {0.0}, {kG3}}}, {5.0 / 9, 8.0 / 9, 5.0 / 9}};
   }
+  static constexpr bool kNodalRule = true;
+  static constexpr GaussRule<kPoints, 1> nodal_rule() {  // Simpson, Gmsh order
+    return {{{{-1}, {1}, {0}}}, {1.0 / 3, 1.0 / 3, 4.0 / 3}};
+  }
   static void eval(double r, Values& N, Values& dN) {
     N << 0.5 * r * (r - 1), 0.5 * r * (r + 1), 1 - r * r;
     dN << r - 0.5, r + 0.5, -2 * r;
   }
 };
+
+/// The rule of `Shape` for the given integration (kNodal only where Shape::kNodalRule).
+template <class Shape>
+constexpr auto rule_of(Integration integration) {
+  return integration == Integration::kNodal ? Shape::nodal_rule() : Shape::rule();
+}
 
 }  // namespace velum::shape
