@@ -195,13 +195,32 @@ StepReport CentralDifference::step(SecondOrderSystem& sys, LinearSolver&, double
 
 StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, double t, double h,
                               State& s) {
-  VecX u = s.u;
   zero_.setZero(sys.size());
-  const StepReport rep = newton_iterate(
-      sys, solver, newton, s.u, u, r_, du_, [&](const VecX& x, VecX& r, SparseMatrix& J) {
-        sys.evaluate(t + h, x, zero_, zero_, 1.0, 0.0, 0.0, r, &J);
-      });
-  if (rep.converged) s.u = u;
+  auto solve_from = [&](VecX& u) {
+    return newton_iterate(sys, solver, newton, s.u, u, r_, du_,
+                          [&](const VecX& x, VecX& r, SparseMatrix& J) {
+                            sys.evaluate(t + h, x, zero_, zero_, 1.0, 0.0, 0.0, r, &J);
+                          });
+  };
+  // Extrapolate only along an increment that ended where this step starts (not after a
+  // restart or a change of state from outside).
+  const bool extrapolate = h_prev_ > 0 && std::abs(t - t_prev_) <= 1e-12 * (1 + std::abs(t)) &&
+                           u_prev_.size() == s.u.size();
+  VecX u = s.u;
+  if (extrapolate) u += (h / h_prev_) * (s.u - u_prev_);
+  StepReport rep = solve_from(u);
+  if (!rep.converged && extrapolate) {
+    const int spent = rep.iterations;
+    u = s.u;
+    rep = solve_from(u);
+    rep.iterations += spent;
+  }
+  if (rep.converged) {
+    u_prev_ = s.u;
+    h_prev_ = h;
+    t_prev_ = t + h;
+    s.u = u;
+  }
   return rep;
 }
 

@@ -79,6 +79,9 @@ class CentralDifference : public TimeIntegrator {
 };
 
 /// Static equilibrium f_int(u) = f_ext(t) at each load level t (no mass, no damping).
+/// Load stepping with full Newton. Each step starts from the last converged state extrapolated
+/// along the last increment (scaled by the step ratio), and falls back to the plain start if
+/// Newton fails from there.
 class StaticNewton : public TimeIntegrator {
  public:
   std::string name() const override { return "static"; }
@@ -92,6 +95,9 @@ class StaticNewton : public TimeIntegrator {
 
  private:
   VecX r_, du_, zero_;
+  VecX u_prev_;         ///< converged state before the last accepted step
+  double h_prev_ = 0;   ///< that step's size (0: no increment yet)
+  double t_prev_ = -1;  ///< the time the last accepted step ended at
 };
 
 /// Largest stable step of central difference, 2/ω_max, with ω_max² estimated by power
