@@ -42,7 +42,14 @@ class Cholmod final : public EigenSolver<Eigen::CholmodSupernodalLLT<SparseMatri
  public:
   // A non-positive pivot is reported through the status (and `auto` falls back to LU), not
   // printed on the user's console by CHOLMOD itself.
-  Cholmod() : EigenSolver("cholmod", true) { impl_.cholmod().print = 0; }
+  // METIS nested dissection: at 118,803 DOF (200x200 quad4) 2% faster factorisations and 3%
+  // less memory than CHOLMOD's default AMD, for an analysis of 0.29 s instead of 0.07 s once
+  // per run (bench BM_Factorize/200).
+  Cholmod() : EigenSolver("cholmod", true) {
+    impl_.cholmod().print = 0;
+    impl_.cholmod().nmethods = 1;
+    impl_.cholmod().method[0].ordering = CHOLMOD_METIS;
+  }
   bool factorize(const SparseMatrix& A) override {
     impl_.factorize(A);
     // CHOLMOD reports a non-positive pivot through its common status, not through info().
@@ -69,13 +76,18 @@ class UmfPack final : public EigenSolver<UmfPackLUWithStatus> {
   }
   // UMFPACK's iterative refinement is kept: it costs about 10% of a small run, but without
   // it Newton stalled at 1.2x the tolerance on a 152k-DOF static membrane.
-  UmfPack() : EigenSolver("umfpack", false) {}
+  // METIS ordering: 10% faster factorisations than the default AMD at 118,803 DOF (768 ->
+  // 692 ms, bench BM_Factorize/200), for 0.24 s more analysis once per run.
+  UmfPack() : EigenSolver("umfpack", false) {
+    impl_.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
+  }
 };
 
 // CHOLMOD while the assembled matrix is numerically symmetric and positive definite, UMFPACK
-// otherwise. A follower-pressure load stiffness is unsymmetric element by element, but on a
-// surface whose boundary is held (a clamped or closed membrane) the assembled sum is
-// symmetric: there the Cholesky factorisation is exact and several times cheaper than LU.
+// otherwise (structurally unsymmetric patterns: UMFPACK only). A follower-pressure load stiffness
+// is unsymmetric element by element, but on a surface whose boundary is held (a clamped or closed
+// membrane) the assembled sum is symmetric: there the Cholesky factorisation is exact and several
+// times cheaper than LU.
 class AutoSolver final : public LinearSolver {
  public:
   std::string_view name() const override { return active_ ? active_->name() : "auto"; }
@@ -99,14 +111,21 @@ class AutoSolver final : public LinearSolver {
     chol_analyzed_ = lu_analyzed_ = false;
     return true;
   }
+  // After an indefinite matrix, CHOLMOD is tried again after 1, 2, 4 ... 64 factorisations
+  // with LU: a static inflation is indefinite while the sheet is slack and definite once it
+  // carries the load, and a failed Cholesky costs at most one factorisation.
   bool factorize(const SparseMatrix& A) override {
-    if (cholmod_ok_ && symmetric(A)) {
+    if (cholmod_ok_ && skip_ > 0)
+      --skip_;
+    else if (cholmod_ok_ && symmetric(A)) {
       if (!chol_analyzed_) chol_analyzed_ = chol_->analyze(A);
       if (chol_analyzed_ && chol_->factorize(A)) {
         active_ = chol_.get();
+        backoff_ = 1;
         return true;
       }
-      cholmod_ok_ = false;  // indefinite: LU from now on
+      skip_ = backoff_;
+      backoff_ = std::min(2 * backoff_, 64);
     }
     if (!lu_analyzed_) lu_analyzed_ = lu_->analyze(A);
     active_ = lu_.get();
@@ -133,6 +152,7 @@ class AutoSolver final : public LinearSolver {
   LinearSolver* active_ = nullptr;
   std::vector<int> mirror_;
   bool cholmod_ok_ = true, chol_analyzed_ = false, lu_analyzed_ = false;
+  int skip_ = 0, backoff_ = 1;  ///< LU factorisations before CHOLMOD is tried again
 };
 
 }  // namespace
