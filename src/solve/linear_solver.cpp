@@ -122,10 +122,16 @@ class AutoSolver final : public LinearSolver {
       if (chol_analyzed_ && chol_->factorize(A)) {
         active_ = chol_.get();
         backoff_ = 1;
+        if (lu_analyzed_) {  // one factor in memory at a time: the peak is the larger one
+          lu_ = std::make_unique<UmfPack>();
+          lu_analyzed_ = false;
+        }
         return true;
       }
       skip_ = backoff_;
       backoff_ = std::min(2 * backoff_, 64);
+      chol_ = std::make_unique<Cholmod>();
+      chol_analyzed_ = false;
     }
     if (!lu_analyzed_) lu_analyzed_ = lu_->analyze(A);
     active_ = lu_.get();
