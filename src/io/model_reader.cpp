@@ -1198,15 +1198,19 @@ class Reader {
     if (auto ls = text(a, "linear_solver", "analysis", false)) {
       if (*ls == "petsc") {
         error(a["linear_solver"], "analysis.linear_solver",
-              "the PETSc back-end is not available in this build (use auto, cholmod, umfpack or "
-              "klu)");
+              "the PETSc back-end is not available in this build (use auto, cholmod, umfpack, "
+              "klu or mumps)");
       } else {
         try {
           s.solver = solver_kind_from_name(*ls);
+          if (s.solver == SolverKind::kMumps && !have_mumps())
+            error(a["linear_solver"], "analysis.linear_solver",
+                  "this build has no MUMPS (install libmumps-seq-dev and rebuild, or use auto, "
+                  "cholmod, umfpack or klu)");
         } catch (const std::invalid_argument&) {
           error(a["linear_solver"], "analysis.linear_solver",
                 fmt::format("unknown linear solver '{}'{}", *ls,
-                            suggestion(*ls, {"auto", "cholmod", "umfpack", "klu", "petsc"})));
+                            suggestion(*ls, {"auto", "cholmod", "umfpack", "klu", "mumps", "petsc"})));
         }
       }
     }

@@ -8,6 +8,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include "mumps_solver.hpp"
+#include "symmetry.hpp"
+
 namespace velum {
 namespace {
 
@@ -83,55 +86,33 @@ class UmfPack final : public EigenSolver<UmfPackLUWithStatus> {
   }
 };
 
-// CHOLMOD while the assembled matrix is numerically symmetric and positive definite, UMFPACK
-// otherwise (structurally unsymmetric patterns: UMFPACK only). A follower-pressure load stiffness
-// is unsymmetric element by element, but on a surface whose boundary is held (a clamped or closed
-// membrane) the assembled sum is symmetric: there the Cholesky factorisation is exact and several
-// times cheaper than LU.
+// Numerically symmetric matrices (|A − Aᵀ| <= 1e-10 |A|, tested at every factorisation): MUMPS's
+// LDLᵀ with pivoting, definite or not; without MUMPS in the build, CHOLMOD, with LU while the
+// matrix is indefinite. Unsymmetric matrices: UMFPACK. A follower-pressure load stiffness is
+// unsymmetric element by element, but on a surface whose boundary is held (a clamped or closed
+// membrane) the assembled sum is symmetric, and a symmetric factorisation stores one triangle.
 class AutoSolver final : public LinearSolver {
  public:
   std::string_view name() const override { return active_ ? active_->name() : "auto"; }
   bool symmetric_only() const override { return false; }
   bool analyze(const SparseMatrix& A) override {
-    // Index of the transposed entry of every stored entry (the pattern is structurally
-    // symmetric), so the symmetry test costs one pass without allocating.
-    mirror_.assign(A.nonZeros(), -1);
-    for (int j = 0; j < A.outerSize(); ++j)
-      for (int k = A.outerIndexPtr()[j]; k < A.outerIndexPtr()[j + 1]; ++k) {
-        const int i = A.innerIndexPtr()[k];
-        const int* lo = A.innerIndexPtr() + A.outerIndexPtr()[i];
-        const int* hi = A.innerIndexPtr() + A.outerIndexPtr()[i + 1];
-        const int* pos = std::lower_bound(lo, hi, j);
-        if (pos == hi || *pos != j) {  // structurally unsymmetric: LU only
-          cholmod_ok_ = false;
-          return lu_analyzed_ = lu_->analyze(A);
-        }
-        mirror_[k] = static_cast<int>(pos - A.innerIndexPtr());
-      }
-    chol_analyzed_ = lu_analyzed_ = false;
+    check_.map(A);
+    sym_analyzed_ = chol_analyzed_ = lu_analyzed_ = false;
     return true;
   }
-  // After an indefinite matrix, CHOLMOD is tried again after 1, 2, 4 ... 64 factorisations
-  // with LU: a static inflation is indefinite while the sheet is slack and definite once it
-  // carries the load, and a failed Cholesky costs at most one factorisation.
   bool factorize(const SparseMatrix& A) override {
-    if (cholmod_ok_ && skip_ > 0)
-      --skip_;
-    else if (cholmod_ok_ && symmetric(A)) {
-      if (!chol_analyzed_) chol_analyzed_ = chol_->analyze(A);
-      if (chol_analyzed_ && chol_->factorize(A)) {
-        active_ = chol_.get();
-        backoff_ = 1;
-        if (lu_analyzed_) {  // one factor in memory at a time: the peak is the larger one
-          lu_ = std::make_unique<UmfPack>();
-          lu_analyzed_ = false;
-        }
-        return true;
+    if (check_.symmetric(A)) {
+      if (sym_) {
+        if (!sym_analyzed_) sym_analyzed_ = sym_->analyze(A);
+        release_lu();
+        active_ = sym_.get();
+        return sym_analyzed_ && sym_->factorize(A);
       }
-      skip_ = backoff_;
-      backoff_ = std::min(2 * backoff_, 64);
-      chol_ = std::make_unique<Cholmod>();
-      chol_analyzed_ = false;
+      if (cholesky(A)) return true;
+    }
+    if (sym_ && sym_analyzed_) {  // one factorisation in memory at a time
+      sym_ = make_mumps_solver();
+      sym_analyzed_ = false;
     }
     if (!lu_analyzed_) lu_analyzed_ = lu_->analyze(A);
     active_ = lu_.get();
@@ -143,21 +124,38 @@ class AutoSolver final : public LinearSolver {
   std::string status() const override { return active_ ? active_->status() : std::string(); }
 
  private:
-  bool symmetric(const SparseMatrix& A) const {
-    const double* v = A.valuePtr();
-    double vmax = 0, dmax = 0;
-    for (size_t k = 0; k < mirror_.size(); ++k) {
-      vmax = std::max(vmax, std::abs(v[k]));
-      dmax = std::max(dmax, std::abs(v[k] - v[mirror_[k]]));
+  // Without MUMPS: after an indefinite matrix, CHOLMOD is tried again after 1, 2, 4 ... 64
+  // factorisations with LU (a static inflation is indefinite while the sheet is slack).
+  bool cholesky(const SparseMatrix& A) {
+    if (skip_ > 0) {
+      --skip_;
+      return false;
     }
-    return dmax <= 1e-10 * vmax;
+    if (!chol_analyzed_) chol_analyzed_ = chol_->analyze(A);
+    if (chol_analyzed_ && chol_->factorize(A)) {
+      active_ = chol_.get();
+      backoff_ = 1;
+      release_lu();
+      return true;
+    }
+    skip_ = backoff_;
+    backoff_ = std::min(2 * backoff_, 64);
+    chol_ = std::make_unique<Cholmod>();
+    chol_analyzed_ = false;
+    return false;
+  }
+  void release_lu() {
+    if (!lu_analyzed_) return;
+    lu_ = std::make_unique<UmfPack>();
+    lu_analyzed_ = false;
   }
 
+  SymmetryCheck check_;
+  std::unique_ptr<LinearSolver> sym_ = make_mumps_solver();  ///< null without MUMPS
   std::unique_ptr<LinearSolver> chol_ = std::make_unique<Cholmod>();
   std::unique_ptr<LinearSolver> lu_ = std::make_unique<UmfPack>();
   LinearSolver* active_ = nullptr;
-  std::vector<int> mirror_;
-  bool cholmod_ok_ = true, chol_analyzed_ = false, lu_analyzed_ = false;
+  bool sym_analyzed_ = false, chol_analyzed_ = false, lu_analyzed_ = false;
   int skip_ = 0, backoff_ = 1;  ///< LU factorisations before CHOLMOD is tried again
 };
 
@@ -173,6 +171,8 @@ std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind) {
       return std::make_unique<AutoSolver>();
     case SolverKind::kUmfpack:
       return std::make_unique<UmfPack>();
+    case SolverKind::kMumps:
+      return make_mumps_solver();
   }
   return nullptr;
 }
@@ -182,6 +182,7 @@ SolverKind solver_kind_from_name(std::string_view n) {
   if (n == "cholmod") return SolverKind::kCholmod;
   if (n == "umfpack") return SolverKind::kUmfpack;
   if (n == "klu") return SolverKind::kKlu;
+  if (n == "mumps") return SolverKind::kMumps;
   throw std::invalid_argument("unknown linear solver '" + std::string(n) + "'");
 }
 

@@ -172,7 +172,8 @@ CASES = [
     ("central_difference_static", mutate(analysis__type="static", analysis__integrator__scheme="central-difference"), {}, [], 1, ["needs type: dynamic"]),
     ("unknown_analysis_type", mutate(analysis__type="quasistatic"), {}, [], 1, ["unknown analysis type"]),
     ("petsc_not_built", mutate(analysis__linear_solver="petsc"), {}, [], 1, ["not available in this build"]),
-    ("unknown_linear_solver", mutate(analysis__linear_solver="mumps"), {}, [], 1, ["unknown linear solver 'mumps'"]),
+    ("unknown_linear_solver", mutate(analysis__linear_solver="superlu"), {}, [], 1, ["unknown linear solver 'superlu'"]),
+    ("misspelt_linear_solver", mutate(analysis__linear_solver="mumsp"), {}, [], 1, ["unknown linear solver 'mumsp'", "did you mean 'mumps'"]),
     ("newton_zero_iterations", mutate(analysis__newton={"max_iterations": 0}), {}, [], 1, ["at least one iteration"]),
     # ---- output ----
     ("history_unknown_quantity", mutate(output__history=[{"name": "a", "quantity": "displacment", "node": 6, "component": "x"}]), {}, [], 1, ["did you mean 'displacement'"]),

@@ -1,5 +1,6 @@
 // Sparse direct solvers behind one interface (analyse / factorise / solve, as in Eigen):
-// CHOLMOD (symmetric positive definite), UMFPACK and KLU (unsymmetric). The symbolic analysis
+// CHOLMOD (symmetric positive definite), MUMPS (symmetric LDLᵀ with pivoting, or LU), UMFPACK
+// and KLU (unsymmetric). The symbolic analysis
 // is kept while the sparsity pattern holds; a failed factorisation returns a status, never
 // throws, so a time step can be cut.
 #pragma once
@@ -13,9 +14,13 @@ namespace velum {
 
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
-/// kAuto: CHOLMOD while the matrix is numerically symmetric (|A - Aᵀ| <= 1e-10 |A|, checked
-/// at every factorisation) and positive definite, UMFPACK otherwise.
-enum class SolverKind { kAuto, kCholmod, kUmfpack, kKlu };
+/// kAuto: while the matrix is numerically symmetric (|A - Aᵀ| <= 1e-10 |A|, checked at every
+/// factorisation) MUMPS's LDLᵀ (without MUMPS in the build: CHOLMOD while it is positive
+/// definite), UMFPACK otherwise. kMumps: LDLᵀ when symmetric, LU otherwise.
+enum class SolverKind { kAuto, kCholmod, kUmfpack, kKlu, kMumps };
+
+/// Whether this build has MUMPS (Debian libmumps-seq-dev, found at configure time).
+bool have_mumps();
 
 class LinearSolver {
  public:

@@ -1,0 +1,139 @@
+#include "mumps_solver.hpp"
+
+#ifdef VELUM_HAVE_MUMPS
+#include <dmumps_c.h>
+
+#include <string>
+#include <vector>
+
+#include "symmetry.hpp"
+
+namespace velum {
+namespace {
+
+// One MUMPS instance of a fixed symmetry: sym = 2 (general symmetric, LDLᵀ with pivoting,
+// lower triangle given) or 0 (unsymmetric LU, all entries).
+class MumpsInstance {
+ public:
+  explicit MumpsInstance(int sym) {
+    id_.comm_fortran = -987654;  // USE_COMM_WORLD of the sequential MPI stub
+    id_.par = 1;
+    id_.sym = sym;
+    id_.job = -1;
+    dmumps_c(&id_);
+    id_.icntl[0] = id_.icntl[1] = id_.icntl[2] = -1;  // no output
+    id_.icntl[3] = 0;
+    id_.icntl[6] = 5;    // ICNTL(7): METIS ordering
+    id_.icntl[13] = 30;  // ICNTL(14): % workspace for pivoting, doubled on demand
+  }
+  ~MumpsInstance() {
+    id_.job = -2;
+    dmumps_c(&id_);
+  }
+  MumpsInstance(const MumpsInstance&) = delete;
+  MumpsInstance& operator=(const MumpsInstance&) = delete;
+
+  bool analyze(const SparseMatrix& A) {
+    irn_.clear(), jcn_.clear(), pos_.clear();
+    for (int j = 0; j < A.outerSize(); ++j)
+      for (int k = A.outerIndexPtr()[j]; k < A.outerIndexPtr()[j + 1]; ++k) {
+        const int i = A.innerIndexPtr()[k];
+        if (id_.sym != 0 && i < j) continue;  // symmetric: the lower triangle
+        irn_.push_back(i + 1);
+        jcn_.push_back(j + 1);
+        pos_.push_back(k);
+      }
+    val_.resize(pos_.size());
+    id_.n = static_cast<int>(A.rows());
+    id_.nnz = static_cast<MUMPS_INT8>(pos_.size());
+    id_.irn = irn_.data();
+    id_.jcn = jcn_.data();
+    id_.job = 1;
+    dmumps_c(&id_);
+    return id_.infog[0] >= 0;
+  }
+  bool factorize(const SparseMatrix& A) {
+    for (size_t k = 0; k < pos_.size(); ++k) val_[k] = A.valuePtr()[pos_[k]];
+    id_.a = val_.data();
+    for (int attempt = 0; attempt < 4; ++attempt) {
+      id_.job = 2;
+      dmumps_c(&id_);
+      // -8, -9, -14, -15, -17, -20: a workspace too small for the pivots delayed.
+      const int e = id_.infog[0];
+      if (e != -8 && e != -9 && e != -14 && e != -15 && e != -17 && e != -20) break;
+      id_.icntl[13] *= 2;
+    }
+    return id_.infog[0] >= 0;
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+    x = b;
+    id_.rhs = x.data();
+    id_.job = 3;
+    dmumps_c(&id_);
+    return id_.infog[0] >= 0 && x.allFinite();
+  }
+  std::string status() const {
+    const int e = id_.infog[0], e2 = id_.infog[1];
+    if (e >= 0) return {};
+    if (e == -10) return "MUMPS: numerically singular matrix";
+    if (e == -13) return "MUMPS: out of memory";
+    return "MUMPS error INFOG(1) = " + std::to_string(e) + ", INFOG(2) = " + std::to_string(e2);
+  }
+
+ private:
+  DMUMPS_STRUC_C id_{};
+  std::vector<MUMPS_INT> irn_, jcn_;
+  std::vector<int> pos_;  ///< position in A's values of each entry given to MUMPS
+  std::vector<double> val_;
+};
+
+class Mumps final : public LinearSolver {
+ public:
+  std::string_view name() const override { return "mumps"; }
+  bool symmetric_only() const override { return false; }
+  bool analyze(const SparseMatrix& A) override {
+    check_.map(A);
+    sym_.reset();
+    lu_.reset();
+    return true;  // each instance analyses when it is first needed
+  }
+  bool factorize(const SparseMatrix& A) override {
+    const bool sym = check_.symmetric(A);
+    auto& inst = sym ? sym_ : lu_;
+    if (!inst) {
+      inst = std::make_unique<MumpsInstance>(sym ? 2 : 0);
+      if (!inst->analyze(A)) {
+        active_ = inst.get();
+        return false;
+      }
+    }
+    (sym ? lu_ : sym_).reset();  // one factorisation in memory at a time
+    active_ = inst.get();
+    return active_->factorize(A);
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    return active_ && active_->solve(b, x);
+  }
+  std::string status() const override { return active_ ? active_->status() : std::string(); }
+
+ private:
+  SymmetryCheck check_;
+  std::unique_ptr<MumpsInstance> sym_, lu_;
+  MumpsInstance* active_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<LinearSolver> make_mumps_solver() { return std::make_unique<Mumps>(); }
+bool have_mumps() { return true; }
+
+}  // namespace velum
+
+#else
+
+namespace velum {
+std::unique_ptr<LinearSolver> make_mumps_solver() { return nullptr; }
+bool have_mumps() { return false; }
+}  // namespace velum
+
+#endif

@@ -1,0 +1,14 @@
+// MUMPS (multifrontal, Debian libmumps-seq-dev) behind the LinearSolver interface: LDLᵀ with
+// pivoting for symmetric matrices, definite or not (one triangle stored), LU otherwise.
+#pragma once
+
+#include <memory>
+
+#include "velum/solve/linear_solver.hpp"
+
+namespace velum {
+
+/// Null when this build has no MUMPS.
+std::unique_ptr<LinearSolver> make_mumps_solver();
+
+}  // namespace velum

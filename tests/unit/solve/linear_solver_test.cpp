@@ -1,0 +1,98 @@
+// The direct solvers behind LinearSolver on small matrices of each kind the analyses produce:
+// symmetric positive definite, symmetric indefinite (a slack membrane under pressure) and
+// unsymmetric (a follower pressure on a free edge). Also which back-end `auto` picks.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "velum/solve/linear_solver.hpp"
+
+namespace velum {
+namespace {
+
+// 2-D Laplacian on an m x m grid (SPD), minus `shift` on the diagonal, plus `skew` times an
+// antisymmetric coupling between horizontal neighbours.
+SparseMatrix grid_matrix(int m, double shift, double skew) {
+  std::vector<Eigen::Triplet<double>> t;
+  auto id = [m](int i, int j) { return i + m * j; };
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < m; ++i) {
+      t.emplace_back(id(i, j), id(i, j), 4.0 - shift + 0.01 * i);
+      if (i + 1 < m) {
+        t.emplace_back(id(i, j), id(i + 1, j), -1.0 + skew);
+        t.emplace_back(id(i + 1, j), id(i, j), -1.0 - skew);
+      }
+      if (j + 1 < m) {
+        t.emplace_back(id(i, j), id(i, j + 1), -1.0);
+        t.emplace_back(id(i, j + 1), id(i, j), -1.0);
+      }
+    }
+  SparseMatrix A(m * m, m * m);
+  A.setFromTriplets(t.begin(), t.end());
+  A.makeCompressed();
+  return A;
+}
+
+double solve_residual(LinearSolver& s, const SparseMatrix& A) {
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 2.0);
+  Eigen::VectorXd x;
+  if (!s.refactorize(A) || !s.solve(b, x)) return 1e300;
+  return (A * x - b).norm() / b.norm();
+}
+
+std::vector<SolverKind> kinds() {
+  std::vector<SolverKind> k = {SolverKind::kAuto, SolverKind::kUmfpack, SolverKind::kKlu};
+  if (have_mumps()) k.push_back(SolverKind::kMumps);
+  return k;
+}
+
+TEST(Solver, EveryBackEndSolvesDefiniteIndefiniteAndUnsymmetric) {
+  const SparseMatrix spd = grid_matrix(30, 0.0, 0.0);
+  const SparseMatrix indefinite = grid_matrix(30, 3.0, 0.0);  // eigenvalues of both signs
+  const SparseMatrix unsym = grid_matrix(30, 0.0, 0.3);
+  for (SolverKind k : kinds()) {
+    for (const SparseMatrix* A : {&spd, &indefinite, &unsym}) {
+      auto s = make_linear_solver(k);
+      EXPECT_LT(solve_residual(*s, *A), 1e-10) << s->name();
+    }
+  }
+  auto chol = make_linear_solver(SolverKind::kCholmod);
+  EXPECT_LT(solve_residual(*chol, spd), 1e-12);
+  auto chol2 = make_linear_solver(SolverKind::kCholmod);
+  EXPECT_FALSE(chol2->refactorize(indefinite)) << "CHOLMOD must refuse an indefinite matrix";
+}
+
+TEST(Solver, AutoPicksTheSymmetricFactorisationWhenItCan) {
+  auto s = make_linear_solver(SolverKind::kAuto);
+  ASSERT_LT(solve_residual(*s, grid_matrix(20, 0.0, 0.0)), 1e-12);
+  EXPECT_EQ(s->name(), have_mumps() ? "mumps" : "cholmod");
+  // Same pattern, indefinite values: MUMPS's LDLᵀ (pivoting), or LU without MUMPS.
+  ASSERT_LT(solve_residual(*s, grid_matrix(20, 3.0, 0.0)), 1e-10);
+  EXPECT_EQ(s->name(), have_mumps() ? "mumps" : "umfpack");
+  // Unsymmetric values on the same pattern: LU.
+  ASSERT_LT(solve_residual(*s, grid_matrix(20, 0.0, 0.3)), 1e-10);
+  EXPECT_EQ(s->name(), "umfpack");
+  // And back.
+  ASSERT_LT(solve_residual(*s, grid_matrix(20, 0.0, 0.0)), 1e-12);
+  EXPECT_EQ(s->analyses(), 1) << "one pattern, one analysis at this level";
+  EXPECT_EQ(s->factorizations(), 4);
+}
+
+TEST(Solver, SingularMatrixIsReportedNotSolved) {
+  SparseMatrix A = grid_matrix(10, 0.0, 0.0);
+  // Row and column 0 zero: a DOF without stiffness (the diagonal entry stays in the pattern).
+  for (int j = 0; j < A.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+      if (it.row() == 0 || it.col() == 0) it.valueRef() = 0.0;
+  for (SolverKind k : {SolverKind::kAuto, SolverKind::kUmfpack, SolverKind::kMumps}) {
+    if (k == SolverKind::kMumps && !have_mumps()) continue;
+    auto s = make_linear_solver(k);
+    Eigen::VectorXd x, b = Eigen::VectorXd::Ones(A.rows());
+    const bool ok = s->refactorize(A) && s->solve(b, x) && (A * x - b).norm() < 1e-8;
+    EXPECT_FALSE(ok) << s->name() << " claimed to solve a singular system";
+    EXPECT_FALSE(s->status().empty()) << s->name() << " gave no reason";
+  }
+}
+
+}  // namespace
+}  // namespace velum
