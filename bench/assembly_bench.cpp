@@ -37,12 +37,16 @@ BENCHMARK(BM_AssembleTangent)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// Arguments: elements per side, solver (0 cholmod, 1 umfpack, 2 klu). Time per factorisation;
+// Arguments: elements per side, solver (0 cholmod, 1 umfpack, 2 klu, 3 mumps). Time per factorisation;
 // analysis and one solve are reported as counters.
 void BM_Factorize(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
-  const SolverKind kind =
-      std::array{SolverKind::kCholmod, SolverKind::kUmfpack, SolverKind::kKlu}[state.range(1)];
+  const SolverKind kind = std::array{SolverKind::kCholmod, SolverKind::kUmfpack, SolverKind::kKlu,
+                                     SolverKind::kMumps}[state.range(1)];
+  if (kind == SolverKind::kMumps && !have_mumps()) {
+    state.SkipWithError("built without MUMPS");
+    return;
+  }
   auto model = pressurised_square(n);
   MechanicalSystem sys(*model);
   VecX u = VecX::Zero(sys.size()), v = u, a = u, r, x;
@@ -64,7 +68,7 @@ void BM_Factorize(benchmark::State& state) {
   state.SetLabel(std::string(solver->name()));
 }
 BENCHMARK(BM_Factorize)
-    ->ArgsProduct({{50, 100, 200}, {0, 1, 2}})
+    ->ArgsProduct({{50, 100, 200}, {0, 1, 2, 3}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
