@@ -50,7 +50,6 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
   NodePositions U_prev = sys.displacements(t_prev, s.u);
   NodePositions F_prev = sys.external_forces(t_prev, s.u, s.v);
   VecX v_prev = s.v;
-  const SparseMatrix& M = sys.mass_matrix();
   const double alpha = sys.model().rayleigh_mass;
 
   AcceptedStep start{loop.t0, 0, 0, 0, 0, true, nullptr};
@@ -62,7 +61,8 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
         const NodePositions F = sys.external_forces(st.t, cur.u, cur.v);
         E.external_work += 0.5 * ((F + F_prev).array() * (U - U_prev).array()).sum();
         if (alpha != 0)
-          E.damping += 0.5 * st.h * alpha * (cur.v.dot(M * cur.v) + v_prev.dot(M * v_prev));
+          E.damping += 0.5 * st.h * alpha *
+                       (cur.v.dot(sys.mass_matrix() * cur.v) + v_prev.dot(sys.mass_matrix() * v_prev));
         E.kinetic =
             settings.type == AnalysisSettings::Type::kStatic ? 0.0 : sys.kinetic_energy(cur.v);
         E.strain = sys.strain_energy(st.t, cur.u);

@@ -9,9 +9,10 @@ namespace velum {
 
 MechanicalSystem::MechanicalSystem(const Model& model)
     : model_(model), dofs_(model), assembler_(model, dofs_) {
-  M_ = assembler_.make_matrix();
-  K_ = assembler_.make_matrix();
-  assembler_.mass(M_, lumped_nodes_);
+  {  // the lumped masses from a consistent mass matrix that is dropped again
+    SparseMatrix M = assembler_.make_matrix();
+    assembler_.mass(M, lumped_nodes_);
+  }
   lumped_eq_.setZero(size());
   for (int n = 0; n < model.num_nodes(); ++n)
     for (int c = 0; c < 3; ++c)
@@ -20,8 +21,17 @@ MechanicalSystem::MechanicalSystem(const Model& model)
   for (const auto& g : model.gravity)
     gravity_forces_.push_back(assembler_.gravity_forces(g.acceleration));
   drag_ = has_drag();
-  if (!model.pressures.empty()) Kp_ = assembler_.make_matrix();
   U_.setZero(3, model.num_nodes());
+}
+
+const SparseMatrix& MechanicalSystem::mass_matrix() const {
+  if (!have_mass_) {
+    M_ = assembler_.make_matrix();
+    VecX lumped;
+    assembler_.mass(M_, lumped);
+    have_mass_ = true;
+  }
+  return M_;
 }
 
 void MechanicalSystem::apply_prescribed(double t, NodePositions& U) const {
@@ -57,7 +67,8 @@ bool MechanicalSystem::has_drag() const {
   return false;
 }
 
-void MechanicalSystem::assemble_external(double t, const VecX& v, bool tangent) {
+void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* Kload,
+                                         double scale) {
   Fext_.setZero(3, model_.num_nodes());
   for (const auto& pl : model_.point_loads) {
     const Vec3 f = pl.force * model_.function_value(pl.function, t);
@@ -67,13 +78,10 @@ void MechanicalSystem::assemble_external(double t, const VecX& v, bool tangent) 
     Fext_ += model_.function_value(model_.edge_loads[i].function, t) * edge_forces_[i];
   for (size_t i = 0; i < gravity_forces_.size(); ++i)
     Fext_ += model_.function_value(model_.gravity[i].function, t) * gravity_forces_[i];
-  if (!model_.pressures.empty()) {
-    if (tangent) std::fill(Kp_.valuePtr(), Kp_.valuePtr() + Kp_.nonZeros(), 0.0);
-    for (size_t i = 0; i < model_.pressures.size(); ++i) {
-      const auto& pl = model_.pressures[i];
-      const double p = pl.value * model_.function_value(pl.function, t);
-      if (p != 0) assembler_.pressure(static_cast<int>(i), p, x_, Fext_, tangent ? &Kp_ : nullptr);
-    }
+  for (size_t i = 0; i < model_.pressures.size(); ++i) {
+    const auto& pl = model_.pressures[i];
+    const double p = pl.value * model_.function_value(pl.function, t);
+    if (p != 0) assembler_.pressure(static_cast<int>(i), p, x_, Fext_, Kload, scale);
   }
   // Payload drag f = −½ ρ C_D A |v| v on the node velocity.
   if (drag_) {
@@ -89,29 +97,52 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
                                 double cv, double ca, VecX& r, SparseMatrix* J) {
   set_positions(t, u);
   const double beta = model_.rayleigh_stiffness, alpha = model_.rayleigh_mass;
-  const bool need_K = J != nullptr || beta != 0;
-  assembler_.internal(x_, Fint_, need_K ? &K_ : nullptr);
-  assemble_external(t, v, J != nullptr);
+  // J = (cu + β cv) K + (α cv + ca) M − cu Kp + cv ∂(drag)/∂v
+  const double ck = cu + beta * cv, cm = alpha * cv + ca;
+  const bool separate_K = beta != 0;  // K v enters the residual
+  if (J && J->nonZeros() != assembler_.pattern().nonZeros()) *J = assembler_.make_matrix();
+  if (separate_K) {
+    if (K_.nonZeros() == 0) K_ = assembler_.make_matrix();
+    assembler_.internal(x_, Fint_, &K_);
+    if (J && !model_.pressures.empty() && Kp_.nonZeros() == 0) Kp_ = assembler_.make_matrix();
+    if (J && !model_.pressures.empty())
+      std::fill(Kp_.valuePtr(), Kp_.valuePtr() + Kp_.nonZeros(), 0.0);
+    assemble_external(t, v, J && !model_.pressures.empty() ? &Kp_ : nullptr, 1.0);
+    if (J) {
+      double* jv = J->valuePtr();
+      const double* kv = K_.valuePtr();
+      for (Eigen::Index i = 0; i < J->nonZeros(); ++i) jv[i] = ck * kv[i];
+      if (!model_.pressures.empty())
+        for (Eigen::Index i = 0; i < J->nonZeros(); ++i) jv[i] += cu * Kp_.valuePtr()[i];
+    }
+  } else if (J && cu != 0) {
+    // In place: K, scaled so that the load stiffness can be added with unit weight, then
+    // scaled back: J = cu (K − Kp) (ck = cu without stiffness damping).
+    assembler_.internal(x_, Fint_, J);
+    assemble_external(t, v, J, 1.0);
+    if (cu != 1)
+      for (Eigen::Index i = 0; i < J->nonZeros(); ++i) J->valuePtr()[i] *= cu;
+  } else {
+    assembler_.internal(x_, Fint_, nullptr);
+    assemble_external(t, v, nullptr, 1.0);
+    if (J) std::fill(J->valuePtr(), J->valuePtr() + J->nonZeros(), 0.0);
+  }
 
   dofs_.gather(Fint_ - Fext_, r);
-  mv_ = M_ * a;
-  r += mv_;
-  if (alpha != 0) r += alpha * (M_ * v);
+  if (a.squaredNorm() != 0) {
+    mv_ = mass_matrix() * a;
+    r += mv_;
+  } else
+    mv_.setZero(r.size());
+  if (alpha != 0 && v.squaredNorm() != 0) r += alpha * (mass_matrix() * v);
   if (beta != 0) r += beta * (K_ * v);
   force_scale_ = std::max({Fint_.norm(), Fext_.norm(), mv_.norm()});
 
   if (!J) return;
-  // J = (cu + β cv) K + (α cv + ca) M − cu Kp + cv ∂(drag)/∂v
-  *J = K_;  // same pattern; values combined below
-  double* jv = J->valuePtr();
-  const double* kv = K_.valuePtr();
-  const double* mvv = M_.valuePtr();
-  const double ck = cu + beta * cv, cm = alpha * cv + ca;
-  const Eigen::Index nnz = J->nonZeros();
-  for (Eigen::Index i = 0; i < nnz; ++i) jv[i] = ck * kv[i] + cm * mvv[i];
-  if (!model_.pressures.empty()) {
-    const double* pv = Kp_.valuePtr();
-    for (Eigen::Index i = 0; i < nnz; ++i) jv[i] += cu * pv[i];  // Kp holds −df/dx
+  if (cm != 0) {
+    double* jv = J->valuePtr();
+    const double* mvv = mass_matrix().valuePtr();
+    for (Eigen::Index i = 0; i < J->nonZeros(); ++i) jv[i] += cm * mvv[i];
   }
   if (drag_ && cv != 0) {
     for (const auto& m : model_.masses) {
@@ -135,14 +166,14 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
 
 const NodePositions& MechanicalSystem::external_forces(double t, const VecX& u, const VecX& v) {
   set_positions(t, u);
-  assemble_external(t, v, false);
+  assemble_external(t, v, nullptr, 1.0);
   return Fext_;
 }
 
 NodePositions MechanicalSystem::reactions(double t, const VecX& u, const VecX& v) {
   set_positions(t, u);
   assembler_.internal(x_, Fint_, nullptr);
-  assemble_external(t, v, false);
+  assemble_external(t, v, nullptr, 1.0);
   NodePositions R = Fint_ - Fext_;
   for (int n = 0; n < model_.num_nodes(); ++n) {
     Vec3 local = dofs_.to_local(n, R.col(n));

@@ -26,7 +26,8 @@ class MechanicalSystem final : public SecondOrderSystem {
   const Model& model() const { return model_; }
   const DofMap& dofs() const { return dofs_; }
   const Assembler& assembler() const { return assembler_; }
-  const SparseMatrix& mass_matrix() const { return M_; }
+  /// The consistent mass matrix, assembled when first asked for (a static run never needs it).
+  const SparseMatrix& mass_matrix() const;
 
   /// Full nodal displacements (3 x nodes) for equation values u at time t (prescribed
   /// motions included).
@@ -45,19 +46,27 @@ class MechanicalSystem final : public SecondOrderSystem {
   /// constrained nodes is not included. Overwrites last_internal() and last_external().
   NodePositions reactions(double t, const VecX& u, const VecX& v);
 
-  double kinetic_energy(const VecX& v) const { return 0.5 * v.dot(M_ * v); }
+  double kinetic_energy(const VecX& v) const {
+    return v.squaredNorm() == 0 ? 0.0 : 0.5 * v.dot(mass_matrix() * v);
+  }
   double strain_energy(double t, const VecX& u) const;
 
  private:
   void apply_prescribed(double t, NodePositions& U) const;
   void set_positions(double t, const VecX& u);
-  void assemble_external(double t, const VecX& v, bool tangent);
+  // Loads at t; the follower-pressure load stiffness times `scale` is subtracted from *Kload.
+  void assemble_external(double t, const VecX& v, SparseMatrix* Kload, double scale);
   bool has_drag() const;
 
   const Model& model_;
   DofMap dofs_;
   Assembler assembler_;
-  SparseMatrix M_, K_, Kp_;
+  // Matrices on the assembler's pattern, each allocated only when a run needs it: the
+  // Jacobian is assembled in place (K, then − cu Kp and + cm M); K_ is kept apart only for
+  // stiffness-proportional damping, Kp_ only then.
+  mutable SparseMatrix M_;
+  mutable bool have_mass_ = false;
+  SparseMatrix K_, Kp_;
   VecX lumped_nodes_, lumped_eq_;
   std::vector<NodePositions> edge_forces_;
   std::vector<NodePositions> gravity_forces_;
