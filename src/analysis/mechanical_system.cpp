@@ -100,7 +100,7 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
   // J = (cu + β cv) K + (α cv + ca) M − cu Kp + cv ∂(drag)/∂v
   const double ck = cu + beta * cv, cm = alpha * cv + ca;
   const bool separate_K = beta != 0;  // K v enters the residual
-  if (J && J->nonZeros() != assembler_.pattern().nonZeros()) *J = assembler_.make_matrix();
+  if (J && J->nonZeros() != assembler_.nonzeros()) *J = assembler_.make_matrix();
   if (separate_K) {
     if (K_.nonZeros() == 0) K_ = assembler_.make_matrix();
     assembler_.internal(x_, Fint_, &K_);

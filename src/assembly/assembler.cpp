@@ -71,14 +71,18 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
         if (a >= 0 && c >= 0) trip.emplace_back(a, c, 0.0);
       }
   for (int i = 0; i < neq; ++i) trip.emplace_back(i, i, 0.0);  // a diagonal for every equation
-  pattern_.resize(neq, neq);
-  pattern_.setFromTriplets(trip.begin(), trip.end());
-  pattern_.makeCompressed();
-  trip.clear();
-  trip.shrink_to_fit();
-
-  const int* outer = pattern_.outerIndexPtr();
-  const int* inner = pattern_.innerIndexPtr();
+  {
+    SparseMatrix pattern(neq, neq);
+    pattern.setFromTriplets(trip.begin(), trip.end());
+    pattern.makeCompressed();
+    trip.clear();
+    trip.shrink_to_fit();
+    neq_ = neq;
+    outer_.assign(pattern.outerIndexPtr(), pattern.outerIndexPtr() + neq + 1);
+    inner_.assign(pattern.innerIndexPtr(), pattern.innerIndexPtr() + pattern.nonZeros());
+  }
+  const int* outer = outer_.data();
+  const int* inner = inner_.data();
   auto position = [&](int row, int col) {
     const int* lo = inner + outer[col];
     const int* hi = inner + outer[col + 1];
@@ -104,6 +108,15 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
   for (const auto& p : model.pressures)
     pressure_colors_.push_back(
         color_elements(*model.blocks[p.block], p.elements, model.num_nodes()));
+}
+
+SparseMatrix Assembler::make_matrix() const {
+  SparseMatrix A(neq_, neq_);
+  A.resizeNonZeros(nonzeros());
+  std::copy(outer_.begin(), outer_.end(), A.outerIndexPtr());
+  std::copy(inner_.begin(), inner_.end(), A.innerIndexPtr());
+  std::fill(A.valuePtr(), A.valuePtr() + nonzeros(), 0.0);
+  return A;
 }
 
 template <class Compute>

@@ -111,7 +111,7 @@ class AutoSolver final : public LinearSolver {
       if (cholesky(A)) return true;
     }
     if (sym_ && sym_analyzed_) {  // one factorisation in memory at a time
-      sym_ = make_mumps_solver();
+      sym_ = make_mumps_solver(true);
       sym_analyzed_ = false;
     }
     if (!lu_analyzed_) lu_analyzed_ = lu_->analyze(A);
@@ -151,7 +151,7 @@ class AutoSolver final : public LinearSolver {
   }
 
   SymmetryCheck check_;
-  std::unique_ptr<LinearSolver> sym_ = make_mumps_solver();  ///< null without MUMPS
+  std::unique_ptr<LinearSolver> sym_ = make_mumps_solver(true);  ///< null without MUMPS
   std::unique_ptr<LinearSolver> chol_ = std::make_unique<Cholmod>();
   std::unique_ptr<LinearSolver> lu_ = std::make_unique<UmfPack>();
   LinearSolver* active_ = nullptr;

@@ -89,16 +89,17 @@ class MumpsInstance {
 
 class Mumps final : public LinearSolver {
  public:
+  explicit Mumps(bool known_symmetric) : known_symmetric_(known_symmetric) {}
   std::string_view name() const override { return "mumps"; }
-  bool symmetric_only() const override { return false; }
+  bool symmetric_only() const override { return known_symmetric_; }
   bool analyze(const SparseMatrix& A) override {
-    check_.map(A);
+    if (!known_symmetric_) check_.map(A);
     sym_.reset();
     lu_.reset();
     return true;  // each instance analyses when it is first needed
   }
   bool factorize(const SparseMatrix& A) override {
-    const bool sym = check_.symmetric(A);
+    const bool sym = known_symmetric_ || check_.symmetric(A);
     auto& inst = sym ? sym_ : lu_;
     if (!inst) {
       inst = std::make_unique<MumpsInstance>(sym ? 2 : 0);
@@ -117,6 +118,7 @@ class Mumps final : public LinearSolver {
   std::string status() const override { return active_ ? active_->status() : std::string(); }
 
  private:
+  bool known_symmetric_;
   SymmetryCheck check_;
   std::unique_ptr<MumpsInstance> sym_, lu_;
   MumpsInstance* active_ = nullptr;
@@ -124,7 +126,9 @@ class Mumps final : public LinearSolver {
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> make_mumps_solver() { return std::make_unique<Mumps>(); }
+std::unique_ptr<LinearSolver> make_mumps_solver(bool symmetric) {
+  return std::make_unique<Mumps>(symmetric);
+}
 bool have_mumps() { return true; }
 
 }  // namespace velum
@@ -132,7 +136,7 @@ bool have_mumps() { return true; }
 #else
 
 namespace velum {
-std::unique_ptr<LinearSolver> make_mumps_solver() { return nullptr; }
+std::unique_ptr<LinearSolver> make_mumps_solver(bool) { return nullptr; }
 bool have_mumps() { return false; }
 }  // namespace velum
 

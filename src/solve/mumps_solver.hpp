@@ -8,7 +8,8 @@
 
 namespace velum {
 
-/// Null when this build has no MUMPS.
-std::unique_ptr<LinearSolver> make_mumps_solver();
+/// Null when this build has no MUMPS. `symmetric`: the caller guarantees numerically
+/// symmetric matrices (LDLᵀ always, no symmetry test of its own).
+std::unique_ptr<LinearSolver> make_mumps_solver(bool symmetric = false);
 
 }  // namespace velum

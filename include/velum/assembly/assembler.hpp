@@ -19,8 +19,9 @@ class Assembler {
   Assembler(const Model& model, const DofMap& dofs);
 
   /// A matrix over the equations with the full pattern and zero values.
-  SparseMatrix make_matrix() const { return pattern_; }
-  const SparseMatrix& pattern() const { return pattern_; }
+  SparseMatrix make_matrix() const;
+  /// Stored entries of that pattern.
+  Eigen::Index nonzeros() const { return static_cast<Eigen::Index>(inner_.size()); }
 
   /// Internal forces (full, global; overwritten) and, if K != null, the tangent (values
   /// overwritten, pattern of make_matrix()).
@@ -55,7 +56,9 @@ class Assembler {
 
   const Model& model_;
   const DofMap& dofs_;
-  SparseMatrix pattern_;
+  // The pattern as compressed-column indices only (no values held for it).
+  int neq_ = 0;
+  std::vector<int> outer_, inner_;
   std::vector<std::vector<std::vector<int>>> colors_;           // per block
   std::vector<std::vector<int>> scatter_;                       // per block: ne x dofs² positions
   std::vector<std::vector<std::vector<int>>> pressure_colors_;  // per pressure load
