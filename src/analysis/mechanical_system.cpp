@@ -26,7 +26,7 @@ MechanicalSystem::MechanicalSystem(const Model& model)
 
 const SparseMatrix& MechanicalSystem::mass_matrix() const {
   if (!have_mass_) {
-    M_ = assembler_.make_matrix();
+    assembler_.make_matrix(M_);
     VecX lumped;
     assembler_.mass(M_, lumped);
     have_mass_ = true;
@@ -100,11 +100,12 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
   // J = (cu + β cv) K + (α cv + ca) M − cu Kp + cv ∂(drag)/∂v
   const double ck = cu + beta * cv, cm = alpha * cv + ca;
   const bool separate_K = beta != 0;  // K v enters the residual
-  if (J && J->nonZeros() != assembler_.nonzeros()) *J = assembler_.make_matrix();
+  if (J && (J->rows() != size() || J->nonZeros() != assembler_.nonzeros()))
+    assembler_.make_matrix(*J);
   if (separate_K) {
-    if (K_.nonZeros() == 0) K_ = assembler_.make_matrix();
+    if (K_.nonZeros() == 0) assembler_.make_matrix(K_);
     assembler_.internal(x_, Fint_, &K_);
-    if (J && !model_.pressures.empty() && Kp_.nonZeros() == 0) Kp_ = assembler_.make_matrix();
+    if (J && !model_.pressures.empty() && Kp_.nonZeros() == 0) assembler_.make_matrix(Kp_);
     if (J && !model_.pressures.empty())
       std::fill(Kp_.valuePtr(), Kp_.valuePtr() + Kp_.nonZeros(), 0.0);
     assemble_external(t, v, J && !model_.pressures.empty() ? &Kp_ : nullptr, 1.0);

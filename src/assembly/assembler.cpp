@@ -111,12 +111,17 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
 }
 
 SparseMatrix Assembler::make_matrix() const {
-  SparseMatrix A(neq_, neq_);
+  SparseMatrix A;
+  make_matrix(A);
+  return A;
+}
+
+void Assembler::make_matrix(SparseMatrix& A) const {
+  A.resize(neq_, neq_);
   A.resizeNonZeros(nonzeros());
   std::copy(outer_.begin(), outer_.end(), A.outerIndexPtr());
   std::copy(inner_.begin(), inner_.end(), A.innerIndexPtr());
   std::fill(A.valuePtr(), A.valuePtr() + nonzeros(), 0.0);
-  return A;
 }
 
 template <class Compute>

@@ -48,10 +48,9 @@ bool residual_converged(double rnorm, double ref, const NewtonSettings& ns) {
 // relative to the step's change u − u_start. Stops early on a non-finite or diverging residual.
 template <class Evaluate>
 StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const NewtonSettings& ns,
-                          const VecX& u_start, VecX& u, VecX& r, VecX& du,
+                          const VecX& u_start, VecX& u, VecX& r, VecX& du, SparseMatrix& J,
                           const Evaluate& evaluate) {
   StepReport rep;
-  SparseMatrix J;
   double ref = 0, start = 0;
   std::string diagnosis;
   for (int it = 0; it <= ns.max_iterations; ++it) {
@@ -151,7 +150,7 @@ StepReport GeneralizedAlpha::step(SecondOrderSystem& sys, LinearSolver& solver, 
   };
   // Predictor: constant acceleration.
   VecX u = un_ + h * vn_ + 0.5 * h * h * an_;
-  const StepReport rep = newton_iterate(sys, solver, newton, un_, u, r_, du_,
+  const StepReport rep = newton_iterate(sys, solver, newton, un_, u, r_, du_, J_,
                                         [&](const VecX& x, VecX& r, SparseMatrix& J) {
                                           kinematics(x);
                                           uf_ = (1 - alpha_f) * x + alpha_f * un_;
@@ -202,7 +201,7 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
                               State& s) {
   zero_.setZero(sys.size());
   auto solve_from = [&](VecX& u) {
-    return newton_iterate(sys, solver, newton, s.u, u, r_, du_,
+    return newton_iterate(sys, solver, newton, s.u, u, r_, du_, J_,
                           [&](const VecX& x, VecX& r, SparseMatrix& J) {
                             sys.evaluate(t + h, x, zero_, zero_, 1.0, 0.0, 0.0, r, &J);
                           });

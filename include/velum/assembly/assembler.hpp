@@ -20,6 +20,8 @@ class Assembler {
 
   /// A matrix over the equations with the full pattern and zero values.
   SparseMatrix make_matrix() const;
+  /// The same, into A (its storage reused where it fits, no temporary copy).
+  void make_matrix(SparseMatrix& A) const;
   /// Stored entries of that pattern.
   Eigen::Index nonzeros() const { return static_cast<Eigen::Index>(inner_.size()); }
 

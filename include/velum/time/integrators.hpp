@@ -63,6 +63,7 @@ class GeneralizedAlpha : public TimeIntegrator {
  private:
   std::string name_;
   VecX un_, vn_, an_, r_, du_, uf_, vf_, am_;
+  SparseMatrix J_;  ///< kept between steps: its pattern is allocated once
 };
 
 /// Explicit central difference (velocity Verlet form) with the lumped mass.
@@ -95,6 +96,7 @@ class StaticNewton : public TimeIntegrator {
 
  private:
   VecX r_, du_, zero_;
+  SparseMatrix J_;      ///< kept between steps: its pattern is allocated once
   VecX u_prev_;         ///< converged state before the last accepted step
   double h_prev_ = 0;   ///< that step's size (0: no increment yet)
   double t_prev_ = -1;  ///< the time the last accepted step ended at
