@@ -37,8 +37,8 @@ BENCHMARK(BM_AssembleTangent)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// Arguments: elements per side, solver (0 cholmod, 1 umfpack, 2 klu, 3 mumps). Time per factorisation;
-// analysis and one solve are reported as counters.
+// Arguments: elements per side, solver (0 cholmod, 1 umfpack, 2 klu, 3 mumps). Time per
+// factorisation; analysis and one solve are reported as counters.
 void BM_Factorize(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const SolverKind kind = std::array{SolverKind::kCholmod, SolverKind::kUmfpack, SolverKind::kKlu,

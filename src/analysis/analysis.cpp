@@ -61,8 +61,9 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
         const NodePositions F = sys.external_forces(st.t, cur.u, cur.v);
         E.external_work += 0.5 * ((F + F_prev).array() * (U - U_prev).array()).sum();
         if (alpha != 0)
-          E.damping += 0.5 * st.h * alpha *
-                       (cur.v.dot(sys.mass_matrix() * cur.v) + v_prev.dot(sys.mass_matrix() * v_prev));
+          E.damping +=
+              0.5 * st.h * alpha *
+              (cur.v.dot(sys.mass_matrix() * cur.v) + v_prev.dot(sys.mass_matrix() * v_prev));
         E.kinetic =
             settings.type == AnalysisSettings::Type::kStatic ? 0.0 : sys.kinetic_energy(cur.v);
         E.strain = sys.strain_energy(st.t, cur.u);

@@ -1209,8 +1209,9 @@ class Reader {
                   "cholmod, umfpack or klu)");
         } catch (const std::invalid_argument&) {
           error(a["linear_solver"], "analysis.linear_solver",
-                fmt::format("unknown linear solver '{}'{}", *ls,
-                            suggestion(*ls, {"auto", "cholmod", "umfpack", "klu", "mumps", "petsc"})));
+                fmt::format(
+                    "unknown linear solver '{}'{}", *ls,
+                    suggestion(*ls, {"auto", "cholmod", "umfpack", "klu", "mumps", "petsc"})));
         }
       }
     }

@@ -129,15 +129,21 @@ class Mumps final : public LinearSolver {
 std::unique_ptr<LinearSolver> make_mumps_solver(bool symmetric) {
   return std::make_unique<Mumps>(symmetric);
 }
-bool have_mumps() { return true; }
+bool have_mumps() {
+  return true;
+}
 
 }  // namespace velum
 
 #else
 
 namespace velum {
-std::unique_ptr<LinearSolver> make_mumps_solver(bool) { return nullptr; }
-bool have_mumps() { return false; }
+std::unique_ptr<LinearSolver> make_mumps_solver(bool) {
+  return nullptr;
+}
+bool have_mumps() {
+  return false;
+}
 }  // namespace velum
 
 #endif
