@@ -67,8 +67,7 @@ bool MechanicalSystem::has_drag() const {
   return false;
 }
 
-void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* Kload,
-                                         double scale) {
+void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* Kload) {
   Fext_.setZero(3, model_.num_nodes());
   for (const auto& pl : model_.point_loads) {
     const Vec3 f = pl.force * model_.function_value(pl.function, t);
@@ -81,7 +80,7 @@ void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* 
   for (size_t i = 0; i < model_.pressures.size(); ++i) {
     const auto& pl = model_.pressures[i];
     const double p = pl.value * model_.function_value(pl.function, t);
-    if (p != 0) assembler_.pressure(static_cast<int>(i), p, x_, Fext_, Kload, scale);
+    if (p != 0) assembler_.pressure(static_cast<int>(i), p, x_, Fext_, Kload);
   }
   // Payload drag f = −½ ρ C_D A |v| v on the node velocity.
   if (drag_) {
@@ -97,37 +96,25 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
                                 double cv, double ca, VecX& r, SparseMatrix* J) {
   set_positions(t, u);
   const double beta = model_.rayleigh_stiffness, alpha = model_.rayleigh_mass;
-  // J = (cu + β cv) K + (α cv + ca) M − cu Kp + cv ∂(drag)/∂v
+  // J = (cu + β cv) K + (α cv + ca) M − cu Kp + cv ∂(drag)/∂v, built in place as
+  // cu (ck/cu K − Kp) + cm M: the load stiffness is added straight into J with unit weight.
   const double ck = cu + beta * cv, cm = alpha * cv + ca;
-  const bool separate_K = beta != 0;  // K v enters the residual
   if (J && (J->rows() != size() || J->nonZeros() != assembler_.nonzeros()))
     assembler_.make_matrix(*J);
-  if (separate_K) {
+  if (beta != 0) {  // K v enters the residual: K is kept apart
     if (K_.nonZeros() == 0) assembler_.make_matrix(K_);
     assembler_.internal(x_, Fint_, &K_);
-    if (J && !model_.pressures.empty() && Kp_.nonZeros() == 0) assembler_.make_matrix(Kp_);
-    if (J && !model_.pressures.empty())
-      std::fill(Kp_.valuePtr(), Kp_.valuePtr() + Kp_.nonZeros(), 0.0);
-    assemble_external(t, v, J && !model_.pressures.empty() ? &Kp_ : nullptr, 1.0);
     if (J) {
-      double* jv = J->valuePtr();
-      const double* kv = K_.valuePtr();
-      for (Eigen::Index i = 0; i < J->nonZeros(); ++i) jv[i] = ck * kv[i];
-      if (!model_.pressures.empty())
-        for (Eigen::Index i = 0; i < J->nonZeros(); ++i) jv[i] += cu * Kp_.valuePtr()[i];
+      const double f = cu != 0 ? ck / cu : ck;
+      for (Eigen::Index i = 0; i < J->nonZeros(); ++i) J->valuePtr()[i] = f * K_.valuePtr()[i];
     }
-  } else if (J && cu != 0) {
-    // In place: K, scaled so that the load stiffness can be added with unit weight, then
-    // scaled back: J = cu (K − Kp) (ck = cu without stiffness damping).
-    assembler_.internal(x_, Fint_, J);
-    assemble_external(t, v, J, 1.0);
-    if (cu != 1)
-      for (Eigen::Index i = 0; i < J->nonZeros(); ++i) J->valuePtr()[i] *= cu;
   } else {
-    assembler_.internal(x_, Fint_, nullptr);
-    assemble_external(t, v, nullptr, 1.0);
-    if (J) std::fill(J->valuePtr(), J->valuePtr() + J->nonZeros(), 0.0);
+    assembler_.internal(x_, Fint_, J && cu != 0 ? J : nullptr);
+    if (J && cu == 0) std::fill(J->valuePtr(), J->valuePtr() + J->nonZeros(), 0.0);
   }
+  assemble_external(t, v, J && cu != 0 ? J : nullptr);
+  if (J && cu != 0 && cu != 1)
+    for (Eigen::Index i = 0; i < J->nonZeros(); ++i) J->valuePtr()[i] *= cu;
 
   dofs_.gather(Fint_ - Fext_, r);
   if (a.squaredNorm() != 0) {
@@ -167,14 +154,14 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
 
 const NodePositions& MechanicalSystem::external_forces(double t, const VecX& u, const VecX& v) {
   set_positions(t, u);
-  assemble_external(t, v, nullptr, 1.0);
+  assemble_external(t, v, nullptr);
   return Fext_;
 }
 
 NodePositions MechanicalSystem::reactions(double t, const VecX& u, const VecX& v) {
   set_positions(t, u);
   assembler_.internal(x_, Fint_, nullptr);
-  assemble_external(t, v, nullptr, 1.0);
+  assemble_external(t, v, nullptr);
   NodePositions R = Fint_ - Fext_;
   for (int n = 0; n < model_.num_nodes(); ++n) {
     Vec3 local = dofs_.to_local(n, R.col(n));

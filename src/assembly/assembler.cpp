@@ -188,14 +188,14 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
 }
 
 void Assembler::pressure(int i, double p, const NodePositions& x, NodePositions& Fext,
-                         SparseMatrix* K, double scale) const {
+                         SparseMatrix* K) const {
   const auto& load = model_.pressures[i];
   const auto& b = *model_.blocks[load.block];
   // Forces add to Fext; the load stiffness enters the residual r = f_int − f_ext negated.
   run(
       load.block, pressure_colors_[i],
       [&](std::span<const int> elems, double* r, double* Ke) { b.pressure(elems, x, p, r, Ke); },
-      K != nullptr, Fext, K, -scale);
+      K != nullptr, Fext, K, -1.0);
 }
 
 void Assembler::mass(SparseMatrix& M, VecX& lumped) const {

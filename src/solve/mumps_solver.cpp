@@ -34,18 +34,14 @@ class MumpsInstance {
   MumpsInstance& operator=(const MumpsInstance&) = delete;
 
   bool analyze(const SparseMatrix& A) {
-    irn_.clear(), jcn_.clear(), pos_.clear();
-    for (int j = 0; j < A.outerSize(); ++j)
-      for (int k = A.outerIndexPtr()[j]; k < A.outerIndexPtr()[j + 1]; ++k) {
-        const int i = A.innerIndexPtr()[k];
-        if (id_.sym != 0 && i < j) continue;  // symmetric: the lower triangle
-        irn_.push_back(i + 1);
-        jcn_.push_back(j + 1);
-        pos_.push_back(k);
-      }
-    val_.resize(pos_.size());
+    irn_.clear(), jcn_.clear();
+    for_each_entry(A, [&](int i, int j, Eigen::Index) {
+      irn_.push_back(i + 1);
+      jcn_.push_back(j + 1);
+    });
+    val_.resize(irn_.size());
     id_.n = static_cast<int>(A.rows());
-    id_.nnz = static_cast<MUMPS_INT8>(pos_.size());
+    id_.nnz = static_cast<MUMPS_INT8>(irn_.size());
     id_.irn = irn_.data();
     id_.jcn = jcn_.data();
     id_.job = 1;
@@ -53,7 +49,8 @@ class MumpsInstance {
     return id_.infog[0] >= 0;
   }
   bool factorize(const SparseMatrix& A) {
-    for (size_t k = 0; k < pos_.size(); ++k) val_[k] = A.valuePtr()[pos_[k]];
+    size_t n = 0;
+    for_each_entry(A, [&](int, int, Eigen::Index k) { val_[n++] = A.valuePtr()[k]; });
     id_.a = val_.data();
     for (int attempt = 0; attempt < 4; ++attempt) {
       id_.job = 2;
@@ -82,8 +79,16 @@ class MumpsInstance {
 
  private:
   DMUMPS_STRUC_C id_{};
+  // The entries given to MUMPS, in one order for analysis and factorisation: all of them, or
+  // the lower triangle of a symmetric matrix.
+  template <class F>
+  void for_each_entry(const SparseMatrix& A, const F& f) const {
+    for (int j = 0; j < A.outerSize(); ++j)
+      for (int k = A.outerIndexPtr()[j]; k < A.outerIndexPtr()[j + 1]; ++k)
+        if (id_.sym == 0 || A.innerIndexPtr()[k] >= j) f(A.innerIndexPtr()[k], j, k);
+  }
+
   std::vector<MUMPS_INT> irn_, jcn_;
-  std::vector<int> pos_;  ///< position in A's values of each entry given to MUMPS
   std::vector<double> val_;
 };
 

@@ -54,19 +54,19 @@ class MechanicalSystem final : public SecondOrderSystem {
  private:
   void apply_prescribed(double t, NodePositions& U) const;
   void set_positions(double t, const VecX& u);
-  // Loads at t; the follower-pressure load stiffness times `scale` is subtracted from *Kload.
-  void assemble_external(double t, const VecX& v, SparseMatrix* Kload, double scale);
+  // Loads at t; the follower-pressure load stiffness is subtracted from *Kload.
+  void assemble_external(double t, const VecX& v, SparseMatrix* Kload);
   bool has_drag() const;
 
   const Model& model_;
   DofMap dofs_;
   Assembler assembler_;
-  // Matrices on the assembler's pattern, each allocated only when a run needs it: the
-  // Jacobian is assembled in place (K, then − cu Kp and + cm M); K_ is kept apart only for
-  // stiffness-proportional damping, Kp_ only then.
+  // Matrices on the assembler's pattern, allocated only when a run needs them: the Jacobian
+  // is assembled in place (evaluate); K_ is kept apart only for stiffness-proportional
+  // damping, and M_ is built on first use (a static run never needs it).
   mutable SparseMatrix M_;
   mutable bool have_mass_ = false;
-  SparseMatrix K_, Kp_;
+  SparseMatrix K_;
   VecX lumped_nodes_, lumped_eq_;
   std::vector<NodePositions> edge_forces_;
   std::vector<NodePositions> gravity_forces_;

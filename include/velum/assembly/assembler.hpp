@@ -29,9 +29,9 @@ class Assembler {
   /// overwritten, pattern of make_matrix()).
   void internal(const NodePositions& x, NodePositions& F, SparseMatrix* K) const;
   /// Follower pressure load i of the model at pressure p: forces added to Fext; the load
-  /// stiffness times `scale` subtracted from K when K != null (K then becomes unsymmetric).
-  void pressure(int i, double p, const NodePositions& x, NodePositions& Fext, SparseMatrix* K,
-                double scale = 1.0) const;
+  /// stiffness subtracted from K when K != null (K then becomes unsymmetric).
+  void pressure(int i, double p, const NodePositions& x, NodePositions& Fext,
+                SparseMatrix* K) const;
   /// Consistent mass (values overwritten) and lumped nodal masses (row sum; HRZ for tri6 and
   /// quad8, whose row sums are not all positive), point masses included in both.
   void mass(SparseMatrix& M, VecX& lumped) const;
