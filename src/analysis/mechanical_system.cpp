@@ -9,10 +9,7 @@ namespace velum {
 
 MechanicalSystem::MechanicalSystem(const Model& model)
     : model_(model), dofs_(model), assembler_(model, dofs_) {
-  {  // the lumped masses from a consistent mass matrix that is dropped again
-    SparseMatrix M = assembler_.make_matrix();
-    assembler_.mass(M, lumped_nodes_);
-  }
+  assembler_.mass(nullptr, &lumped_nodes_);
   lumped_eq_.setZero(size());
   for (int n = 0; n < model.num_nodes(); ++n)
     for (int c = 0; c < 3; ++c)
@@ -27,8 +24,7 @@ MechanicalSystem::MechanicalSystem(const Model& model)
 const SparseMatrix& MechanicalSystem::mass_matrix() const {
   if (!have_mass_) {
     assembler_.make_matrix(M_);
-    VecX lumped;
-    assembler_.mass(M_, lumped);
+    assembler_.mass(&M_, nullptr);
     have_mass_ = true;
   }
   return M_;

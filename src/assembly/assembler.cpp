@@ -198,10 +198,9 @@ void Assembler::pressure(int i, double p, const NodePositions& x, NodePositions&
       K != nullptr, Fext, K, -1.0);
 }
 
-void Assembler::mass(SparseMatrix& M, VecX& lumped) const {
-  std::fill(M.valuePtr(), M.valuePtr() + M.nonZeros(), 0.0);
-  lumped.setZero(model_.num_nodes());
-  double* values = M.valuePtr();
+void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
+  if (M) std::fill(M->valuePtr(), M->valuePtr() + M->nonZeros(), 0.0);
+  if (lumped) lumped->setZero(model_.num_nodes());
   for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
     const auto& b = *model_.blocks[bi];
     const int nn = b.nodes_per_element(), nd = 3 * nn;
@@ -210,28 +209,28 @@ void Assembler::mass(SparseMatrix& M, VecX& lumped) const {
     for (int e = 0; e < b.size(); ++e) {
       b.mass(e, Me.data());
       const auto nodes = b.nodes(e);
-      const int* m = scatter_[bi].data() + static_cast<size_t>(e) * nd * nd;
-      for (int j = 0; j < nn; ++j)
-        for (int i = 0; i < nn; ++i)
-          for (int d = 0; d < 3; ++d) {  // frames leave R I Rᵀ = I unchanged
-            const int q = m[(3 * j + d) * nd + 3 * i + d];
-            if (q >= 0) values[q] += Me(i, j);
-          }
+      if (M) {
+        const int* m = scatter_[bi].data() + static_cast<size_t>(e) * nd * nd;
+        for (int j = 0; j < nn; ++j)
+          for (int i = 0; i < nn; ++i)
+            for (int d = 0; d < 3; ++d) {  // frames leave R I Rᵀ = I unchanged
+              const int q = m[(3 * j + d) * nd + 3 * i + d];
+              if (q >= 0) M->valuePtr()[q] += Me(i, j);
+            }
+      }
+      if (!lumped) continue;
       const double total = Me.sum();
       const double diag = Me.diagonal().sum();
       for (int i = 0; i < nn; ++i)
-        lumped[nodes[i]] += hrz ? Me(i, i) * total / diag : Me.row(i).sum();
+        (*lumped)[nodes[i]] += hrz ? Me(i, i) * total / diag : Me.row(i).sum();
     }
   }
-  auto add_point = [&](int node, double value) {
-    for (int d = 0; d < 3; ++d) {
-      const int a = dofs_.equation(node, d);
-      if (a < 0) continue;
-      M.coeffRef(a, a) += value;
-    }
-    lumped[node] += value;
-  };
-  for (const auto& pm : model_.masses) add_point(pm.node, pm.mass);
+  for (const auto& pm : model_.masses) {
+    if (M)
+      for (int d = 0; d < 3; ++d)
+        if (const int a = dofs_.equation(pm.node, d); a >= 0) M->coeffRef(a, a) += pm.mass;
+    if (lumped) (*lumped)[pm.node] += pm.mass;
+  }
 }
 
 NodePositions Assembler::gravity_forces(const Vec3& g) const {

@@ -34,7 +34,7 @@ class Assembler {
                 SparseMatrix* K) const;
   /// Consistent mass (values overwritten) and lumped nodal masses (row sum; HRZ for tri6 and
   /// quad8, whose row sums are not all positive), point masses included in both.
-  void mass(SparseMatrix& M, VecX& lumped) const;
+  void mass(SparseMatrix* M, VecX* lumped) const;  ///< either may be null
   /// Nodal forces of gravity g: consistent mass times g (point masses included).
   NodePositions gravity_forces(const Vec3& g) const;
 
