@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include <cmath>
+#include <limits>
 
 namespace velum {
 
@@ -123,6 +124,16 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
   force_scale_ = std::max({Fint_.norm(), Fext_.norm(), mv_.norm()});
 
   if (!J) return;
+  if (cu != 0) {  // J holds cu (K − Kp) here: the stiffness that turns a ulp of x into force
+    dofs_.gather(x_, x_eq_);
+    noise_eq_.setZero(size());
+    for (int j = 0; j < J->outerSize(); ++j) {
+      const double xj = std::abs(x_eq_[j]);
+      for (SparseMatrix::InnerIterator it(*J, j); it; ++it)
+        noise_eq_[it.row()] += std::abs(it.value()) * xj;
+    }
+    residual_noise_ = std::numeric_limits<double>::epsilon() * noise_eq_.norm() / std::abs(cu);
+  }
   if (cm != 0) {
     double* jv = J->valuePtr();
     const double* mvv = mass_matrix().valuePtr();

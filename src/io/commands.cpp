@@ -193,6 +193,7 @@ int run_command(const RunOptions& opt) {
   int status = kExitOk;
   try {
     result = run_analysis(*system, settings, [&](const StepSnapshot& snap) {
+      writer->write_step(snap.step);
       if (snap.step.output_time) writer->write(snap);
       summary.final_time = snap.step.t;
       progress.update(snap.step);

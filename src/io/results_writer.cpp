@@ -104,10 +104,30 @@ ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
   for (const auto& e : input_.output.history) header += "," + e.name;
   std::fprintf(history_, "%s\n", header.c_str());
   if (std::fflush(history_) != 0) throw OutputError(fmt::format("cannot write {}", h.string()));
+  const auto sp = dir_ / "steps.csv";
+  steps_ = std::fopen(sp.c_str(), "w");
+  if (!steps_)
+    throw OutputError(fmt::format("cannot write {}: {}", sp.string(), std::strerror(errno)));
+  if (std::fputs("step,time,step_size,iterations,residuals\n", steps_) < 0 ||
+      std::fflush(steps_) != 0)
+    throw OutputError(fmt::format("cannot write {}", sp.string()));
 }
 
 ResultsWriter::~ResultsWriter() {
   if (history_) std::fclose(history_);
+  if (steps_) std::fclose(steps_);
+}
+
+void ResultsWriter::write_step(const AcceptedStep& step) {
+  if (step.step == 0) return;  // the initial state is not a step
+  const std::vector<double>* r = step.report ? &step.report->residuals : nullptr;
+  std::string all;
+  if (r)
+    for (double x : *r) all += fmt::format("{}{:.3e}", all.empty() ? "" : " ", x);
+  const std::string row = fmt::format("{},{:.12g},{:.6g},{},{}\n", step.step, step.t, step.h,
+                                      step.iterations, all);
+  if (std::fputs(row.c_str(), steps_) < 0 || std::fflush(steps_) != 0)
+    throw OutputError(fmt::format("cannot write {}", (dir_ / "steps.csv").string()));
 }
 
 void ResultsWriter::write(const StepSnapshot& snap) {

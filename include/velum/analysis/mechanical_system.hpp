@@ -21,6 +21,7 @@ class MechanicalSystem final : public SecondOrderSystem {
                 double ca, VecX& r, SparseMatrix* J) override;
   const VecX& lumped_mass() const override { return lumped_eq_; }
   double force_scale() const override { return force_scale_; }
+  double residual_noise() const override { return residual_noise_; }
   std::string diagnose_singular(const SparseMatrix& J) const override;
 
   const Model& model() const { return model_; }
@@ -71,8 +72,8 @@ class MechanicalSystem final : public SecondOrderSystem {
   std::vector<NodePositions> edge_forces_;
   std::vector<NodePositions> gravity_forces_;
   NodePositions U_, V_, x_, Fint_, Fext_;
-  VecX fred_, mv_;
-  double force_scale_ = 0;
+  VecX fred_, mv_, x_eq_, noise_eq_;
+  double force_scale_ = 0, residual_noise_ = 0;
   bool drag_ = false;
 };
 

@@ -1,5 +1,5 @@
 // Writes the results of a run into a directory (MODEL_FORMAT.md): history.csv (one row per
-// output time, flushed), results.pvd + frames/frame_NNNNN.vtu (VTK XML, appended raw binary,
+// output time, flushed), steps.csv (one row per accepted step, flushed), results.pvd + frames/frame_NNNNN.vtu (VTK XML, appended raw binary,
 // each written to a temporary file and renamed) and summary.json. Values are in the user's
 // units; angles in the fields are in degrees.
 #pragma once
@@ -44,6 +44,9 @@ class ResultsWriter {
   /// One history row (no frame).
   void write_history(const StepSnapshot& snap);
   void write_frame(const StepSnapshot& snap);
+  /// One row of steps.csv (iterations and the residual norm before each solve, and after the
+  /// last, of an accepted step; space-separated), flushed.
+  void write_step(const AcceptedStep& step);
   void write_summary(const RunSummary& s);
 
   const std::filesystem::path& directory() const { return dir_; }
@@ -59,6 +62,7 @@ class ResultsWriter {
   MechanicalSystem& system_;
   std::filesystem::path dir_;
   std::FILE* history_ = nullptr;
+  std::FILE* steps_ = nullptr;
   std::vector<double> frame_times_;
 };
 

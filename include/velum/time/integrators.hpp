@@ -21,6 +21,7 @@ struct NewtonSettings {
   double tolerance = 1e-8;      ///< relative, on the residual and on the increment
   double abs_residual = 1e-12;  ///< absolute floor on the residual norm
   int max_iterations = 25;
+  bool line_search = true;  ///< cut back corrections that overshoot the potential's minimum
 };
 
 struct StepReport {
