@@ -45,48 +45,75 @@ void to_local_frames(const DofMap& dofs, std::span<const int> nodes, double* r, 
   }
 }
 
+
+// The matrix pattern in compressed columns: equations i and j are coupled when their nodes
+// share an element (every component with every component: frames mix them), and every node
+// with equations is coupled with itself (point masses; a diagonal for every equation). Built
+// from node adjacency, it costs a few bytes per node pair instead of a triplet per
+// element-matrix entry (117 MB for 50k quad4), and is cheap enough to rebuild on demand
+// rather than kept next to the matrices built on it.
+void build_pattern(const Model& model, const DofMap& dofs, std::vector<int>& outer,
+                   std::vector<int>& inner) {
+  const int nn = model.num_nodes(), neq = dofs.num_equations();
+  // Node adjacency with repeats, compressed: count, then fill.
+  std::vector<int> start(nn + 1, 0), adj, fill;
+  auto visit = [&](const auto& link) {
+    for (int n = 0; n < nn; ++n) link(n, n);
+    for (const auto& b : model.blocks)
+      for (int e = 0; e < b->size(); ++e)
+        for (int a : b->nodes(e))
+          for (int c : b->nodes(e))
+            if (a != c) link(a, c);
+  };
+  visit([&](int a, int) { ++start[a + 1]; });
+  for (int n = 0; n < nn; ++n) start[n + 1] += start[n];
+  adj.resize(start[nn]);
+  fill.assign(start.begin(), start.end() - 1);
+  visit([&](int a, int b) { adj[fill[a]++] = b; });
+  // Sorted, without repeats, compacted in place (each list only moves down).
+  int write = 0;
+  for (int n = 0; n < nn; ++n) {
+    const auto first = adj.begin() + start[n], last = adj.begin() + start[n + 1];
+    std::sort(first, last);
+    const auto end = std::unique(first, last);
+    start[n] = write;
+    write = static_cast<int>(std::copy(first, end, adj.begin() + write) - adj.begin());
+  }
+  start[nn] = write;
+  // Equation columns: the equations of every adjacent node, sorted.
+  std::vector<int> node_of(neq, -1);
+  for (int n = 0; n < nn; ++n)
+    for (int c = 0; c < 3; ++c)
+      if (dofs.equation(n, c) >= 0) node_of[dofs.equation(n, c)] = n;
+  outer.assign(neq + 1, 0);
+  for (int q = 0; q < neq; ++q) {
+    int count = 0;
+    for (int k = start[node_of[q]]; k < start[node_of[q] + 1]; ++k)
+      for (int c = 0; c < 3; ++c) count += dofs.equation(adj[k], c) >= 0;
+    outer[q + 1] = outer[q] + count;
+  }
+  inner.resize(outer[neq]);
+  for (int q = 0; q < neq; ++q) {
+    int* col = inner.data() + outer[q];
+    int m = 0;
+    for (int k = start[node_of[q]]; k < start[node_of[q] + 1]; ++k)
+      for (int c = 0; c < 3; ++c)
+        if (const int i = dofs.equation(adj[k], c); i >= 0) col[m++] = i;
+    std::sort(col, col + m);
+  }
+}
+
 }  // namespace
 
 Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), dofs_(dofs) {
-  const int neq = dofs.num_equations();
-  std::vector<Eigen::Triplet<double, int>> trip;
-  std::vector<int> eqs;
-  auto element_eqs = [&](const ElementBlock& b, int e) {
-    eqs.clear();
-    for (int n : b.nodes(e))
-      for (int c = 0; c < 3; ++c) eqs.push_back(dofs.equation(n, c));
-  };
-  for (const auto& b : model.blocks)
-    for (int e = 0; e < b->size(); ++e) {
-      element_eqs(*b, e);
-      for (int i : eqs)
-        for (int j : eqs)
-          if (i >= 0 && j >= 0) trip.emplace_back(i, j, 0.0);
-    }
-  // Point masses and drag couple a node's own components only (frames mix them).
-  for (const auto& m : model.masses)
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        const int a = dofs.equation(m.node, i), c = dofs.equation(m.node, j);
-        if (a >= 0 && c >= 0) trip.emplace_back(a, c, 0.0);
-      }
-  for (int i = 0; i < neq; ++i) trip.emplace_back(i, i, 0.0);  // a diagonal for every equation
-  {
-    SparseMatrix pattern(neq, neq);
-    pattern.setFromTriplets(trip.begin(), trip.end());
-    pattern.makeCompressed();
-    trip.clear();
-    trip.shrink_to_fit();
-    neq_ = neq;
-    outer_.assign(pattern.outerIndexPtr(), pattern.outerIndexPtr() + neq + 1);
-    inner_.assign(pattern.innerIndexPtr(), pattern.innerIndexPtr() + pattern.nonZeros());
-  }
-  const int* outer = outer_.data();
-  const int* inner = inner_.data();
+  neq_ = dofs.num_equations();
+  std::vector<int> outer, inner, eqs;
+  build_pattern(model, dofs, outer, inner);
+  nonzeros_ = static_cast<Eigen::Index>(inner.size());
   auto position = [&](int row, int col) {
-    const int* lo = inner + outer[col];
-    const int* hi = inner + outer[col + 1];
-    return static_cast<int>(std::lower_bound(lo, hi, row) - inner);
+    const int* lo = inner.data() + outer[col];
+    const int* hi = inner.data() + outer[col + 1];
+    return static_cast<int>(std::lower_bound(lo, hi, row) - inner.data());
   };
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
     const auto& b = *model.blocks[bi];
@@ -96,7 +123,9 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
     colors_.push_back(color_elements(b, all, model.num_nodes()));
     std::vector<int> map(static_cast<size_t>(b.size()) * nd * nd);
     for (int e = 0; e < b.size(); ++e) {
-      element_eqs(b, e);
+      eqs.clear();
+      for (int n : b.nodes(e))
+        for (int c = 0; c < 3; ++c) eqs.push_back(dofs.equation(n, c));
       int* m = map.data() + static_cast<size_t>(e) * nd * nd;
       for (int j = 0; j < nd; ++j)
         for (int i = 0; i < nd; ++i)
@@ -117,10 +146,12 @@ SparseMatrix Assembler::make_matrix() const {
 }
 
 void Assembler::make_matrix(SparseMatrix& A) const {
+  std::vector<int> outer, inner;
+  build_pattern(model_, dofs_, outer, inner);
   A.resize(neq_, neq_);
   A.resizeNonZeros(nonzeros());
-  std::copy(outer_.begin(), outer_.end(), A.outerIndexPtr());
-  std::copy(inner_.begin(), inner_.end(), A.innerIndexPtr());
+  std::copy(outer.begin(), outer.end(), A.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), A.innerIndexPtr());
   std::fill(A.valuePtr(), A.valuePtr() + nonzeros(), 0.0);
 }
 

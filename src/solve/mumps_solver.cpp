@@ -34,7 +34,10 @@ class MumpsInstance {
   MumpsInstance& operator=(const MumpsInstance&) = delete;
 
   bool analyze(const SparseMatrix& A) {
+    size_t count = 0;
+    for_each_entry(A, [&](int, int, Eigen::Index) { ++count; });
     irn_.clear(), jcn_.clear();
+    irn_.reserve(count), jcn_.reserve(count);  // exact: growth would leave up to half unused
     for_each_entry(A, [&](int i, int j, Eigen::Index) {
       irn_.push_back(i + 1);
       jcn_.push_back(j + 1);

@@ -1,5 +1,7 @@
-// Numerical symmetry of an assembled matrix whose pattern is fixed: the position of every
-// entry's transpose is found once per pattern, so each test is one pass that allocates nothing.
+// Numerical symmetry of an assembled matrix with sorted indices, in one pass that keeps no
+// map of transposed positions (such a map costs 4 bytes per entry: 16 MB at 152k DOFs):
+// the columns are walked in order with one cursor per column, which meets the transposed
+// entries of the upper triangle in order.
 #pragma once
 
 #include <algorithm>
@@ -12,34 +14,42 @@ namespace velum {
 
 class SymmetryCheck {
  public:
-  /// Maps the pattern; false when it is structurally unsymmetric.
-  bool map(const SparseMatrix& A) {
-    mirror_.assign(A.nonZeros(), -1);
-    for (int j = 0; j < A.outerSize(); ++j)
-      for (int k = A.outerIndexPtr()[j]; k < A.outerIndexPtr()[j + 1]; ++k) {
-        const int i = A.innerIndexPtr()[k];
-        const int* lo = A.innerIndexPtr() + A.outerIndexPtr()[i];
-        const int* hi = A.innerIndexPtr() + A.outerIndexPtr()[i + 1];
-        const int* pos = std::lower_bound(lo, hi, j);
-        if (pos == hi || *pos != j) return structural_ = false;
-        mirror_[k] = static_cast<int>(pos - A.innerIndexPtr());
-      }
-    return structural_ = true;
-  }
+  /// Checks the pattern; false when it is structurally unsymmetric.
+  bool map(const SparseMatrix& A) { return structural_ = walk(A, nullptr); }
   /// |A − Aᵀ| <= 1e-10 |A| (entry-wise maxima) on a structurally symmetric pattern.
-  bool symmetric(const SparseMatrix& A) const {
+  bool symmetric(const SparseMatrix& A) {
     if (!structural_) return false;
+    double dmax = 0;
+    if (!walk(A, &dmax)) return false;
+    double vmax = 0;
     const double* v = A.valuePtr();
-    double vmax = 0, dmax = 0;
-    for (size_t k = 0; k < mirror_.size(); ++k) {
-      vmax = std::max(vmax, std::abs(v[k]));
-      dmax = std::max(dmax, std::abs(v[k] - v[mirror_[k]]));
-    }
+    for (Eigen::Index k = 0; k < A.nonZeros(); ++k) vmax = std::max(vmax, std::abs(v[k]));
     return dmax <= 1e-10 * vmax;
   }
 
  private:
-  std::vector<int> mirror_;
+  // For every strictly lower entry (i, j), column i's next unvisited upper entry must be
+  // (j, i): columns are visited in order, so each column's cursor advances monotonically.
+  bool walk(const SparseMatrix& A, double* dmax) {
+    const int n = static_cast<int>(A.outerSize());
+    const int* outer = A.outerIndexPtr();
+    const int* inner = A.innerIndexPtr();
+    const double* v = A.valuePtr();
+    cursor_.assign(outer, outer + n);
+    for (int j = 0; j < n; ++j)
+      for (int k = outer[j]; k < outer[j + 1]; ++k) {
+        const int i = inner[k];
+        if (i <= j) continue;  // upper and diagonal: upper entries are met from the other side
+        const int m = cursor_[i]++;
+        if (m >= outer[i + 1] || inner[m] != j) return false;
+        if (dmax) *dmax = std::max(*dmax, std::abs(v[k] - v[m]));
+      }
+    for (int j = 0; j < n; ++j)  // every upper entry met
+      if (cursor_[j] < outer[j + 1] && inner[cursor_[j]] < j) return false;
+    return true;
+  }
+
+  std::vector<int> cursor_;
   bool structural_ = false;
 };
 

@@ -18,12 +18,13 @@ class Assembler {
  public:
   Assembler(const Model& model, const DofMap& dofs);
 
-  /// A matrix over the equations with the full pattern and zero values.
+  /// A matrix over the equations with the full pattern and zero values (the pattern is
+  /// rebuilt from the mesh: the assembler keeps only the positions it scatters to).
   SparseMatrix make_matrix() const;
   /// The same, into A (its storage reused where it fits, no temporary copy).
   void make_matrix(SparseMatrix& A) const;
   /// Stored entries of that pattern.
-  Eigen::Index nonzeros() const { return static_cast<Eigen::Index>(inner_.size()); }
+  Eigen::Index nonzeros() const { return nonzeros_; }
 
   /// Internal forces (full, global; overwritten) and, if K != null, the tangent (values
   /// overwritten, pattern of make_matrix()).
@@ -58,9 +59,8 @@ class Assembler {
 
   const Model& model_;
   const DofMap& dofs_;
-  // The pattern as compressed-column indices only (no values held for it).
   int neq_ = 0;
-  std::vector<int> outer_, inner_;
+  Eigen::Index nonzeros_ = 0;
   std::vector<std::vector<std::vector<int>>> colors_;           // per block
   std::vector<std::vector<int>> scatter_;                       // per block: ne x dofs² positions
   std::vector<std::vector<std::vector<int>>> pressure_colors_;  // per pressure load

@@ -1,0 +1,61 @@
+// The symmetry test that picks LDLᵀ or LU: structural and numerical, without a position map.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "solve/symmetry.hpp"
+
+namespace velum {
+namespace {
+
+SparseMatrix from(int n, const std::vector<Eigen::Triplet<double>>& t) {
+  SparseMatrix A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  A.makeCompressed();
+  return A;
+}
+
+// A symmetric 5 x 5 with a full first row and column, a band and one missing diagonal.
+std::vector<Eigen::Triplet<double>> symmetric_entries() {
+  std::vector<Eigen::Triplet<double>> t;
+  for (int i = 0; i < 5; ++i)
+    if (i != 3) t.emplace_back(i, i, 4.0 + i);
+  for (int i = 1; i < 5; ++i) t.emplace_back(0, i, -1.0 * i), t.emplace_back(i, 0, -1.0 * i);
+  t.emplace_back(2, 3, 0.5), t.emplace_back(3, 2, 0.5);
+  t.emplace_back(1, 4, 2.0), t.emplace_back(4, 1, 2.0);
+  return t;
+}
+
+TEST(SymmetryCheck, AcceptsSymmetricWithAMissingDiagonal) {
+  const SparseMatrix A = from(5, symmetric_entries());
+  SymmetryCheck c;
+  EXPECT_TRUE(c.map(A));
+  EXPECT_TRUE(c.symmetric(A));
+}
+
+TEST(SymmetryCheck, RejectsUnequalValuesAboveRoundOff) {
+  auto t = symmetric_entries();
+  t.emplace_back(4, 1, 1e-6);  // (4,1) = 2 + 1e-6, (1,4) = 2
+  SparseMatrix A = from(5, t);
+  SymmetryCheck c;
+  ASSERT_TRUE(c.map(A));
+  EXPECT_FALSE(c.symmetric(A));
+  A.coeffRef(1, 4) += 1e-6;  // the same pattern made symmetric again
+  EXPECT_TRUE(c.symmetric(A));
+  A.coeffRef(1, 4) += 1e-14;  // round-off of the assembly is still symmetric
+  EXPECT_TRUE(c.symmetric(A));
+}
+
+TEST(SymmetryCheck, RejectsAMissingTransposeOnEitherSide) {
+  for (const auto& [i, j] : {std::pair{3, 1}, std::pair{1, 3}}) {
+    auto t = symmetric_entries();
+    t.emplace_back(i, j, 1.0);
+    const SparseMatrix A = from(5, t);
+    SymmetryCheck c;
+    EXPECT_FALSE(c.map(A)) << i << "," << j;
+    EXPECT_FALSE(c.symmetric(A));
+  }
+}
+
+}  // namespace
+}  // namespace velum
