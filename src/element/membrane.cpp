@@ -5,6 +5,25 @@
 namespace velum {
 
 template <class Shape>
+const PointShapes<Shape>& PointShapes<Shape>::of(shape::Integration integration) {
+  static const auto make = [](shape::Integration i) {
+    PointShapes t;
+    const auto rule = shape::rule_of<Shape>(i);
+    for (int q = 0; q < Shape::kPoints; ++q) {
+      Shape::eval(rule.xi[q][0], rule.xi[q][1], t.N[q], t.dN[q]);
+      t.w[q] = rule.w[q];
+    }
+    return t;
+  };
+  static const PointShapes gauss = make(shape::Integration::kGauss);
+  if constexpr (Shape::kNodalRule) {
+    static const PointShapes nodal = make(shape::Integration::kNodal);
+    if (integration == shape::Integration::kNodal) return nodal;
+  }
+  return gauss;
+}
+
+template <class Shape>
 Eigen::Matrix<double, 3, 2> Membrane<Shape>::basis(const Nodes& X,
                                                    const std::array<double, 2>& xi) {
   typename Shape::Values N;
@@ -25,12 +44,12 @@ template <class Shape>
 double Membrane<Shape>::setup(const Nodes& X, const Mat3& Q, const SheetAxes& axes, double t0,
                               Points& pts, shape::Integration integration) {
   const auto rule = shape::rule_of<Shape>(integration);
+  pts.shapes = &PointShapes<Shape>::of(integration);
   double min_jac = std::numeric_limits<double>::infinity();
   const Vec3 n_centre = centre_normal(X);
   for (int q = 0; q < kQ; ++q) {
     auto& p = pts[q];
-    Shape::eval(rule.xi[q][0], rule.xi[q][1], p.N, p.dN);
-    const Eigen::Matrix<double, 3, 2> G = X * p.dN;
+    const Eigen::Matrix<double, 3, 2> G = X * pts.shapes->dN[q];
     const Mat2 Gcov = G.transpose() * G;
     const Vec3 normal = G.col(0).cross(G.col(1));
     // Signed area ratio: negative when the element folds over relative to its centre.
@@ -44,7 +63,6 @@ double Membrane<Shape>::setup(const Nodes& X, const Mat3& Q, const SheetAxes& ax
       const Vec3& ma = a == 0 ? m.m1 : m.m2;
       for (int al = 0; al < 2; ++al) p.T(a, al) = ma.dot(Gcontra.col(al));
     }
-    p.w = rule.w[q];
     p.t0dA = t0 * std::abs(jac) * rule.w[q];
     p.G = Vec3(Gcov(0, 0), Gcov(1, 1), Gcov(0, 1));
     p.D = transform_stiffness(Q, p.T) * p.t0dA;
@@ -53,9 +71,10 @@ double Membrane<Shape>::setup(const Nodes& X, const Mat3& Q, const SheetAxes& ax
 }
 
 template <class Shape>
-void Membrane<Shape>::strain_stress(const MembranePoint<Shape>& p, const Nodes& x, Vec3& e, Vec3& S,
+void Membrane<Shape>::strain_stress(const Points& pts, int q, const Nodes& x, Vec3& e, Vec3& S,
                                     Eigen::Matrix<double, 3, 2>& g) {
-  g.noalias() = x * p.dN;
+  const auto& p = pts[q];
+  g.noalias() = x * pts.shapes->dN[q];
   e << 0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
       g.col(0).dot(g.col(1)) - p.G[2];
   S.noalias() = p.D * e / p.t0dA;
@@ -64,14 +83,16 @@ void Membrane<Shape>::strain_stress(const MembranePoint<Shape>& p, const Nodes& 
 template <class Shape>
 void Membrane<Shape>::force(const Points& pts, const Nodes& x, Vector& r) {
   Eigen::Matrix<double, 3, kN> rn = Eigen::Matrix<double, 3, kN>::Zero();
-  for (const auto& p : pts) {
-    const Eigen::Matrix<double, 3, 2> g = x * p.dN;
+  for (int q = 0; q < kQ; ++q) {
+    const auto& p = pts[q];
+    const auto& dN = pts.shapes->dN[q];
+    const Eigen::Matrix<double, 3, 2> g = x * dN;
     const Vec3 e(0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
                  g.col(0).dot(g.col(1)) - p.G[2]);
     const Vec3 S = p.D * e;  // already weighted by t0 dA w
     Mat2 Sm;
     Sm << S[0], S[2], S[2], S[1];
-    rn.noalias() += (g * Sm) * p.dN.transpose();
+    rn.noalias() += (g * Sm) * dN.transpose();
   }
   r = Eigen::Map<const Vector>(rn.data());
 }
@@ -82,24 +103,26 @@ void Membrane<Shape>::force_tangent(const Points& pts, const Nodes& x, Vector& r
   K.setZero();
   NodeMatrix Kg = NodeMatrix::Zero();
   Eigen::Matrix<double, kDofs, 3> Bt;  // Bᵀ, column-major: K += (Bᵀ D) B vectorises down columns
-  for (const auto& p : pts) {
-    const Eigen::Matrix<double, 3, 2> g = x * p.dN;
+  for (int q = 0; q < kQ; ++q) {
+    const auto& p = pts[q];
+    const auto& dN = pts.shapes->dN[q];
+    const Eigen::Matrix<double, 3, 2> g = x * dN;
     const Vec3 e(0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
                  g.col(0).dot(g.col(1)) - p.G[2]);
     const Vec3 S = p.D * e;
     Mat2 Sm;
     Sm << S[0], S[2], S[2], S[1];
-    rn.noalias() += (g * Sm) * p.dN.transpose();
+    rn.noalias() += (g * Sm) * dN.transpose();
     // B: rows d(γ11), d(γ22), d(2γ12) with respect to x_N (stored transposed).
     for (int n = 0; n < kN; ++n) {
-      const double a = p.dN(n, 0), b = p.dN(n, 1);
+      const double a = dN(n, 0), b = dN(n, 1);
       Bt.template block<3, 1>(3 * n, 0) = a * g.col(0);
       Bt.template block<3, 1>(3 * n, 1) = b * g.col(1);
       Bt.template block<3, 1>(3 * n, 2) = a * g.col(1) + b * g.col(0);
     }
     const Eigen::Matrix<double, kDofs, 3> BtD = Bt * p.D;
     K.noalias() += BtD.lazyProduct(Bt.transpose());  // coefficient-based: no GEMM dispatch
-    Kg.noalias() += p.dN * Sm * p.dN.transpose();
+    Kg.noalias() += dN * Sm * dN.transpose();
   }
   for (int m = 0; m < kN; ++m)
     for (int n = 0; n < kN; ++n)
@@ -110,8 +133,10 @@ void Membrane<Shape>::force_tangent(const Points& pts, const Nodes& x, Vector& r
 template <class Shape>
 double Membrane<Shape>::strain_energy(const Points& pts, const Nodes& x) {
   double U = 0;
-  for (const auto& p : pts) {
-    const Eigen::Matrix<double, 3, 2> g = x * p.dN;
+  for (int q = 0; q < kQ; ++q) {
+    const auto& p = pts[q];
+    const auto& dN = pts.shapes->dN[q];
+    const Eigen::Matrix<double, 3, 2> g = x * dN;
     const Vec3 e(0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
                  g.col(0).dot(g.col(1)) - p.G[2]);
     U += 0.5 * e.dot(p.D * e);
@@ -122,16 +147,20 @@ double Membrane<Shape>::strain_energy(const Points& pts, const Nodes& x) {
 template <class Shape>
 typename Membrane<Shape>::NodeMatrix Membrane<Shape>::mass(const Points& pts) {
   NodeMatrix M = NodeMatrix::Zero();
-  for (const auto& p : pts) M.noalias() += p.t0dA * p.N * p.N.transpose();
+  for (int q = 0; q < kQ; ++q) {
+    const auto& N = pts.shapes->N[q];
+    M.noalias() += pts[q].t0dA * N * N.transpose();
+  }
   return M;
 }
 
 template <class Shape>
 void Membrane<Shape>::pressure_force(const Points& pts, const Nodes& x, double pr, Vector& f) {
   Eigen::Matrix<double, 3, kN> fn = Eigen::Matrix<double, 3, kN>::Zero();
-  for (const auto& p : pts) {
-    const Eigen::Matrix<double, 3, 2> g = x * p.dN;
-    fn.noalias() += (pr * p.w) * g.col(0).cross(g.col(1)) * p.N.transpose();
+  for (int q = 0; q < kQ; ++q) {
+    const auto& dN = pts.shapes->dN[q];
+    const Eigen::Matrix<double, 3, 2> g = x * dN;
+    fn.noalias() += (pr * pts.shapes->w[q]) * g.col(0).cross(g.col(1)) * pts.shapes->N[q].transpose();
   }
   f = Eigen::Map<const Vector>(fn.data());
 }
@@ -141,20 +170,26 @@ void Membrane<Shape>::pressure_force_tangent(const Points& pts, const Nodes& x, 
                                              Vector& f, Matrix& K) {
   Eigen::Matrix<double, 3, kN> fn = Eigen::Matrix<double, 3, kN>::Zero();
   K.setZero();
-  for (const auto& p : pts) {
-    const Eigen::Matrix<double, 3, 2> g = x * p.dN;
-    const double s = pr * p.w;
-    fn.noalias() += s * g.col(0).cross(g.col(1)) * p.N.transpose();
+  for (int q = 0; q < kQ; ++q) {
+    const auto& dN = pts.shapes->dN[q];
+    const Eigen::Matrix<double, 3, 2> g = x * dN;
+    const double s = pr * pts.shapes->w[q];
+    fn.noalias() += s * g.col(0).cross(g.col(1)) * pts.shapes->N[q].transpose();
     const Mat3 A1 = cross_matrix(g.col(0)), A2 = cross_matrix(g.col(1));
     // d(g1 x g2)/dx_N = H_N,2 [g1]x - H_N,1 [g2]x
     for (int n = 0; n < kN; ++n) {
-      const Mat3 dn = s * (p.dN(n, 1) * A1 - p.dN(n, 0) * A2);
-      for (int m = 0; m < kN; ++m) K.template block<3, 3>(3 * m, 3 * n) += p.N[m] * dn;
+      const Mat3 dn = s * (dN(n, 1) * A1 - dN(n, 0) * A2);
+      for (int m = 0; m < kN; ++m) K.template block<3, 3>(3 * m, 3 * n) += pts.shapes->N[q][m] * dn;
     }
   }
   f = Eigen::Map<const Vector>(fn.data());
 }
 
+template struct PointShapes<shape::Tri3>;
+template struct PointShapes<shape::Tri6>;
+template struct PointShapes<shape::Quad4>;
+template struct PointShapes<shape::Quad8>;
+template struct PointShapes<shape::Quad9>;
 template struct Membrane<shape::Tri3>;
 template struct Membrane<shape::Tri6>;
 template struct Membrane<shape::Quad4>;

@@ -96,7 +96,7 @@ class MembraneBlock final : public ElementBlock {
   }
   double measure(int e) const override {
     double A = 0;
-    for (const auto& p : points_[e]) A += p.t0dA;
+    for (const auto& p : points_[e].at) A += p.t0dA;
     return A / t0_;
   }
 

@@ -13,15 +13,33 @@
 
 namespace velum {
 
+/// Shape-function values, derivatives and weights at the points of a rule: the same for every
+/// element of a shape, so they are held once per rule instead of once per element point.
+template <class Shape>
+struct PointShapes {
+  std::array<typename Shape::Values, Shape::kPoints> N;   ///< shape function values
+  std::array<typename Shape::Derivs, Shape::kPoints> dN;  ///< dN/dξ (n x 2)
+  std::array<double, Shape::kPoints> w;                   ///< weights in ξ
+  /// The table of `integration`'s rule (built on first use, immutable after).
+  static const PointShapes& of(shape::Integration integration);
+};
+
+/// What an element keeps at one integration point.
 template <class Shape>
 struct MembranePoint {
-  typename Shape::Values N;   ///< shape function values
-  typename Shape::Derivs dN;  ///< dN/dξ (n x 2)
-  Mat3 D;                     ///< E^{αβγδ} in engineering Voigt, times t0 dA w (ready to use)
-  Vec3 G;                     ///< reference metric G11, G22, G12
-  Mat2 T;                     ///< T(a,α) = m_a · G^α: sheet axes in the convected frame
-  double t0dA;                ///< t0 · dA · w (reference volume weight)
-  double w;                   ///< Gauss weight in ξ (for the current-surface pressure)
+  Mat3 D;       ///< E^{αβγδ} in engineering Voigt, times t0 dA w (ready to use)
+  Vec3 G;       ///< reference metric G11, G22, G12
+  Mat2 T;       ///< T(a,α) = m_a · G^α: sheet axes in the convected frame
+  double t0dA;  ///< t0 · dA · w (reference volume weight)
+};
+
+/// An element's integration points and the rule they belong to.
+template <class Shape>
+struct MembranePoints {
+  std::array<MembranePoint<Shape>, Shape::kPoints> at;
+  const PointShapes<Shape>* shapes = nullptr;  ///< set by Membrane::setup
+  MembranePoint<Shape>& operator[](int q) { return at[q]; }
+  const MembranePoint<Shape>& operator[](int q) const { return at[q]; }
 };
 
 template <class Shape>
@@ -33,7 +51,7 @@ struct Membrane {
   using Vector = Eigen::Matrix<double, kDofs, 1>;  ///< node-major: (x1, y1, z1, x2, ...)
   using Matrix = Eigen::Matrix<double, kDofs, kDofs>;
   using NodeMatrix = Eigen::Matrix<double, kN, kN>;
-  using Points = std::array<MembranePoint<Shape>, kQ>;
+  using Points = MembranePoints<Shape>;
 
   /// Reference tangent basis at ξ: columns G1, G2.
   static Eigen::Matrix<double, 3, 2> basis(const Nodes& X, const std::array<double, 2>& xi);
@@ -59,7 +77,7 @@ struct Membrane {
 
   /// Green-Lagrange strain [γ11, γ22, 2γ12] and 2nd PK stress [S11, S22, S12] (contravariant
   /// convected components) at point q, and the current basis g.
-  static void strain_stress(const MembranePoint<Shape>& p, const Nodes& x, Vec3& e, Vec3& S,
+  static void strain_stress(const Points& pts, int q, const Nodes& x, Vec3& e, Vec3& S,
                             Eigen::Matrix<double, 3, 2>& g);
 
   /// Follower pressure p on the current surface: f_N = p ∫ H_N (g1 x g2) dξ.

@@ -127,12 +127,12 @@ TYPED_TEST(PatchTest, A6HomogeneousDeformationIsReproduced) {
         }
         typename M::Points pts;
         ASSERT_GT(M::setup(X, law.Q(), axes, t0, pts), 0) << "inverted element in the mesh";
-        for (const auto& p : pts) {
+        for (int q = 0; q < S::kPoints; ++q) {
           Vec3 e, Sc;
           Eigen::Matrix<double, 3, 2> g;
-          M::strain_stress(p, x, e, Sc, g);
+          M::strain_stress(pts, q, x, e, Sc, g);
           // Contravariant S^{αβ} to the sheet axes: S_ab = S^{αβ} (m_a·G_α)(m_b·G_β).
-          const Eigen::Matrix<double, 3, 2> G = X * p.dN;
+          const Eigen::Matrix<double, 3, 2> G = X * pts.shapes->dN[q];
           Mat2 Sm;
           Sm << Sc[0], Sc[2], Sc[2], Sc[1];
           Mat2 A;  // A(a, α) = m_a · G_α

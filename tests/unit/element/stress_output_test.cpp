@@ -38,7 +38,7 @@ Sheet make_sheet(const PlaneStressLaw& law, double axes_deg, const Mat3& R0, con
 MembraneStress output(const Sheet& s, int q) {
   Vec3 e, S;
   Eigen::Matrix<double, 3, 2> g;
-  M::strain_stress(s.pts[q], s.x, e, S, g);
+  M::strain_stress(s.pts, q, s.x, e, S, g);
   return membrane_stress(g, S, s.pts[q].G, s.pts[q].T);
 }
 
