@@ -1172,7 +1172,7 @@ class Reader {
     if (has(a, "newton")) {
       const Node n = a["newton"];
       const std::string p = "analysis.newton";
-      if (check_map(n, p, {"tolerance", "max_iterations"})) {
+      if (check_map(n, p, {"tolerance", "max_iterations", "line_search"})) {
         if (auto tol = positive(n, "tolerance", p, false, "the Newton tolerance"))
           s.newton.tolerance = *tol;
         if (has(n, "max_iterations")) {
@@ -1183,6 +1183,7 @@ class Reader {
           else if (it)
             s.newton.max_iterations = static_cast<int>(*it);
         }
+        if (auto ls = boolean(n, "line_search", p)) s.newton.line_search = *ls;
       }
     }
     if (has(a, "damping")) {

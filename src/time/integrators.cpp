@@ -268,9 +268,11 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
   StepReport rep = solve_from(u);
   if (!rep.converged && extrapolate) {
     const int spent = rep.iterations;
+    const std::vector<double> tried = std::move(rep.residuals);
     u = s.u;
     rep = solve_from(u);
     rep.iterations += spent;
+    rep.residuals.insert(rep.residuals.begin(), tried.begin(), tried.end());
   }
   if (rep.converged) {
     u_prev_ = s.u;

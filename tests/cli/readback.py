@@ -30,6 +30,17 @@ assert summary["status"] == "converged"
 for key in ["kinetic", "strain", "external_work", "damping"]:
     assert key in summary["energy"], f"summary.json energy lacks {key}"
 
+# steps.csv: one row per accepted step; its iterations add up to summary.json's, and each
+# row's residual list has one norm per iteration plus the converged one.
+steps = list(csv.DictReader(open(os.path.join(WORK, "steps.csv"))))
+assert len(steps) == summary["steps"], f"{len(steps)} rows in steps.csv, {summary['steps']} steps"
+assert sum(int(r["iterations"]) for r in steps) == summary["newton_iterations"]
+for r in steps:
+    res = [float(v) for v in r["residuals"].split()]
+    assert len(res) >= int(r["iterations"]) + 1 or int(r["iterations"]) == 0, r
+    assert all(np.isfinite(res)), r
+assert abs(float(steps[-1]["time"]) - summary["final_time"]) <= 1e-9 * (1 + summary["final_time"])
+
 rows = list(csv.reader(open(os.path.join(WORK, "history.csv"))))
 header, rows = rows[0], [[float(v) for v in r] for r in rows[1:]]
 assert header[0] == "time", header

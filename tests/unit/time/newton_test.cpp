@@ -1,0 +1,103 @@
+// Newton's line search and round-off floor on small systems with known solutions.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+
+#include "velum/solve/linear_solver.hpp"
+#include "velum/time/integrators.hpp"
+
+namespace velum {
+namespace {
+
+// Two uncoupled hardening springs k u + c u³ = load t, with an optional deterministic noise
+// of amplitude `noise` whose sign alternates between evaluations (a force evaluation that
+// cannot be exact) added to the residual and reported as the system's round-off level.
+class CubicSprings final : public SecondOrderSystem {
+ public:
+  std::array<double, 2> k{1e-3, 1e-3}, c{1.0, 1.0}, load{1.0, 2.0}, noise{0.0, 0.0};
+  int size() const override { return 2; }
+  void evaluate(double t, const VecX& u, const VecX&, const VecX&, double cu, double, double,
+                VecX& r, SparseMatrix* J) override {
+    r.resize(2);
+    ++evaluations_;
+    for (int i = 0; i < 2; ++i) {
+      r[i] = k[i] * u[i] + c[i] * u[i] * u[i] * u[i] - load[i] * t;
+      r[i] += noise[i] * (evaluations_ % 2 ? 1 : -1);
+    }
+    scale_ = t * std::hypot(load[0], load[1]);
+    if (!J) return;
+    if (J->nonZeros() != 2) {
+      J->resize(2, 2);
+      J->setIdentity();
+      J->makeCompressed();
+    }
+    for (int i = 0; i < 2; ++i) J->valuePtr()[i] = cu * (k[i] + 3 * c[i] * u[i] * u[i]);
+  }
+  const VecX& lumped_mass() const override { return mass_; }
+  double force_scale() const override { return scale_; }
+  double residual_noise() const override { return 2 * std::hypot(noise[0], noise[1]); }
+  std::string diagnose_singular(const SparseMatrix&) const override { return {}; }
+
+  double root(int i) const {  // k u + c u³ = load at t = 1, by bisection
+    double lo = 0, hi = 10;
+    for (int it = 0; it < 200; ++it) {
+      const double m = 0.5 * (lo + hi);
+      (k[i] * m + c[i] * m * m * m < load[i] ? lo : hi) = m;
+    }
+    return 0.5 * (lo + hi);
+  }
+
+ private:
+  VecX mass_ = VecX::Ones(2);
+  double scale_ = 0;
+  int evaluations_ = 0;
+};
+
+StepReport one_static_step(CubicSprings& sys, bool line_search, double tolerance, State& s) {
+  StaticNewton newton;
+  newton.newton.line_search = line_search;
+  newton.newton.tolerance = tolerance;
+  newton.newton.max_iterations = 60;
+  auto solver = make_linear_solver(SolverKind::kUmfpack);
+  s.u = s.v = s.a = VecX::Zero(2);
+  return newton.step(sys, *solver, 0.0, 1.0, s);
+}
+
+// From the stress-free start the tangent is k = 1e-3: the first full correction is 1000 times
+// too long, and plain Newton creeps back at 2/3 per iteration on the cubic.
+TEST(Newton, LineSearchCutsTheOvershootFromASoftStart) {
+  CubicSprings a, b;
+  State sa, sb;
+  const StepReport plain = one_static_step(a, false, 1e-10, sa);
+  const StepReport searched = one_static_step(b, true, 1e-10, sb);
+  ASSERT_TRUE(plain.converged) << plain.reason;
+  ASSERT_TRUE(searched.converged) << searched.reason;
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(sa.u[i], a.root(i), 1e-9);
+    EXPECT_NEAR(sb.u[i], a.root(i), 1e-9);
+  }
+  EXPECT_GE(plain.iterations, 15);
+  EXPECT_LE(searched.iterations, 10);
+  EXPECT_LT(searched.iterations, plain.iterations / 2);
+}
+
+// A tolerance below the residual's round-off level is met at that level instead of failing.
+// The noise sits on a stiff spring (as round-off of positions does on the in-plane stiffness
+// of a sheet), so it hardly moves the solution of the soft one.
+TEST(Newton, StopsAtTheRoundOffLevelOfTheResidual) {
+  CubicSprings sys;
+  sys.k = {1.0, 1e6};
+  sys.c = {1.0, 0.0};
+  sys.noise = {0.0, 1e-6};
+  State s;
+  const StepReport rep = one_static_step(sys, true, 1e-10, s);
+  ASSERT_TRUE(rep.converged) << rep.reason;
+  EXPECT_GT(rep.residuals.back(), 1e-10 * sys.force_scale());  // the plain target: not met
+  EXPECT_LE(rep.residuals.back(), sys.residual_noise());
+  EXPECT_LE(rep.iterations, 8);
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(s.u[i], sys.root(i), 1e-10);
+}
+
+}  // namespace
+}  // namespace velum
