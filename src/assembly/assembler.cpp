@@ -45,7 +45,6 @@ void to_local_frames(const DofMap& dofs, std::span<const int> nodes, double* r, 
   }
 }
 
-
 // The matrix pattern in compressed columns: equations i and j are coupled when their nodes
 // share an element (every component with every component: frames mix them), and every node
 // with equations is coupled with itself (point masses; a diagonal for every equation). Built

@@ -160,7 +160,8 @@ void Membrane<Shape>::pressure_force(const Points& pts, const Nodes& x, double p
   for (int q = 0; q < kQ; ++q) {
     const auto& dN = pts.shapes->dN[q];
     const Eigen::Matrix<double, 3, 2> g = x * dN;
-    fn.noalias() += (pr * pts.shapes->w[q]) * g.col(0).cross(g.col(1)) * pts.shapes->N[q].transpose();
+    fn.noalias() +=
+        (pr * pts.shapes->w[q]) * g.col(0).cross(g.col(1)) * pts.shapes->N[q].transpose();
   }
   f = Eigen::Map<const Vector>(fn.data());
 }

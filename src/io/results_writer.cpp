@@ -124,8 +124,8 @@ void ResultsWriter::write_step(const AcceptedStep& step) {
   std::string all;
   if (r)
     for (double x : *r) all += fmt::format("{}{:.3e}", all.empty() ? "" : " ", x);
-  const std::string row = fmt::format("{},{:.12g},{:.6g},{},{}\n", step.step, step.t, step.h,
-                                      step.iterations, all);
+  const std::string row =
+      fmt::format("{},{:.12g},{:.6g},{},{}\n", step.step, step.t, step.h, step.iterations, all);
   if (std::fputs(row.c_str(), steps_) < 0 || std::fflush(steps_) != 0)
     throw OutputError(fmt::format("cannot write {}", (dir_ / "steps.csv").string()));
 }

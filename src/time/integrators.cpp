@@ -124,10 +124,8 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const Ne
     // the stiffness (1.5e-8 against 1.8e-9 on the Hencky membrane). The system's estimate
     // of that level bounds the target from below; a residual that has stopped falling (less
     // than halved) within 1000 times the target is taken as the floor when there is none.
-    const double target =
-        std::max({ns.tolerance * ref, ns.abs_residual, sys.residual_noise()});
-    const bool at_floor =
-        it > 1 && rn >= 0.5 * rep.residuals[it - 1] && rn <= 1e3 * target;
+    const double target = std::max({ns.tolerance * ref, ns.abs_residual, sys.residual_noise()});
+    const bool at_floor = it > 1 && rn >= 0.5 * rep.residuals[it - 1] && rn <= 1e3 * target;
     // Distance to the solution after the last correction: ‖du‖ θ/(1 − θ) with the observed
     // contraction θ = ‖du_k‖/‖du_k−1‖ (conservative while convergence is quadratic), so a
     // last, confirming solve is not needed once the corrections collapse.
