@@ -82,14 +82,15 @@ double line_search(VecX& u, VecX& r, const VecX& du, double s0, const Evaluate& 
 // u − u_start. Stops early on a non-finite or diverging residual.
 template <class Evaluate>
 StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const NewtonSettings& ns,
-                          const VecX& u_start, VecX& u, VecX& r, VecX& du, SparseMatrix& J,
-                          const Evaluate& evaluate) {
+                          bool search_by_default, const VecX& u_start, VecX& u, VecX& r, VecX& du,
+                          SparseMatrix& J, const Evaluate& evaluate) {
+  const bool search = ns.line_search.value_or(search_by_default);
   StepReport rep;
   double ref = 0, start = 0, dn = 0, dn_prev = 0, s0 = 0;
   std::string diagnosis;
   for (int it = 0; it <= ns.max_iterations; ++it) {
     evaluate(u, r, &J);
-    if (it > 0 && ns.line_search && s0 < 0) {
+    if (it > 0 && search && s0 < 0) {
       const double alpha = line_search(u, r, du, s0, evaluate);
       if (alpha != 1) {
         evaluate(u, r, &J);  // the tangent at the point accepted
@@ -201,7 +202,7 @@ StepReport GeneralizedAlpha::step(SecondOrderSystem& sys, LinearSolver& solver, 
   };
   // Predictor: constant acceleration.
   VecX u = un_ + h * vn_ + 0.5 * h * h * an_;
-  const StepReport rep = newton_iterate(sys, solver, newton, un_, u, r_, du_, J_,
+  const StepReport rep = newton_iterate(sys, solver, newton, false, un_, u, r_, du_, J_,
                                         [&](const VecX& x, VecX& r, SparseMatrix* J) {
                                           kinematics(x);
                                           uf_ = (1 - alpha_f) * x + alpha_f * un_;
@@ -252,7 +253,7 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
                               State& s) {
   zero_.setZero(sys.size());
   auto solve_from = [&](VecX& u) {
-    return newton_iterate(sys, solver, newton, s.u, u, r_, du_, J_,
+    return newton_iterate(sys, solver, newton, true, s.u, u, r_, du_, J_,
                           [&](const VecX& x, VecX& r, SparseMatrix* J) {
                             sys.evaluate(t + h, x, zero_, zero_, 1.0, 0.0, 0.0, r, J);
                           });

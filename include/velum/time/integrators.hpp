@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,7 +22,10 @@ struct NewtonSettings {
   double tolerance = 1e-8;      ///< relative, on the residual and on the increment
   double abs_residual = 1e-12;  ///< absolute floor on the residual norm
   int max_iterations = 25;
-  bool line_search = true;  ///< cut back corrections that overshoot the potential's minimum
+  /// Cut back corrections that overshoot the potential's minimum. Unset: on for statics, off
+  /// for dynamics (the mass keeps steps short; under a follower load the slope test along
+  /// the correction is no potential's, and on the C9 canopy it doubled the iterations).
+  std::optional<bool> line_search;
 };
 
 struct StepReport {
