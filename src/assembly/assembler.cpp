@@ -79,26 +79,28 @@ void build_pattern(const Model& model, const DofMap& dofs, std::vector<int>& out
     write = static_cast<int>(std::copy(first, end, adj.begin() + write) - adj.begin());
   }
   start[nn] = write;
-  // Equation columns: the equations of every adjacent node, sorted.
-  std::vector<int> node_of(neq, -1);
+  // Equation columns: the equations of every adjacent node, sorted; the same for each
+  // equation of a node, so built once per node and copied.
+  std::vector<int> column;
+  outer.assign(neq + 1, 0);
+  inner.clear();
+  std::vector<std::pair<int, int>> eq_node;  // (equation, node), in equation order
   for (int n = 0; n < nn; ++n)
     for (int c = 0; c < 3; ++c)
-      if (dofs.equation(n, c) >= 0) node_of[dofs.equation(n, c)] = n;
-  outer.assign(neq + 1, 0);
-  for (int q = 0; q < neq; ++q) {
-    int count = 0;
-    for (int k = start[node_of[q]]; k < start[node_of[q] + 1]; ++k)
-      for (int c = 0; c < 3; ++c) count += dofs.equation(adj[k], c) >= 0;
-    outer[q + 1] = outer[q] + count;
-  }
-  inner.resize(outer[neq]);
-  for (int q = 0; q < neq; ++q) {
-    int* col = inner.data() + outer[q];
-    int m = 0;
-    for (int k = start[node_of[q]]; k < start[node_of[q] + 1]; ++k)
-      for (int c = 0; c < 3; ++c)
-        if (const int i = dofs.equation(adj[k], c); i >= 0) col[m++] = i;
-    std::sort(col, col + m);
+      if (dofs.equation(n, c) >= 0) eq_node.emplace_back(dofs.equation(n, c), n);
+  std::sort(eq_node.begin(), eq_node.end());
+  int built_for = -1;
+  for (const auto& [q, n] : eq_node) {
+    if (n != built_for) {
+      column.clear();
+      for (int k = start[n]; k < start[n + 1]; ++k)
+        for (int c = 0; c < 3; ++c)
+          if (const int i = dofs.equation(adj[k], c); i >= 0) column.push_back(i);
+      std::sort(column.begin(), column.end());
+      built_for = n;
+    }
+    inner.insert(inner.end(), column.begin(), column.end());
+    outer[q + 1] = static_cast<int>(inner.size());
   }
 }
 

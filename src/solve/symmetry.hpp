@@ -15,22 +15,21 @@ namespace velum {
 class SymmetryCheck {
  public:
   /// Checks the pattern; false when it is structurally unsymmetric.
-  bool map(const SparseMatrix& A) { return structural_ = walk(A, nullptr); }
+  bool map(const SparseMatrix& A) {
+    double dmax = 0, vmax = 0;
+    return structural_ = walk(A, dmax, vmax);
+  }
   /// |A − Aᵀ| <= 1e-10 |A| (entry-wise maxima) on a structurally symmetric pattern.
   bool symmetric(const SparseMatrix& A) {
-    if (!structural_) return false;
-    double dmax = 0;
-    if (!walk(A, &dmax)) return false;
-    double vmax = 0;
-    const double* v = A.valuePtr();
-    for (Eigen::Index k = 0; k < A.nonZeros(); ++k) vmax = std::max(vmax, std::abs(v[k]));
-    return dmax <= 1e-10 * vmax;
+    double dmax = 0, vmax = 0;
+    return structural_ && walk(A, dmax, vmax) && dmax <= 1e-10 * vmax;
   }
 
  private:
   // For every strictly lower entry (i, j), column i's next unvisited upper entry must be
   // (j, i): columns are visited in order, so each column's cursor advances monotonically.
-  bool walk(const SparseMatrix& A, double* dmax) {
+  // One pass gives the largest |a_ij − a_ji| and the largest |a_ij|.
+  bool walk(const SparseMatrix& A, double& dmax, double& vmax) {
     const int n = static_cast<int>(A.outerSize());
     const int* outer = A.outerIndexPtr();
     const int* inner = A.innerIndexPtr();
@@ -39,10 +38,11 @@ class SymmetryCheck {
     for (int j = 0; j < n; ++j)
       for (int k = outer[j]; k < outer[j + 1]; ++k) {
         const int i = inner[k];
+        vmax = std::max(vmax, std::abs(v[k]));
         if (i <= j) continue;  // upper and diagonal: upper entries are met from the other side
         const int m = cursor_[i]++;
         if (m >= outer[i + 1] || inner[m] != j) return false;
-        if (dmax) *dmax = std::max(*dmax, std::abs(v[k] - v[m]));
+        dmax = std::max(dmax, std::abs(v[k] - v[m]));
       }
     for (int j = 0; j < n; ++j)  // every upper entry met
       if (cursor_[j] < outer[j + 1] && inner[cursor_[j]] < j) return false;
