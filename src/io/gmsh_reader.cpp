@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 #include <gmsh.h>
+#include <omp.h>
 
 #include <fstream>
 #include <set>
@@ -31,10 +32,13 @@ std::string type_of_gmsh(int gmsh_type) {
 
 namespace {
 
-// The Gmsh library keeps global state: one session at a time, always finalised.
+// The Gmsh library keeps global state: one session at a time, always finalised. Its
+// initialisation also sets the OpenMP thread count of the calling thread to its own option
+// General.NumThreads (1), which would leave every later parallel region of the run on one
+// thread: the session puts the count back.
 class GmshSession {
  public:
-  GmshSession() {
+  GmshSession() : threads_(omp_get_max_threads()) {
     gmsh::initialize(0, nullptr, false);
     gmsh::option::setNumber("General.Terminal", 0);
     gmsh::option::setNumber("General.Verbosity", 0);
@@ -45,9 +49,13 @@ class GmshSession {
       gmsh::finalize();
     } catch (...) {  // NOLINT(bugprone-empty-catch): nothing to do at teardown
     }
+    omp_set_num_threads(threads_);
   }
   GmshSession(const GmshSession&) = delete;
   GmshSession& operator=(const GmshSession&) = delete;
+
+ private:
+  int threads_;
 };
 
 std::string last_gmsh_error() {
