@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "ordering.hpp"
 #include "symmetry.hpp"
 
 namespace velum {
@@ -23,7 +24,6 @@ class MumpsInstance {
     dmumps_c(&id_);
     id_.icntl[0] = id_.icntl[1] = id_.icntl[2] = -1;  // no output
     id_.icntl[3] = 0;
-    id_.icntl[6] = 5;    // ICNTL(7): METIS ordering
     id_.icntl[13] = 30;  // ICNTL(14): % workspace for pivoting, doubled on demand
   }
   ~MumpsInstance() {
@@ -47,6 +47,17 @@ class MumpsInstance {
     id_.nnz = static_cast<MUMPS_INT8>(irn_.size());
     id_.irn = irn_.data();
     id_.jcn = jcn_.data();
+    // Our own ordering (ICNTL(7) = 1). Debian's sequential MUMPS is built without METIS and
+    // asked for it silently uses SCOTCH: at 152k DOFs (Hencky quad4 n = 130) that factor
+    // takes 8.8 GFlop and 23.2 M entries against 6.4 GFlop and 19.8 M with this one.
+    position_ = nested_dissection(A);
+    if (!position_.empty()) {
+      for (int& p : position_) ++p;
+      id_.perm_in = position_.data();
+      id_.icntl[6] = 1;
+    } else {
+      id_.icntl[6] = 7;  // MUMPS's automatic choice
+    }
     id_.job = 1;
     dmumps_c(&id_);
     return id_.infog[0] >= 0;
@@ -93,6 +104,7 @@ class MumpsInstance {
 
   std::vector<MUMPS_INT> irn_, jcn_;
   std::vector<double> val_;
+  std::vector<MUMPS_INT> position_;  ///< 1-based pivot position of each equation
 };
 
 class Mumps final : public LinearSolver {
