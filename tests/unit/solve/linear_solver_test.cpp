@@ -78,6 +78,33 @@ TEST(Solver, AutoPicksTheSymmetricFactorisationWhenItCan) {
   EXPECT_EQ(s->factorizations(), 4);
 }
 
+// MUMPS factorises a symmetric matrix without pivoting first. Here the first pivot of each
+// 2 x 2 block is tiny and positive: without pivoting the second is -1e12 and the solution is
+// wrong in its fifth digit; the negative pivot must send it back to threshold pivoting.
+TEST(Solver, MumpsPivotsWhenTheMatrixIsIndefinite) {
+  if (!have_mumps()) GTEST_SKIP() << "built without MUMPS";
+  const int blocks = 50;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int b = 0; b < blocks; ++b) {
+    const int i = 2 * b;
+    t.emplace_back(i, i, 1e-12);
+    t.emplace_back(i + 1, i + 1, 1e-12 * (b + 1));
+    t.emplace_back(i, i + 1, 1.0);
+    t.emplace_back(i + 1, i, 1.0);
+    if (b + 1 < blocks) t.emplace_back(i + 1, i + 2, 1e-3), t.emplace_back(i + 2, i + 1, 1e-3);
+  }
+  SparseMatrix A(2 * blocks, 2 * blocks);
+  A.setFromTriplets(t.begin(), t.end());
+  A.makeCompressed();
+  for (SolverKind k : {SolverKind::kMumps, SolverKind::kAuto}) {
+    auto s = make_linear_solver(k);
+    for (int repeat = 0; repeat < 3; ++repeat)  // also after the first fallback
+      EXPECT_LT(solve_residual(*s, A), 1e-12) << s->name() << ", factorisation " << repeat;
+    // A definite matrix after it is solved as well (without pivoting or with).
+    EXPECT_LT(solve_residual(*s, grid_matrix(10, 0.0, 0.0)), 1e-12) << s->name();
+  }
+}
+
 TEST(Solver, SingularMatrixIsReportedNotSolved) {
   SparseMatrix A = grid_matrix(10, 0.0, 0.0);
   // Row and column 0 zero: a DOF without stiffness (the diagonal entry stays in the pattern).
