@@ -64,7 +64,7 @@ bool MechanicalSystem::has_drag() const {
   return false;
 }
 
-void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* Kload) {
+void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* Kload, bool fused) {
   Fext_.setZero(3, model_.num_nodes());
   for (const auto& pl : model_.point_loads) {
     const Vec3 f = pl.force * model_.function_value(pl.function, t);
@@ -76,9 +76,11 @@ void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* 
     Fext_ += model_.function_value(model_.gravity[i].function, t) * gravity_forces_[i];
   for (size_t i = 0; i < model_.pressures.size(); ++i) {
     const auto& pl = model_.pressures[i];
+    if (fused && assembler_.covers_block(static_cast<int>(i))) continue;
     const double p = pl.value * model_.function_value(pl.function, t);
     if (p != 0) assembler_.pressure(static_cast<int>(i), p, x_, Fext_, Kload);
   }
+  if (fused) Fext_ += Fp_;
   // Payload drag f = −½ ρ C_D A |v| v on the node velocity.
   if (drag_) {
     V_ = velocities(v);
@@ -105,11 +107,20 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
       const double f = cu != 0 ? ck / cu : ck;
       for (Eigen::Index i = 0; i < J->nonZeros(); ++i) J->valuePtr()[i] = f * K_.valuePtr()[i];
     }
+    assemble_external(t, v, J && cu != 0 ? J : nullptr);
   } else {
-    assembler_.internal(x_, Fint_, J && cu != 0 ? J : nullptr);
+    // Pressures on whole blocks go through the blocks' internal pass: one scatter of
+    // K − Kp instead of two (the matrix is the largest thing a Newton iteration walks).
+    block_pressure_.assign(model_.blocks.size(), 0.0);
+    for (size_t i = 0; i < model_.pressures.size(); ++i) {
+      const auto& pl = model_.pressures[i];
+      if (assembler_.covers_block(static_cast<int>(i)))
+        block_pressure_[pl.block] += pl.value * model_.function_value(pl.function, t);
+    }
+    assembler_.internal(x_, Fint_, J && cu != 0 ? J : nullptr, block_pressure_, Fp_);
     if (J && cu == 0) std::fill(J->valuePtr(), J->valuePtr() + J->nonZeros(), 0.0);
+    assemble_external(t, v, J && cu != 0 ? J : nullptr, true);
   }
-  assemble_external(t, v, J && cu != 0 ? J : nullptr);
   if (J && cu != 0 && cu != 1)
     for (Eigen::Index i = 0; i < J->nonZeros(); ++i) J->valuePtr()[i] *= cu;
 

@@ -9,6 +9,8 @@ namespace {
 
 constexpr int kChunk = 16;             // elements computed per kernel call
 constexpr int kMinParallelChunks = 8;  // chunks per colour worth a parallel region
+// A pass with no load vectors alongside (see Assembler::run).
+constexpr auto kNoLoad = [](std::span<const int>, double*, double*) { return false; };
 
 // Greedy colouring: an element takes the smallest colour none of its nodes has seen.
 std::vector<std::vector<int>> color_elements(const ElementBlock& b, const std::vector<int>& elems,
@@ -135,9 +137,14 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
     scatter_.push_back(std::move(map));
   }
   for (const auto& b : model.blocks) max_dofs_ = std::max(max_dofs_, b->dofs_per_element());
-  for (const auto& p : model.pressures)
-    pressure_colors_.push_back(
-        color_elements(*model.blocks[p.block], p.elements, model.num_nodes()));
+  for (const auto& p : model.pressures) {
+    const auto& b = *model.blocks[p.block];
+    pressure_colors_.push_back(color_elements(b, p.elements, model.num_nodes()));
+    std::vector<char> seen(b.size(), 0);
+    int distinct = 0;
+    for (int e : p.elements) distinct += seen[e] ? 0 : (seen[e] = 1);
+    covers_block_.push_back(distinct == b.size());
+  }
 }
 
 SparseMatrix Assembler::make_matrix() const {
@@ -156,9 +163,10 @@ void Assembler::make_matrix(SparseMatrix& A) const {
   std::fill(A.valuePtr(), A.valuePtr() + nonzeros(), 0.0);
 }
 
-template <class Compute>
+template <class Compute, class Load>
 void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const Compute& compute,
-                    bool tangent, NodePositions& F, SparseMatrix* K, double matrix_sign) const {
+                    const Load& load, bool tangent, NodePositions& F, NodePositions* Fload,
+                    SparseMatrix* K, double matrix_sign) const {
   const auto& b = *model_.blocks[bi];
   // Element buffers per thread, sized for the largest element once and reused by every call.
   const int threads = omp_get_max_threads();
@@ -166,7 +174,9 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
     buffers_.resize(threads);
     for (auto& buf : buffers_) {
       buf.r.resize(static_cast<size_t>(kChunk) * max_dofs_);
+      buf.r_load.resize(buf.r.size());
       buf.K.resize(static_cast<size_t>(kChunk) * max_dofs_ * max_dofs_);
+      buf.K_load.resize(buf.K.size());
     }
   }
   const int nd = b.dofs_per_element();
@@ -181,26 +191,36 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
 #pragma omp parallel if (parallel)
     {
       ElementBuffers& buf = buffers_[omp_get_thread_num()];
-      auto& r = buf.r;
-      auto& Ke = buf.K;
 #pragma omp for schedule(static)
       for (int c = 0; c < nchunks; ++c) {
         const int first = c * kChunk;
         const int count = std::min<int>(kChunk, static_cast<int>(list.size()) - first);
         std::span<const int> elems(list.data() + first, count);
-        compute(elems, r.data(), tangent ? Ke.data() : nullptr);
+        compute(elems, buf.r.data(), tangent ? buf.K.data() : nullptr);
+        const bool loaded = load(elems, buf.r_load.data(), tangent ? buf.K_load.data() : nullptr);
         for (int k = 0; k < count; ++k) {
           const int e = elems[k];
           const auto nodes = b.nodes(e);
-          double* re = r.data() + static_cast<size_t>(k) * nd;
+          double* re = buf.r.data() + static_cast<size_t>(k) * nd;
           for (size_t i = 0; i < nodes.size(); ++i)
             for (int d = 0; d < 3; ++d) F(d, nodes[i]) += re[3 * i + d];
+          if (loaded) {
+            const double* fe = buf.r_load.data() + static_cast<size_t>(k) * nd;
+            for (size_t i = 0; i < nodes.size(); ++i)
+              for (int d = 0; d < 3; ++d) (*Fload)(d, nodes[i]) += fe[3 * i + d];
+          }
           if (!tangent) continue;
-          double* ke = Ke.data() + static_cast<size_t>(k) * nd * nd;
+          double* ke = buf.K.data() + static_cast<size_t>(k) * nd * nd;
+          if (loaded) {
+            const double* kl = buf.K_load.data() + static_cast<size_t>(k) * nd * nd;
+            for (int q = 0; q < nd * nd; ++q) ke[q] = matrix_sign * ke[q] - kl[q];
+          } else if (matrix_sign != 1.0) {
+            for (int q = 0; q < nd * nd; ++q) ke[q] *= matrix_sign;
+          }
           if (dofs_.has_frames()) to_local_frames(dofs_, nodes, re, ke, nd);
           const int* m = map + static_cast<size_t>(e) * nd * nd;
           for (int q = 0; q < nd * nd; ++q)
-            if (m[q] >= 0) values[m[q]] += matrix_sign * ke[q];
+            if (m[q] >= 0) values[m[q]] += ke[q];
         }
       }
     }
@@ -208,14 +228,27 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
 }
 
 void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix* K) const {
+  NodePositions unused;
+  internal(x, F, K, {}, unused);
+}
+
+void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix* K,
+                         std::span<const double> block_pressure, NodePositions& Fp) const {
   F.setZero(3, model_.num_nodes());
+  if (!block_pressure.empty()) Fp.setZero(3, model_.num_nodes());
   if (K) std::fill(K->valuePtr(), K->valuePtr() + K->nonZeros(), 0.0);
   for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
     const auto& b = *model_.blocks[bi];
+    const double p = bi < block_pressure.size() ? block_pressure[bi] : 0.0;
     run(
         static_cast<int>(bi), colors_[bi],
         [&](std::span<const int> elems, double* r, double* Ke) { b.internal(elems, x, r, Ke); },
-        K != nullptr, F, K, 1.0);
+        [&](std::span<const int> elems, double* f, double* Kp) {
+          if (p == 0) return false;
+          b.pressure(elems, x, p, f, Kp);
+          return true;
+        },
+        K != nullptr, F, &Fp, K, 1.0);
   }
 }
 
@@ -227,7 +260,7 @@ void Assembler::pressure(int i, double p, const NodePositions& x, NodePositions&
   run(
       load.block, pressure_colors_[i],
       [&](std::span<const int> elems, double* r, double* Ke) { b.pressure(elems, x, p, r, Ke); },
-      K != nullptr, Fext, K, -1.0);
+      kNoLoad, K != nullptr, Fext, nullptr, K, -1.0);
 }
 
 void Assembler::mass(SparseMatrix* M, VecX* lumped) const {

@@ -55,8 +55,10 @@ class MechanicalSystem final : public SecondOrderSystem {
  private:
   void apply_prescribed(double t, NodePositions& U) const;
   void set_positions(double t, const VecX& u);
-  // Loads at t; the follower-pressure load stiffness is subtracted from *Kload.
-  void assemble_external(double t, const VecX& v, SparseMatrix* Kload);
+  // Loads at t; the follower-pressure load stiffness is subtracted from *Kload. With
+  // `fused`, the pressures that cover a whole block were computed in the internal pass
+  // (their forces are in Fp_).
+  void assemble_external(double t, const VecX& v, SparseMatrix* Kload, bool fused = false);
   bool has_drag() const;
 
   const Model& model_;
@@ -71,7 +73,8 @@ class MechanicalSystem final : public SecondOrderSystem {
   VecX lumped_nodes_, lumped_eq_;
   std::vector<NodePositions> edge_forces_;
   std::vector<NodePositions> gravity_forces_;
-  NodePositions U_, V_, x_, Fint_, Fext_;
+  NodePositions U_, V_, x_, Fint_, Fext_, Fp_;
+  std::vector<double> block_pressure_;  ///< whole-block pressures at the evaluated time
   VecX fred_, mv_, x_eq_, noise_eq_;
   double force_scale_ = 0, residual_noise_ = 0;
   bool drag_ = false;

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <span>
 #include <vector>
 
 #include "velum/assembly/dof_map.hpp"
@@ -29,6 +30,15 @@ class Assembler {
   /// Internal forces (full, global; overwritten) and, if K != null, the tangent (values
   /// overwritten, pattern of make_matrix()).
   void internal(const NodePositions& x, NodePositions& F, SparseMatrix* K) const;
+  /// The same, with a follower pressure block_pressure[b] on every element of block b
+  /// (0: none) computed in the block's pass: forces overwrite Fp, the load stiffness is
+  /// subtracted from K in the same scatter as the tangent (one pass over the matrix instead
+  /// of two).
+  void internal(const NodePositions& x, NodePositions& F, SparseMatrix* K,
+                std::span<const double> block_pressure, NodePositions& Fp) const;
+  /// Whether pressure load i acts on every element of its block (and so can go through the
+  /// block's internal pass).
+  bool covers_block(int i) const { return covers_block_[i]; }
   /// Follower pressure load i of the model at pressure p: forces added to Fext; the load
   /// stiffness subtracted from K when K != null (K then becomes unsymmetric).
   void pressure(int i, double p, const NodePositions& x, NodePositions& Fext,
@@ -46,15 +56,17 @@ class Assembler {
     std::vector<std::vector<int>> colors;  // element lists
   };
   /// Adds the element vectors of the listed colours to F and matrix_sign times their matrices
-  /// to K (when tangent).
-  template <class Compute>
+  /// to K (when tangent). A `load` that returns true has computed load vectors of the same
+  /// elements: added to Fload, their matrices (a load stiffness) subtracted from K.
+  template <class Compute, class Load>
   void run(int block, const std::vector<std::vector<int>>& colors, const Compute& compute,
-           bool tangent, NodePositions& F, SparseMatrix* K, double matrix_sign) const;
+           const Load& load, bool tangent, NodePositions& F, NodePositions* Fload, SparseMatrix* K,
+           double matrix_sign) const;
 
   struct ElementBuffers {
-    std::vector<double> r;
+    std::vector<double> r, r_load;
     // Aligned: blocks write element matrices through fixed-size Eigen references into it.
-    std::vector<double, Eigen::aligned_allocator<double>> K;
+    std::vector<double, Eigen::aligned_allocator<double>> K, K_load;
   };
 
   const Model& model_;
@@ -64,6 +76,7 @@ class Assembler {
   std::vector<std::vector<std::vector<int>>> colors_;           // per block
   std::vector<std::vector<int>> scatter_;                       // per block: ne x dofs² positions
   std::vector<std::vector<std::vector<int>>> pressure_colors_;  // per pressure load
+  std::vector<char> covers_block_;                              // per pressure load
   int max_dofs_ = 0;
   mutable std::vector<ElementBuffers> buffers_;  // one per thread, reused across calls
 };
