@@ -89,11 +89,21 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const Ne
   double ref = 0, start = 0, dn = 0, dn_prev = 0, s0 = 0;
   std::string diagnosis;
   for (int it = 0; it <= ns.max_iterations; ++it) {
-    evaluate(u, r, &J);
+    // When the corrections contract fast enough that this iterate should be the last
+    // (quadratic model: next ≈ ‖du‖ θ², θ = ‖du_k‖/‖du_k−1‖), its residual is evaluated
+    // alone first: a tangent assembled at the converged point is never used.
+    const double theta_now = dn_prev > 0 ? dn / dn_prev : 1.0;
+    const bool likely_last =
+        it >= 2 && theta_now < 0.5 &&
+        dn * theta_now * theta_now <=
+            std::max(ns.tolerance * (u - u_start).norm(), 1e-14 * (1 + u.norm()));
+    bool have_tangent = !likely_last;
+    evaluate(u, r, have_tangent ? &J : nullptr);
     if (it > 0 && search && s0 < 0) {
       const double alpha = line_search(u, r, du, s0, evaluate);
       if (alpha != 1) {
         evaluate(u, r, &J);  // the tangent at the point accepted
+        have_tangent = true;
         dn *= alpha;
         dn_prev = 0;  // a cut step says nothing about the contraction
       }
@@ -144,6 +154,7 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const Ne
       }
     }
     if (it == ns.max_iterations) break;
+    if (!have_tangent) evaluate(u, r, &J);
     if (!newton_solve(sys, solver, J, r, du, rep.reason)) return rep;
     s0 = du.dot(r);
     u += du;
