@@ -91,6 +91,28 @@ void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* 
   }
 }
 
+namespace {
+
+// Loops over every stored entry run on all threads above this size (below it a parallel
+// region costs more than it saves).
+constexpr Eigen::Index kParallelEntries = 200000;
+
+// A ← a A + b B on A's pattern (B on the same pattern, or null).
+void scale_values(SparseMatrix& A, double a, const SparseMatrix* B, double b) {
+  double* av = A.valuePtr();
+  const Eigen::Index n = A.nonZeros();
+  if (B) {
+    const double* bv = B->valuePtr();
+#pragma omp parallel for simd schedule(static) if (n > kParallelEntries)
+    for (Eigen::Index i = 0; i < n; ++i) av[i] = a * av[i] + b * bv[i];
+  } else {
+#pragma omp parallel for simd schedule(static) if (n > kParallelEntries)
+    for (Eigen::Index i = 0; i < n; ++i) av[i] *= a;
+  }
+}
+
+}  // namespace
+
 void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu,
                                 double cv, double ca, VecX& r, SparseMatrix* J) {
   set_positions(t, u);
@@ -121,8 +143,7 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     if (J && cu == 0) std::fill(J->valuePtr(), J->valuePtr() + J->nonZeros(), 0.0);
     assemble_external(t, v, J && cu != 0 ? J : nullptr, true);
   }
-  if (J && cu != 0 && cu != 1)
-    for (Eigen::Index i = 0; i < J->nonZeros(); ++i) J->valuePtr()[i] *= cu;
+  if (J && cu != 0 && cu != 1) scale_values(*J, cu, nullptr, 0.0);
 
   dofs_.gather(Fint_ - Fext_, r);
   if (a.squaredNorm() != 0) {
@@ -136,20 +157,22 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
 
   if (!J) return;
   if (cu != 0) {  // J holds cu (K − Kp) here: the stiffness that turns a ulp of x into force
+    // ε ‖|J|ᵀ |x|‖, column by column (no two threads write one entry); for a symmetric J it
+    // is ε ‖|J| |x|‖.
     dofs_.gather(x_, x_eq_);
-    noise_eq_.setZero(size());
+    noise_eq_.resize(size());
+    const int* outer = J->outerIndexPtr();
+    const int* inner = J->innerIndexPtr();
+    const double* jv = J->valuePtr();
+#pragma omp parallel for schedule(static) if (J->nonZeros() > kParallelEntries)
     for (int j = 0; j < J->outerSize(); ++j) {
-      const double xj = std::abs(x_eq_[j]);
-      for (SparseMatrix::InnerIterator it(*J, j); it; ++it)
-        noise_eq_[it.row()] += std::abs(it.value()) * xj;
+      double sum = 0;
+      for (int k = outer[j]; k < outer[j + 1]; ++k) sum += std::abs(jv[k] * x_eq_[inner[k]]);
+      noise_eq_[j] = sum;
     }
     residual_noise_ = std::numeric_limits<double>::epsilon() * noise_eq_.norm() / std::abs(cu);
   }
-  if (cm != 0) {
-    double* jv = J->valuePtr();
-    const double* mvv = mass_matrix().valuePtr();
-    for (Eigen::Index i = 0; i < J->nonZeros(); ++i) jv[i] += cm * mvv[i];
-  }
+  if (cm != 0) scale_values(*J, 1.0, &mass_matrix(), cm);
   if (drag_ && cv != 0) {
     for (const auto& m : model_.masses) {
       const double c = 0.5 * m.drag_rho * m.drag_cd_area;

@@ -236,7 +236,12 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
                          std::span<const double> block_pressure, NodePositions& Fp) const {
   F.setZero(3, model_.num_nodes());
   if (!block_pressure.empty()) Fp.setZero(3, model_.num_nodes());
-  if (K) std::fill(K->valuePtr(), K->valuePtr() + K->nonZeros(), 0.0);
+  if (K) {
+    double* v = K->valuePtr();
+    const Eigen::Index n = K->nonZeros();
+#pragma omp parallel for simd schedule(static) if (n > 200000)
+    for (Eigen::Index i = 0; i < n; ++i) v[i] = 0.0;
+  }
   for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
     const auto& b = *model_.blocks[bi];
     const double p = bi < block_pressure.size() ? block_pressure[bi] : 0.0;
