@@ -7,8 +7,9 @@
 namespace velum {
 namespace {
 
-constexpr int kChunk = 16;             // elements computed per kernel call
-constexpr int kMinParallelChunks = 8;  // chunks per colour worth a parallel region
+constexpr int kChunk = 16;                         // elements computed per kernel call
+constexpr int kMinParallelChunks = 8;              // chunks per colour worth a parallel region
+constexpr Eigen::Index kParallelEntries = 200000;  // matrix entries worth a parallel loop
 // A pass with no load vectors alongside (see Assembler::run).
 constexpr auto kNoLoad = [](std::span<const int>, double*, double*) { return false; };
 
@@ -239,7 +240,7 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
   if (K) {
     double* v = K->valuePtr();
     const Eigen::Index n = K->nonZeros();
-#pragma omp parallel for simd schedule(static) if (n > 200000)
+#pragma omp parallel for simd schedule(static) if (n > kParallelEntries)
     for (Eigen::Index i = 0; i < n; ++i) v[i] = 0.0;
   }
   for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {

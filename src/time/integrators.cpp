@@ -88,15 +88,18 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const Ne
   StepReport rep;
   double ref = 0, start = 0, dn = 0, dn_prev = 0, s0 = 0;
   std::string diagnosis;
+  // The contraction θ = ‖du_k‖/‖du_k−1‖ of the last two corrections, and the distance to the
+  // solution a converged iterate may have left.
+  auto contraction = [&] { return dn_prev > 0 ? dn / dn_prev : 1.0; };
+  auto allowed = [&] {
+    return std::max(ns.tolerance * (u - u_start).norm(), 1e-14 * (1 + u.norm()));
+  };
   for (int it = 0; it <= ns.max_iterations; ++it) {
     // When the corrections contract fast enough that this iterate should be the last
-    // (quadratic model: next ≈ ‖du‖ θ², θ = ‖du_k‖/‖du_k−1‖), its residual is evaluated
-    // alone first: a tangent assembled at the converged point is never used.
-    const double theta_now = dn_prev > 0 ? dn / dn_prev : 1.0;
-    const bool likely_last =
-        it >= 2 && theta_now < 0.5 &&
-        dn * theta_now * theta_now <=
-            std::max(ns.tolerance * (u - u_start).norm(), 1e-14 * (1 + u.norm()));
+    // (quadratic model: next ≈ ‖du‖ θ²), its residual is evaluated alone first: a tangent
+    // assembled at the converged point is never used.
+    const double theta_now = contraction();
+    const bool likely_last = it >= 2 && theta_now < 0.5 && dn * theta_now * theta_now <= allowed();
     bool have_tangent = !likely_last;
     evaluate(u, r, have_tangent ? &J : nullptr);
     if (it > 0 && search && s0 < 0) {
@@ -140,14 +143,14 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const Ne
     // Distance to the solution after the last correction: ‖du‖ θ/(1 − θ) with the observed
     // contraction θ = ‖du_k‖/‖du_k−1‖ (conservative while convergence is quadratic), so a
     // last, confirming solve is not needed once the corrections collapse.
-    const double theta = dn_prev > 0 ? dn / dn_prev : 1.0;
+    const double theta = contraction();
     const double distance = theta < 0.5 ? dn * theta / (1 - theta) : dn;
     if (it > 0 && (rn <= target || at_floor)) {
-      const double allowed = std::max(ns.tolerance * (u - u_start).norm(), 1e-14 * (1 + u.norm()));
+      const double limit = allowed();
       // That bound is loose while convergence is quadratic (3.8e-8 against a next correction
       // of 2.5e-11 on the Hencky membrane): before paying for a factorisation, measure the
       // distance J⁻¹ r with the one already made (a back-substitution).
-      if (distance <= allowed || (solver.solve(-r, du) && du.norm() <= allowed)) {
+      if (distance <= limit || (solver.solve(-r, du) && du.norm() <= limit)) {
         rep.converged = true;
         rep.iterations = it;
         return rep;
