@@ -91,28 +91,6 @@ void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* 
   }
 }
 
-namespace {
-
-// Loops over every stored entry run on all threads above this size (below it a parallel
-// region costs more than it saves).
-constexpr Eigen::Index kParallelEntries = 200000;
-
-// A ← a A + b B on A's pattern (B on the same pattern, or null).
-void scale_values(SparseMatrix& A, double a, const SparseMatrix* B, double b) {
-  double* av = A.valuePtr();
-  const Eigen::Index n = A.nonZeros();
-  if (B) {
-    const double* bv = B->valuePtr();
-#pragma omp parallel for simd schedule(static) if (n > kParallelEntries)
-    for (Eigen::Index i = 0; i < n; ++i) av[i] = a * av[i] + b * bv[i];
-  } else {
-#pragma omp parallel for simd schedule(static) if (n > kParallelEntries)
-    for (Eigen::Index i = 0; i < n; ++i) av[i] *= a;
-  }
-}
-
-}  // namespace
-
 void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu,
                                 double cv, double ca, VecX& r, SparseMatrix* J) {
   set_positions(t, u);
@@ -125,10 +103,7 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
   if (beta != 0) {  // K v enters the residual: K is kept apart
     if (K_.nonZeros() == 0) assembler_.make_matrix(K_);
     assembler_.internal(x_, Fint_, &K_);
-    if (J) {
-      const double f = cu != 0 ? ck / cu : ck;
-      for (Eigen::Index i = 0; i < J->nonZeros(); ++i) J->valuePtr()[i] = f * K_.valuePtr()[i];
-    }
+    if (J) combine_values(*J, 0.0, &K_, cu != 0 ? ck / cu : ck);
     assemble_external(t, v, J && cu != 0 ? J : nullptr);
   } else {
     // Pressures on whole blocks go through the blocks' internal pass: one scatter of
@@ -140,10 +115,10 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
         block_pressure_[pl.block] += pl.value * model_.function_value(pl.function, t);
     }
     assembler_.internal(x_, Fint_, J && cu != 0 ? J : nullptr, block_pressure_, Fp_);
-    if (J && cu == 0) std::fill(J->valuePtr(), J->valuePtr() + J->nonZeros(), 0.0);
+    if (J && cu == 0) combine_values(*J, 0.0, nullptr, 0.0);
     assemble_external(t, v, J && cu != 0 ? J : nullptr, true);
   }
-  if (J && cu != 0 && cu != 1) scale_values(*J, cu, nullptr, 0.0);
+  if (J && cu != 0 && cu != 1) combine_values(*J, cu, nullptr, 0.0);
 
   dofs_.gather(Fint_ - Fext_, r);
   if (a.squaredNorm() != 0) {
@@ -164,7 +139,7 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     const int* outer = J->outerIndexPtr();
     const int* inner = J->innerIndexPtr();
     const double* jv = J->valuePtr();
-#pragma omp parallel for schedule(static) if (J->nonZeros() > kParallelEntries)
+#pragma omp parallel for schedule(static) if (J->nonZeros() > kParallelMatrixEntries)
     for (int j = 0; j < J->outerSize(); ++j) {
       double sum = 0;
       for (int k = outer[j]; k < outer[j + 1]; ++k) sum += std::abs(jv[k] * x_eq_[inner[k]]);
@@ -172,7 +147,7 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     }
     residual_noise_ = std::numeric_limits<double>::epsilon() * noise_eq_.norm() / std::abs(cu);
   }
-  if (cm != 0) scale_values(*J, 1.0, &mass_matrix(), cm);
+  if (cm != 0) combine_values(*J, 1.0, &mass_matrix(), cm);
   if (drag_ && cv != 0) {
     for (const auto& m : model_.masses) {
       const double c = 0.5 * m.drag_rho * m.drag_cd_area;

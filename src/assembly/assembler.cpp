@@ -7,9 +7,8 @@
 namespace velum {
 namespace {
 
-constexpr int kChunk = 16;                         // elements computed per kernel call
-constexpr int kMinParallelChunks = 8;              // chunks per colour worth a parallel region
-constexpr Eigen::Index kParallelEntries = 200000;  // matrix entries worth a parallel loop
+constexpr int kChunk = 16;             // elements computed per kernel call
+constexpr int kMinParallelChunks = 8;  // chunks per colour worth a parallel region
 // A pass with no load vectors alongside (see Assembler::run).
 constexpr auto kNoLoad = [](std::span<const int>, double*, double*) { return false; };
 
@@ -148,6 +147,25 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
   }
 }
 
+void combine_values(SparseMatrix& A, double a, const SparseMatrix* B, double b) {
+  double* av = A.valuePtr();
+  const Eigen::Index n = A.nonZeros();
+  const double* bv = B ? B->valuePtr() : nullptr;
+  if (bv && a != 0) {
+#pragma omp parallel for simd schedule(static) if (n > kParallelMatrixEntries)
+    for (Eigen::Index i = 0; i < n; ++i) av[i] = a * av[i] + b * bv[i];
+  } else if (bv) {
+#pragma omp parallel for simd schedule(static) if (n > kParallelMatrixEntries)
+    for (Eigen::Index i = 0; i < n; ++i) av[i] = b * bv[i];
+  } else if (a != 0) {
+#pragma omp parallel for simd schedule(static) if (n > kParallelMatrixEntries)
+    for (Eigen::Index i = 0; i < n; ++i) av[i] *= a;
+  } else {
+#pragma omp parallel for simd schedule(static) if (n > kParallelMatrixEntries)
+    for (Eigen::Index i = 0; i < n; ++i) av[i] = 0.0;
+  }
+}
+
 SparseMatrix Assembler::make_matrix() const {
   SparseMatrix A;
   make_matrix(A);
@@ -237,12 +255,7 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
                          std::span<const double> block_pressure, NodePositions& Fp) const {
   F.setZero(3, model_.num_nodes());
   if (!block_pressure.empty()) Fp.setZero(3, model_.num_nodes());
-  if (K) {
-    double* v = K->valuePtr();
-    const Eigen::Index n = K->nonZeros();
-#pragma omp parallel for simd schedule(static) if (n > kParallelEntries)
-    for (Eigen::Index i = 0; i < n; ++i) v[i] = 0.0;
-  }
+  if (K) combine_values(*K, 0.0, nullptr, 0.0);
   for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
     const auto& b = *model_.blocks[bi];
     const double p = bi < block_pressure.size() ? block_pressure[bi] : 0.0;

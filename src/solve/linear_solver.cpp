@@ -87,10 +87,11 @@ class UmfPack final : public EigenSolver<UmfPackLUWithStatus> {
 };
 
 // Numerically symmetric matrices (|A − Aᵀ| <= 1e-10 |A|, tested at every factorisation): MUMPS's
-// LDLᵀ with pivoting, definite or not; without MUMPS in the build, CHOLMOD, with LU while the
-// matrix is indefinite. Unsymmetric matrices: UMFPACK. A follower-pressure load stiffness is
-// unsymmetric element by element, but on a surface whose boundary is held (a clamped or closed
-// membrane) the assembled sum is symmetric, and a symmetric factorisation stores one triangle.
+// LDLᵀ, definite or not (pivoting only once a pivot comes out negative); without MUMPS in the
+// build, CHOLMOD, with LU while the matrix is indefinite. Unsymmetric matrices: UMFPACK. A
+// follower-pressure load stiffness is unsymmetric element by element, but on a surface whose
+// boundary is held (a clamped or closed membrane) the assembled sum is symmetric, and a symmetric
+// factorisation stores one triangle.
 class AutoSolver final : public LinearSolver {
  public:
   std::string_view name() const override { return active_ ? active_->name() : "auto"; }

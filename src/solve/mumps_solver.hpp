@@ -1,5 +1,6 @@
-// MUMPS (multifrontal, Debian libmumps-seq-dev) behind the LinearSolver interface: LDLᵀ with
-// pivoting for symmetric matrices, definite or not (one triangle stored), LU otherwise.
+// MUMPS (multifrontal, Debian libmumps-seq-dev) behind the LinearSolver interface: LDLᵀ for
+// symmetric matrices, definite or not (one triangle stored; threshold pivoting once a pivot
+// comes out negative), LU otherwise. Ordered by METIS nested dissection of the node graph.
 #pragma once
 
 #include <memory>

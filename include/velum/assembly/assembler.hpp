@@ -15,6 +15,14 @@ namespace velum {
 
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
+/// Loops over every stored entry of a matrix run on all threads above this many entries
+/// (below it a parallel region costs more than it saves).
+inline constexpr Eigen::Index kParallelMatrixEntries = 200000;
+
+/// A ← a A + b B on A's stored values (B on A's pattern, or null: A ← a A). a = 0 overwrites
+/// A whatever it held.
+void combine_values(SparseMatrix& A, double a, const SparseMatrix* B, double b);
+
 class Assembler {
  public:
   Assembler(const Model& model, const DofMap& dofs);

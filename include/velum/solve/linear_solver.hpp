@@ -1,8 +1,7 @@
 // Sparse direct solvers behind one interface (analyse / factorise / solve, as in Eigen):
-// CHOLMOD (symmetric positive definite), MUMPS (symmetric LDLᵀ with pivoting, or LU), UMFPACK
-// and KLU (unsymmetric). The symbolic analysis
-// is kept while the sparsity pattern holds; a failed factorisation returns a status, never
-// throws, so a time step can be cut.
+// CHOLMOD (symmetric positive definite), MUMPS (symmetric LDLᵀ, definite or not, or LU),
+// UMFPACK and KLU (unsymmetric). The symbolic analysis is kept while the sparsity pattern
+// holds; a failed factorisation returns a status, never throws, so a time step can be cut.
 #pragma once
 
 #include <Eigen/SparseCore>

@@ -25,7 +25,7 @@ class SecondOrderSystem {
   /// which residuals are judged.
   virtual double force_scale() const = 0;
   /// The round-off level of the last residual that came with a Jacobian: how much the forces
-  /// change when every coordinate moves by one unit in the last place (ε ‖|K| |x|‖). No
+  /// change when every coordinate moves by one unit in the last place (ε ‖|K|ᵀ |x|‖). No
   /// residual below it can be told from zero. 0 when unknown.
   virtual double residual_noise() const { return 0; }
   /// Names the equations of J that carry no stiffness and no mass, and what to do about them;
