@@ -52,7 +52,7 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
   VecX v_prev = s.v;
   const double alpha = sys.model().rayleigh_mass;
 
-  AcceptedStep start{loop.t0, 0, 0, 0, 0, true, nullptr};
+  AcceptedStep start{.t = loop.t0, .output_time = true};
   if (observer && !observer(StepSnapshot{start, sys, s, E})) return result;
 
   result.loop = run_time_loop(

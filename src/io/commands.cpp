@@ -73,9 +73,10 @@ class Progress {
     if (drawn_) fmt::print(stderr, "\n");
     fmt::print(
         stderr,
-        "velum: {} at t = {:.6g} after {} steps, {} Newton iterations, {} cut-backs, {:.2f} s\n",
-        r.completed ? "finished" : "stopped", r.t, r.steps, r.iterations, r.cutbacks,
-        seconds_since(start_));
+        "velum: {} at t = {:.6g} after {} steps, {} Newton iterations ({} factorisations), {} "
+        "cut-backs, {:.2f} s\n",
+        r.completed ? "finished" : "stopped", r.t, r.steps, r.iterations, r.factorizations,
+        r.cutbacks, seconds_since(start_));
   }
 
  private:
@@ -204,6 +205,7 @@ int run_command(const RunOptions& opt) {
     summary.reason = result.loop.reason;
     summary.steps = result.loop.steps;
     summary.newton_iterations = result.loop.iterations;
+    summary.factorizations = result.loop.factorizations;
     summary.final_time = result.loop.completed ? result.loop.t : summary.final_time;
     summary.energy = result.energy;
     summary.integrator = result.integrator;

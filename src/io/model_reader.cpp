@@ -1172,7 +1172,7 @@ class Reader {
     if (has(a, "newton")) {
       const Node n = a["newton"];
       const std::string p = "analysis.newton";
-      if (check_map(n, p, {"tolerance", "max_iterations", "line_search"})) {
+      if (check_map(n, p, {"tolerance", "max_iterations", "line_search", "reuse_tangent"})) {
         if (auto tol = positive(n, "tolerance", p, false, "the Newton tolerance"))
           s.newton.tolerance = *tol;
         if (has(n, "max_iterations")) {
@@ -1184,6 +1184,7 @@ class Reader {
             s.newton.max_iterations = static_cast<int>(*it);
         }
         if (auto ls = boolean(n, "line_search", p)) s.newton.line_search = *ls;
+        if (auto reuse = boolean(n, "reuse_tangent", p)) s.newton.reuse_tangent = *reuse;
       }
     }
     if (has(a, "damping")) {

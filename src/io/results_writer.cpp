@@ -108,7 +108,7 @@ ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
   steps_ = std::fopen(sp.c_str(), "w");
   if (!steps_)
     throw OutputError(fmt::format("cannot write {}: {}", sp.string(), std::strerror(errno)));
-  if (std::fputs("step,time,step_size,iterations,residuals\n", steps_) < 0 ||
+  if (std::fputs("step,time,step_size,iterations,factorizations,residuals\n", steps_) < 0 ||
       std::fflush(steps_) != 0)
     throw OutputError(fmt::format("cannot write {}", sp.string()));
 }
@@ -124,8 +124,8 @@ void ResultsWriter::write_step(const AcceptedStep& step) {
   std::string all;
   if (r)
     for (double x : *r) all += fmt::format("{}{:.3e}", all.empty() ? "" : " ", x);
-  const std::string row =
-      fmt::format("{},{:.12g},{:.6g},{},{}\n", step.step, step.t, step.h, step.iterations, all);
+  const std::string row = fmt::format("{},{:.12g},{:.6g},{},{},{}\n", step.step, step.t, step.h,
+                                      step.iterations, step.factorizations, all);
   if (std::fputs(row.c_str(), steps_) < 0 || std::fflush(steps_) != 0)
     throw OutputError(fmt::format("cannot write {}", (dir_ / "steps.csv").string()));
 }
@@ -312,8 +312,8 @@ void ResultsWriter::write_summary(const RunSummary& r) {
   std::string s = "{\n";
   s += fmt::format("  \"status\": \"{}\",\n", r.converged ? "converged" : "failed");
   if (!r.converged) s += fmt::format("  \"reason\": {},\n", json_string(r.reason));
-  s +=
-      fmt::format("  \"steps\": {},\n  \"newton_iterations\": {},\n", r.steps, r.newton_iterations);
+  s += fmt::format("  \"steps\": {},\n  \"newton_iterations\": {},\n  \"factorizations\": {},\n",
+                   r.steps, r.newton_iterations, r.factorizations);
   s += fmt::format("  \"wall_seconds\": {},\n  \"final_time\": {},\n", json_number(r.wall_seconds),
                    json_number(r.final_time));
   s += fmt::format("  \"dofs\": {},\n  \"elements\": {},\n", r.dofs, r.elements);

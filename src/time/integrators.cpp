@@ -94,13 +94,25 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const Ne
   auto allowed = [&] {
     return std::max(ns.tolerance * (u - u_start).norm(), 1e-14 * (1 + u.norm()));
   };
+  // A chord step reuses the factorisation of an earlier iterate of this solve (one
+  // back-substitution instead of a tangent and a factorisation). It is taken when the last
+  // correction cut the residual by kChordGain or more: the iterates are then close enough
+  // that the tangent has changed little, and one that has changed more only makes the next
+  // correction a Newton one. With its residual evaluated first, such an iterate needs no
+  // tangent at all.
+  constexpr double kChordGain = 0.1;
+  bool factorised = false;
+  int factorisations = 0;
   for (int it = 0; it <= ns.max_iterations; ++it) {
     // When the corrections contract fast enough that this iterate should be the last
     // (quadratic model: next ≈ ‖du‖ θ²), its residual is evaluated alone first: a tangent
     // assembled at the converged point is never used.
     const double theta_now = contraction();
     const bool likely_last = it >= 2 && theta_now < 0.5 && dn * theta_now * theta_now <= allowed();
-    bool have_tangent = !likely_last;
+    const bool may_chord =
+        ns.reuse_tangent && factorised &&
+        (it == 1 || (it >= 2 && rep.residuals[it - 1] <= kChordGain * rep.residuals[it - 2]));
+    bool have_tangent = !likely_last && !may_chord;
     evaluate(u, r, have_tangent ? &J : nullptr);
     if (it > 0 && search && s0 < 0) {
       const double alpha = line_search(u, r, du, s0, evaluate);
@@ -145,25 +157,33 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const Ne
     // last, confirming solve is not needed once the corrections collapse.
     const double theta = contraction();
     const double distance = theta < 0.5 ? dn * theta / (1 - theta) : dn;
+    bool chord_ready = false;  // du holds −J⁻¹ r with the factorisation at hand
     if (it > 0 && (rn <= target || at_floor)) {
       const double limit = allowed();
       // That bound is loose while convergence is quadratic (3.8e-8 against a next correction
       // of 2.5e-11 on the Hencky membrane): before paying for a factorisation, measure the
       // distance J⁻¹ r with the one already made (a back-substitution).
-      if (distance <= limit || (solver.solve(-r, du) && du.norm() <= limit)) {
+      if (distance > limit) chord_ready = solver.solve(-r, du);
+      if (distance <= limit || (chord_ready && du.norm() <= limit)) {
         rep.converged = true;
-        rep.iterations = it;
         return rep;
       }
     }
     if (it == ns.max_iterations) break;
-    if (!have_tangent) evaluate(u, r, &J);
-    if (!newton_solve(sys, solver, J, r, du, rep.reason)) return rep;
+    const bool chord = may_chord && !have_tangent && rn <= kChordGain * rep.residuals[it - 1] &&
+                       (chord_ready || solver.solve(-r, du)) && du.allFinite();
+    if (!chord) {
+      if (!have_tangent) evaluate(u, r, &J);
+      if (!newton_solve(sys, solver, J, r, du, rep.reason)) return rep;
+      factorised = true;
+      ++factorisations;
+    }
     s0 = du.dot(r);
     u += du;
     dn_prev = dn;
     dn = du.norm();
     rep.iterations = it + 1;
+    rep.factorizations = factorisations;
   }
   rep.reason = with_diagnosis(
       fmt::format("Newton did not converge in {} iterations (residual {:.3e}, reference {:.3e})",
@@ -277,22 +297,52 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
                             sys.evaluate(t + h, x, zero_, zero_, 1.0, 0.0, 0.0, r, J);
                           });
   };
-  // Extrapolate only along an increment that ended where this step starts (not after a
-  // restart or a change of state from outside).
+  // Extrapolate only along increments that ended where this step starts (not after a
+  // restart or a change of state from outside): linearly along the last one, or along the
+  // parabola through the last three states. The one taken is the one that would have left the
+  // smaller residual at the start of the last increment: a smooth load path favours the
+  // parabola (its error is third order in the step), a kink in it or a first, stress-free
+  // increment the line. The residual, not the distance, because the in-plane error it weighs
+  // most sets the stresses and through them the tangent the chord steps reuse.
   const bool extrapolate = h_prev_ > 0 && std::abs(t - t_prev_) <= 1e-12 * (1 + std::abs(t)) &&
                            u_prev_.size() == s.u.size();
-  VecX u = s.u;
-  if (extrapolate) u += (h / h_prev_) * (s.u - u_prev_);
+  const bool second = extrapolate && h_prev2_ > 0 && u_prev2_.size() == s.u.size();
+  if (extrapolate) linear_ = s.u + (h / h_prev_) * (s.u - u_prev_);
+  if (second) {
+    // Lagrange through (t − h_prev − h_prev2, u_prev2), (t − h_prev, u_prev), (t, u) at t + h.
+    const double a = h_prev2_, b = h_prev_;
+    const double c2 = h * (h + b) / ((a + b) * a), c1 = -h * (h + a + b) / (a * b),
+                 c0 = (h + b) * (h + a + b) / ((a + b) * b);
+    parabolic_ = c2 * u_prev2_ + c1 * u_prev_ + c0 * s.u;
+  }
+  VecX u = !extrapolate ? s.u : second && prefer_parabola_ ? parabolic_ : linear_;
   StepReport rep = solve_from(u);
   if (!rep.converged && extrapolate) {
-    const int spent = rep.iterations;
+    const int spent = rep.iterations, factorised = rep.factorizations;
     const std::vector<double> tried = std::move(rep.residuals);
     u = s.u;
     rep = solve_from(u);
     rep.iterations += spent;
+    rep.factorizations += factorised;
     rep.residuals.insert(rep.residuals.begin(), tried.begin(), tried.end());
   }
   if (rep.converged) {
+    if (second) {  // the residual each predictor left, to first order: J times its error
+      linear_ -= u;
+      parabolic_ -= u;
+      du_.noalias() = J_ * linear_;
+      const double by_line = du_.squaredNorm();
+      du_.noalias() = J_ * parabolic_;
+      prefer_parabola_ = du_.squaredNorm() < by_line;
+    } else {
+      prefer_parabola_ = false;
+    }
+    if (extrapolate) {
+      std::swap(u_prev2_, u_prev_);
+      h_prev2_ = h_prev_;
+    } else {
+      h_prev2_ = 0;
+    }
     u_prev_ = s.u;
     h_prev_ = h;
     t_prev_ = t + h;

@@ -45,21 +45,23 @@ TimeLoopResult run_time_loop(
     t = hits_target ? target : t + hs;
     ++res.steps;
     res.iterations += rep.iterations;
+    res.factorizations += rep.factorizations;
     res.t = t;
     AcceptedStep info{t,
                       hs,
                       res.steps,
                       rep.iterations,
                       res.iterations,
+                      rep.factorizations,
                       hits_target && (cfg.output_interval > 0 || t >= cfg.t_end - eps),
                       &rep};
     if (observer && !observer(info, s)) {
       res.stopped = true;
       return res;
     }
-    // Regrow after a few easy steps.
+    // Regrow after a few easy steps (counted in factorisations: chord steps are cheap).
     if (cfg.adaptive && h < cfg.step) {
-      if (rep.iterations <= cfg.easy_iterations && ++easy >= 3) {
+      if (rep.factorizations <= cfg.easy_iterations && ++easy >= 3) {
         h = std::min(cfg.step, 2 * h);
         easy = 0;
       }

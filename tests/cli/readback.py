@@ -23,19 +23,22 @@ p = subprocess.run([VELUM, "run", MODEL, "-o", WORK, "--threads", "1", "--quiet"
 assert p.returncode == 0, f"velum failed ({p.returncode}):\n{p.stdout}{p.stderr}"
 
 summary = json.load(open(os.path.join(WORK, "summary.json")))
-for key in ["status", "steps", "newton_iterations", "wall_seconds", "final_time", "dofs",
-            "elements", "energy"]:
+for key in ["status", "steps", "newton_iterations", "factorizations", "wall_seconds",
+            "final_time", "dofs", "elements", "energy"]:
     assert key in summary, f"summary.json lacks {key}"
 assert summary["status"] == "converged"
 for key in ["kinetic", "strain", "external_work", "damping"]:
     assert key in summary["energy"], f"summary.json energy lacks {key}"
 
-# steps.csv: one row per accepted step; its iterations add up to summary.json's, and each
-# row's residual list has one norm per iteration plus the converged one.
+# steps.csv: one row per accepted step; its iterations and factorisations add up to
+# summary.json's, a step factorises at most once per iteration, and each row's residual list
+# has one norm per iteration plus the converged one.
 steps = list(csv.DictReader(open(os.path.join(WORK, "steps.csv"))))
 assert len(steps) == summary["steps"], f"{len(steps)} rows in steps.csv, {summary['steps']} steps"
 assert sum(int(r["iterations"]) for r in steps) == summary["newton_iterations"]
+assert sum(int(r["factorizations"]) for r in steps) == summary["factorizations"]
 for r in steps:
+    assert 0 <= int(r["factorizations"]) <= int(r["iterations"]), r
     res = [float(v) for v in r["residuals"].split()]
     assert len(res) >= int(r["iterations"]) + 1 or int(r["iterations"]) == 0, r
     assert all(np.isfinite(res)), r

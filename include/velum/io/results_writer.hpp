@@ -23,7 +23,7 @@ class OutputError : public std::runtime_error {
 
 struct RunSummary {
   bool converged = false;
-  int steps = 0, newton_iterations = 0;
+  int steps = 0, newton_iterations = 0, factorizations = 0;
   double wall_seconds = 0, final_time = 0;
   int dofs = 0, elements = 0;
   Energies energy;

@@ -1,5 +1,5 @@
 // Time integrators on a SecondOrderSystem: the generalized-α family (Newmark β-γ, HHT-α and
-// Chung-Hulbert generalized-α) with full Newton-Raphson, explicit central difference with a
+// Chung-Hulbert generalized-α) with Newton-Raphson, explicit central difference with a
 // lumped mass, and static load stepping. One step at a time; the step-size control lives in
 // run_time_loop (time_loop.hpp).
 #pragma once
@@ -26,11 +26,15 @@ struct NewtonSettings {
   /// for dynamics (the mass keeps steps short; under a follower load the slope test along
   /// the correction is no potential's, and on the C9 canopy it doubled the iterations).
   std::optional<bool> line_search;
+  /// Reuse the last factorisation for the next correction while the residual falls tenfold
+  /// per correction (a chord step); false: a fresh tangent at every iteration.
+  bool reuse_tangent = true;
 };
 
 struct StepReport {
   bool converged = false;
-  int iterations = 0;
+  int iterations = 0;             ///< corrections (Newton and chord steps)
+  int factorizations = 0;         ///< of which with a fresh tangent
   std::vector<double> residuals;  ///< residual norm at each iteration (before its solve)
   std::string reason;             ///< why it failed
 };
@@ -85,9 +89,10 @@ class CentralDifference : public TimeIntegrator {
 };
 
 /// Static equilibrium f_int(u) = f_ext(t) at each load level t (no mass, no damping).
-/// Load stepping with full Newton. Each step starts from the last converged state extrapolated
-/// along the last increment (scaled by the step ratio), and falls back to the plain start if
-/// Newton fails from there.
+/// Load stepping with Newton. Each step starts from the last converged state extrapolated
+/// along the last increment (scaled by the step ratio) or along the parabola through the last
+/// three states, whichever would have predicted the last increment better, and falls back to
+/// the plain start if Newton fails from there.
 class StaticNewton : public TimeIntegrator {
  public:
   std::string name() const override { return "static"; }
@@ -101,10 +106,12 @@ class StaticNewton : public TimeIntegrator {
 
  private:
   VecX r_, du_, zero_;
-  SparseMatrix J_;      ///< kept between steps: its pattern is allocated once
-  VecX u_prev_;         ///< converged state before the last accepted step
-  double h_prev_ = 0;   ///< that step's size (0: no increment yet)
-  double t_prev_ = -1;  ///< the time the last accepted step ended at
+  SparseMatrix J_;                   ///< kept between steps: its pattern is allocated once
+  VecX u_prev_, u_prev2_;            ///< converged states before the last two accepted steps
+  double h_prev_ = 0, h_prev2_ = 0;  ///< their sizes (0: no such increment)
+  double t_prev_ = -1;               ///< the time the last accepted step ended at
+  VecX linear_, parabolic_;          ///< this step's two predictors
+  bool prefer_parabola_ = false;     ///< the parabola predicted the last increment better
 };
 
 /// Largest stable step of central difference, 2/ω_max, with ω_max² estimated by power

@@ -16,7 +16,7 @@ struct TimeLoopSettings {
   double min_step = 1e-8;  ///< below this a failed step ends the run
   bool adaptive = true;
   double output_interval = 0;  ///< > 0: steps land on multiples of it
-  int easy_iterations = 4;     ///< steps converged within this many iterations may regrow
+  int easy_iterations = 4;     ///< steps converged within this many factorisations may regrow
 };
 
 struct AcceptedStep {
@@ -24,6 +24,7 @@ struct AcceptedStep {
   int step = 0;
   int iterations = 0;
   int total_iterations = 0;
+  int factorizations = 0;
   bool output_time = false;  ///< t is on an output interval (or the end)
   const StepReport* report = nullptr;
 };
@@ -32,7 +33,7 @@ struct TimeLoopResult {
   bool completed = false;
   bool stopped = false;  ///< the observer asked to stop
   double t = 0;
-  int steps = 0, iterations = 0, cutbacks = 0;
+  int steps = 0, iterations = 0, factorizations = 0, cutbacks = 0;
   std::string reason;  ///< when not completed: where and why
 };
 
