@@ -75,11 +75,12 @@ double line_search(VecX& u, VecX& r, const VecX& du, double s0, const Evaluate& 
   return alpha;
 }
 
-// Full Newton-Raphson on the unknown u, starting from its predictor: `evaluate(u, r, J)` gives
-// the residual and the (shifted) Jacobian there. Converged when the residual is below the
-// tolerance relative to the largest force seen (or below its round-off level) and the
-// estimated distance to the solution is below the tolerance relative to the step's change
-// u − u_start. Stops early on a non-finite or diverging residual.
+// Newton-Raphson on the unknown u, starting from its predictor: `evaluate(u, r, J)` gives the
+// residual and the (shifted) Jacobian there; with ns.reuse_tangent, chord steps once the
+// residual falls fast (below). Converged when the residual is below the tolerance relative to
+// the largest force seen (or below its round-off level) and the estimated distance to the
+// solution is below the tolerance relative to the step's change u − u_start. Stops early on
+// a non-finite or diverging residual.
 template <class Evaluate>
 StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const NewtonSettings& ns,
                           bool search_by_default, const VecX& u_start, VecX& u, VecX& r, VecX& du,
