@@ -102,6 +102,7 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const Ne
   // correction a Newton one. With its residual evaluated first, such an iterate needs no
   // tangent at all.
   constexpr double kChordGain = 0.1;
+  auto fell_fast = [&](int k) { return rep.residuals[k] <= kChordGain * rep.residuals[k - 1]; };
   bool factorised = false;
   int factorisations = 0;
   for (int it = 0; it <= ns.max_iterations; ++it) {
@@ -110,9 +111,7 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const Ne
     // assembled at the converged point is never used.
     const double theta_now = contraction();
     const bool likely_last = it >= 2 && theta_now < 0.5 && dn * theta_now * theta_now <= allowed();
-    const bool may_chord =
-        ns.reuse_tangent && factorised &&
-        (it == 1 || (it >= 2 && rep.residuals[it - 1] <= kChordGain * rep.residuals[it - 2]));
+    const bool may_chord = ns.reuse_tangent && factorised && (it == 1 || fell_fast(it - 1));
     bool have_tangent = !likely_last && !may_chord;
     evaluate(u, r, have_tangent ? &J : nullptr);
     if (it > 0 && search && s0 < 0) {
@@ -171,7 +170,7 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const Ne
       }
     }
     if (it == ns.max_iterations) break;
-    const bool chord = may_chord && !have_tangent && rn <= kChordGain * rep.residuals[it - 1] &&
+    const bool chord = may_chord && !have_tangent && fell_fast(it) &&
                        (chord_ready || solver.solve(-r, du)) && du.allFinite();
     if (!chord) {
       if (!have_tangent) evaluate(u, r, &J);

@@ -47,14 +47,15 @@ TimeLoopResult run_time_loop(
     res.iterations += rep.iterations;
     res.factorizations += rep.factorizations;
     res.t = t;
-    AcceptedStep info{t,
-                      hs,
-                      res.steps,
-                      rep.iterations,
-                      res.iterations,
-                      rep.factorizations,
-                      hits_target && (cfg.output_interval > 0 || t >= cfg.t_end - eps),
-                      &rep};
+    AcceptedStep info{
+        .t = t,
+        .h = hs,
+        .step = res.steps,
+        .iterations = rep.iterations,
+        .total_iterations = res.iterations,
+        .factorizations = rep.factorizations,
+        .output_time = hits_target && (cfg.output_interval > 0 || t >= cfg.t_end - eps),
+        .report = &rep};
     if (observer && !observer(info, s)) {
       res.stopped = true;
       return res;
