@@ -85,6 +85,14 @@ TEST(Newton, LineSearchCutsTheOvershootFromASoftStart) {
   EXPECT_GE(plain.iterations, 15);
   EXPECT_LE(searched.iterations, 10);
   EXPECT_LT(searched.iterations, plain.iterations / 2);
+  // The default, with chord steps: where the tangent changes fast they are not taken (or are
+  // followed by Newton steps), and the root is the same.
+  CubicSprings c;
+  State sc;
+  const StepReport chord = one_static_step(c, true, 1e-10, sc, true);
+  ASSERT_TRUE(chord.converged) << chord.reason;
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(sc.u[i], c.root(i), 1e-9);
+  EXPECT_LE(chord.factorizations, searched.factorizations);
 }
 
 // A tolerance below the residual's round-off level is met at that level instead of failing.
