@@ -103,15 +103,14 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const Ne
   // tangent at all.
   constexpr double kChordGain = 0.1;
   auto fell_fast = [&](int k) { return rep.residuals[k] <= kChordGain * rep.residuals[k - 1]; };
-  bool factorised = false;
-  int factorisations = 0;
   for (int it = 0; it <= ns.max_iterations; ++it) {
     // When the corrections contract fast enough that this iterate should be the last
     // (quadratic model: next ≈ ‖du‖ θ²), its residual is evaluated alone first: a tangent
     // assembled at the converged point is never used.
     const double theta_now = contraction();
     const bool likely_last = it >= 2 && theta_now < 0.5 && dn * theta_now * theta_now <= allowed();
-    const bool may_chord = ns.reuse_tangent && factorised && (it == 1 || fell_fast(it - 1));
+    const bool may_chord =
+        ns.reuse_tangent && rep.factorizations > 0 && (it == 1 || fell_fast(it - 1));
     bool have_tangent = !likely_last && !may_chord;
     evaluate(u, r, have_tangent ? &J : nullptr);
     if (it > 0 && search && s0 < 0) {
@@ -175,15 +174,13 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const Ne
     if (!chord) {
       if (!have_tangent) evaluate(u, r, &J);
       if (!newton_solve(sys, solver, J, r, du, rep.reason)) return rep;
-      factorised = true;
-      ++factorisations;
+      ++rep.factorizations;
     }
     s0 = du.dot(r);
     u += du;
     dn_prev = dn;
     dn = du.norm();
     rep.iterations = it + 1;
-    rep.factorizations = factorisations;
   }
   rep.reason = with_diagnosis(
       fmt::format("Newton did not converge in {} iterations (residual {:.3e}, reference {:.3e})",
