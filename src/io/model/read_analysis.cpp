@@ -1,0 +1,280 @@
+// Reads analysis: (type, integrator, time, Newton, damping, linear solver) and output:.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "reader.hpp"
+
+namespace velum::io::model_file {
+
+void Reader::parse_analysis(const Node& a) {
+  if (!check_map(a, "analysis",
+                 {"type", "integrator", "time", "newton", "damping", "linear_solver"}))
+    return;
+  AnalysisSettings& s = in_.analysis;
+  if (auto t = text(a, "type", "analysis", false)) {
+    if (*t == "static")
+      s.type = AnalysisSettings::Type::kStatic;
+    else if (*t == "dynamic")
+      s.type = AnalysisSettings::Type::kDynamic;
+    else
+      error(a["type"], "analysis.type",
+            fmt::format("unknown analysis type '{}'{}", *t, suggestion(*t, {"static", "dynamic"})));
+  }
+  if (has(a, "integrator")) {
+    const Node in = a["integrator"];
+    const std::string p = "analysis.integrator";
+    if (check_map(in, p, {"scheme", "rho_inf", "alpha", "beta", "gamma"})) {
+      if (auto sc = text(in, "scheme", p, false)) {
+        const std::vector<std::string> schemes = {"newmark", "hht", "generalized-alpha",
+                                                  "central-difference"};
+        if (std::find(schemes.begin(), schemes.end(), *sc) == schemes.end())
+          error(in["scheme"], sub(p, "scheme"),
+                fmt::format("unknown scheme '{}'{}", *sc, suggestion(*sc, schemes)));
+        else
+          s.scheme = *sc;
+        if (*sc == "central-difference" && s.type == AnalysisSettings::Type::kStatic)
+          error(in["scheme"], sub(p, "scheme"), "central-difference needs type: dynamic");
+      }
+      if (auto r = number(in, "rho_inf", p, false)) {
+        if (*r < 0 || *r > 1)
+          error(in["rho_inf"], sub(p, "rho_inf"),
+                fmt::format("rho_inf must lie in [0, 1] (got {})", *r));
+        else
+          s.rho_inf = *r;
+      }
+      if (auto al = number(in, "alpha", p, false)) {
+        if (*al < 0 || *al > 1.0 / 3.0)
+          error(in["alpha"], sub(p, "alpha"),
+                fmt::format("the HHT alpha must lie in [0, 1/3] (got {})", *al));
+        else
+          s.hht_alpha = *al;
+      }
+      if (auto b = positive(in, "beta", p, false, "the Newmark beta")) s.newmark_beta = *b;
+      if (auto g = number(in, "gamma", p, false)) {
+        if (*g < 0.5)
+          error(in["gamma"], sub(p, "gamma"),
+                fmt::format("the Newmark gamma must be at least 0.5 (got {})", *g));
+        else
+          s.newmark_gamma = *g;
+      }
+    }
+  }
+  if (require(a, "time", "analysis")) {
+    const Node t = a["time"];
+    const std::string p = "analysis.time";
+    if (check_map(t, p, {"end", "step", "min_step", "adaptive"})) {
+      auto end = positive(t, "end", p, true, "the end time");
+      auto step = positive(t, "step", p, true, "the time step");
+      auto min_step = positive(t, "min_step", p, false, "the smallest time step");
+      if (end) s.time.t_end = *end;
+      if (step) s.time.step = *step;
+      if (min_step)
+        s.time.min_step = *min_step;
+      else if (step)
+        s.time.min_step = std::min(s.time.min_step, *step);
+      if (step && min_step && *min_step > *step)
+        error(t["min_step"], sub(p, "min_step"),
+              fmt::format("min_step ({}) is larger than step ({})", *min_step, *step));
+      if (step && end && *step > *end)
+        error(t["step"], sub(p, "step"),
+              fmt::format("the step ({}) is longer than the run (end {})", *step, *end));
+      if (step && end && *end / *step > 1e9)
+        error(t["step"], sub(p, "step"), "more than 1e9 steps: the step is too small for end");
+      if (auto ad = boolean(t, "adaptive", p)) s.time.adaptive = *ad;
+    }
+  }
+  if (has(a, "newton")) {
+    const Node n = a["newton"];
+    const std::string p = "analysis.newton";
+    if (check_map(n, p, {"tolerance", "max_iterations", "line_search", "reuse_tangent"})) {
+      if (auto tol = positive(n, "tolerance", p, false, "the Newton tolerance"))
+        s.newton.tolerance = *tol;
+      if (has(n, "max_iterations")) {
+        auto it = integer(n["max_iterations"], sub(p, "max_iterations"), "count");
+        if (it && *it < 1)
+          error(n["max_iterations"], sub(p, "max_iterations"), "at least one iteration is needed");
+        else if (it)
+          s.newton.max_iterations = static_cast<int>(*it);
+      }
+      if (auto ls = boolean(n, "line_search", p)) s.newton.line_search = *ls;
+      if (auto reuse = boolean(n, "reuse_tangent", p)) s.newton.reuse_tangent = *reuse;
+    }
+  }
+  if (has(a, "damping")) {
+    const Node d = a["damping"];
+    const std::string p = "analysis.damping";
+    if (check_map(d, p, {"mass", "stiffness"})) {
+      in_.model.rayleigh_mass =
+          non_negative(d, "mass", p, "the mass-proportional damping").value_or(0);
+      in_.model.rayleigh_stiffness =
+          non_negative(d, "stiffness", p, "the stiffness-proportional damping").value_or(0);
+    }
+  }
+  if (auto ls = text(a, "linear_solver", "analysis", false)) {
+    if (*ls == "petsc") {
+      error(a["linear_solver"], "analysis.linear_solver",
+            "the PETSc back-end is not available in this build (use auto, cholmod, umfpack, "
+            "klu or mumps)");
+    } else {
+      try {
+        s.solver = solver_kind_from_name(*ls);
+        if (s.solver == SolverKind::kMumps && !have_mumps())
+          error(a["linear_solver"], "analysis.linear_solver",
+                "this build has no MUMPS (install libmumps-seq-dev and rebuild, or use auto, "
+                "cholmod, umfpack or klu)");
+      } catch (const std::invalid_argument&) {
+        error(
+            a["linear_solver"], "analysis.linear_solver",
+            fmt::format("unknown linear solver '{}'{}", *ls,
+                        suggestion(*ls, {"auto", "cholmod", "umfpack", "klu", "mumps", "petsc"})));
+      }
+    }
+  }
+}
+
+void Reader::parse_output(const Node& o, const Node& root) {
+  OutputSettings& out = in_.output;
+  out.directory = file_.parent_path() / "out";
+  out.interval = in_.analysis.time.step;
+  if (!o) return;
+  if (!check_map(o, "output", {"directory", "interval", "fields", "history"})) return;
+  if (auto d = text(o, "directory", "output", false)) {
+    std::filesystem::path p = *d;
+    out.directory = p.is_relative() ? file_.parent_path() / p : p;
+  }
+  if (auto iv = positive(o, "interval", "output", false, "the output interval")) {
+    out.interval = *iv;
+    if (*iv < in_.analysis.time.min_step)
+      error(o["interval"], "output.interval", "the output interval is shorter than min_step");
+  }
+  if (auto f = boolean(o, "fields", "output")) out.fields = *f;
+  (void)root;
+  if (!has(o, "history")) return;
+  const Node h = o["history"];
+  if (!h.IsSequence()) {
+    error(h, "output.history", "expected a list of {name, quantity, ...}");
+    return;
+  }
+  const std::vector<std::string> quantities = {
+      "displacement", "velocity",       "position",      "reaction",     "fiber_angle_change",
+      "stress",       "kinetic_energy", "strain_energy", "external_work"};
+  std::set<std::string> names;
+  for (size_t i = 0; i < h.size(); ++i) {
+    const Node e = h[i];
+    const std::string p = item("output.history", i);
+    if (!check_map(e, p, {"name", "quantity", "node", "nodes", "component", "point", "unit"}))
+      continue;
+    auto name = text(e, "name", p, true);
+    auto q = text(e, "quantity", p, true);
+    if (!name || !q) continue;
+    if (name->empty() || name->find_first_of(",\"\n") != std::string::npos) {
+      error(e["name"], sub(p, "name"), "a column name must be non-empty, without commas or quotes");
+      continue;
+    }
+    if (!names.insert(*name).second) {
+      error(e["name"], sub(p, "name"), fmt::format("duplicate history name '{}'", *name));
+      continue;
+    }
+    HistoryEntry he;
+    he.name = *name;
+    using Q = HistoryEntry::Quantity;
+    const auto qi = std::find(quantities.begin(), quantities.end(), *q) - quantities.begin();
+    if (qi == static_cast<long>(quantities.size())) {
+      error(e["quantity"], sub(p, "quantity"),
+            fmt::format("unknown quantity '{}'{}", *q, suggestion(*q, quantities)));
+      continue;
+    }
+    he.quantity = static_cast<Q>(qi);
+    bool ok = true;
+    switch (he.quantity) {
+      case Q::kDisplacement:
+      case Q::kVelocity:
+      case Q::kPosition: {
+        auto n = nodes_of(e, "node", p);
+        auto c = component(e, "component", p);
+        if (n && n->size() != 1) {
+          error(e["node"], sub(p, "node"), "give one node");
+          n.reset();
+        }
+        ok = n && c;
+        if (ok) he.node = n->front(), he.component = *c;
+        break;
+      }
+      case Q::kReaction: {
+        auto n = nodes_of(e, "nodes", p);
+        auto c = component(e, "component", p);
+        ok = n && c;
+        if (ok) he.nodes = std::move(*n), he.component = *c;
+        break;
+      }
+      case Q::kFiberAngleChange:
+      case Q::kStress: {
+        auto pt = vec3(e, "point", p, true);
+        ok = pt.has_value();
+        if (he.quantity == Q::kStress) {
+          auto c = text(e, "component", p, true);
+          if (c) {
+            const auto ci = std::find_if(kStressComponents.begin(), kStressComponents.end(),
+                                         [&](const char* s) { return *c == s; }) -
+                            kStressComponents.begin();
+            if (ci == static_cast<long>(kStressComponents.size())) {
+              error(e["component"], sub(p, "component"),
+                    fmt::format(
+                        "unknown stress component '{}'{}", *c,
+                        suggestion(*c, {kStressComponents.begin(), kStressComponents.end()})));
+              ok = false;
+            } else {
+              he.component = static_cast<int>(ci);
+            }
+          } else {
+            ok = false;
+          }
+        } else if (auto u = text(e, "unit", p, false)) {
+          if (*u == "degree" || *u == "degrees")
+            he.degrees = true;
+          else if (*u == "radian" || *u == "radians")
+            he.degrees = false;
+          else {
+            error(e["unit"], sub(p, "unit"),
+                  fmt::format("unknown unit '{}'{}", *u, suggestion(*u, {"degree", "radian"})));
+            ok = false;
+          }
+        }
+        if (ok) {
+          he.point = *pt;
+          if (!locate(he)) {
+            if (mesh_ok_)
+              error(e["point"], sub(p, "point"),
+                    fmt::format("the point [{}, {}, {}] lies in no membrane element", he.point.x(),
+                                he.point.y(), he.point.z()));
+            ok = false;
+          }
+        }
+        break;
+      }
+      default:
+        break;
+    }
+    if (ok) out.history.push_back(std::move(he));
+  }
+}
+
+bool Reader::locate(HistoryEntry& he) const {
+  for (size_t b = 0; b < in_.model.blocks.size(); ++b) {
+    const auto& blk = *in_.model.blocks[b];
+    if (blk.kind() != ElementKind::kMembrane) continue;
+    for (int e = 0; e < blk.size(); ++e)
+      if (blk.locate(e, he.point, he.xi)) {
+        he.block = static_cast<int>(b);
+        he.element = e;
+        return true;
+      }
+  }
+  return false;
+}
+
+}  // namespace velum::io::model_file

@@ -1,0 +1,241 @@
+// Reads functions:, masses:, boundary: and loads:.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "reader.hpp"
+
+namespace velum::io::model_file {
+
+void Reader::parse_functions(const Node& fs) {
+  if (!fs) return;
+  if (!fs.IsMap()) {
+    error(fs, "functions", "expected a mapping of name: {type: ...}");
+    return;
+  }
+  for (const auto& kv : fs) {
+    const std::string fname = kv.first.Scalar();
+    const std::string path = sub("functions", fname);
+    const Node f = kv.second;
+    if (!check_map(f, path, {"type", "duration", "points"})) continue;
+    auto type = text(f, "type", path, true);
+    if (!type) continue;
+    TimeFunction tf;
+    tf.name = fname;
+    if (*type == "step") {
+      tf.kind = TimeFunction::Kind::kConstant;
+      tf.value = 1;
+    } else if (*type == "ramp") {
+      tf.kind = TimeFunction::Kind::kRamp;
+      auto d = positive(f, "duration", path, true, "the ramp duration");
+      if (!d) continue;
+      tf.duration = *d;
+    } else if (*type == "table") {
+      tf.kind = TimeFunction::Kind::kTable;
+      if (!require(f, "points", path)) continue;
+      const Node pts = f["points"];
+      const std::string pp = sub(path, "points");
+      if (!pts.IsSequence() || pts.size() == 0) {
+        error(pts, pp, "expected a list of [time, value] pairs");
+        continue;
+      }
+      bool ok = true;
+      for (size_t i = 0; i < pts.size() && ok; ++i) {
+        if (!pts[i].IsSequence() || pts[i].size() != 2) {
+          error(pts[i], item(pp, i), "expected a pair [time, value]");
+          ok = false;
+          break;
+        }
+        auto t = number(pts[i][0], item(pp, i));
+        auto v = number(pts[i][1], item(pp, i));
+        if (!t || !v) {
+          ok = false;
+          break;
+        }
+        if (!tf.points.empty() && *t <= tf.points.back().first) {
+          error(pts[i], item(pp, i), "table times must increase strictly");
+          ok = false;
+        }
+        tf.points.emplace_back(*t, *v);
+      }
+      if (!ok) continue;
+    } else {
+      error(f["type"], sub(path, "type"),
+            fmt::format("unknown function type '{}'{}", *type,
+                        suggestion(*type, {"step", "ramp", "table"})));
+      continue;
+    }
+    functions_[fname] = static_cast<int>(in_.model.functions.size());
+    in_.model.functions.push_back(std::move(tf));
+  }
+}
+
+/// Index of a function named in map[key]; -1 (constant 1) when absent or "step".
+int Reader::function_ref(const Node& map, const std::string& path) {
+  auto f = text(map, "function", path, false);
+  if (!f) return -1;
+  if (auto it = functions_.find(*f); it != functions_.end()) return it->second;
+  if (*f == "step") return -1;
+  auto names = keys_of(functions_);
+  names.push_back("step");
+  error(map["function"], sub(path, "function"),
+        fmt::format("undefined function '{}'{}", *f, suggestion(*f, names)));
+  return -1;
+}
+
+void Reader::parse_masses(const Node& ms) {
+  if (!ms.IsSequence()) {
+    error(ms, "masses", "expected a list of {node, mass, drag}");
+    return;
+  }
+  for (size_t i = 0; i < ms.size(); ++i) {
+    const Node m = ms[i];
+    const std::string p = item("masses", i);
+    if (!check_map(m, p, {"node", "mass", "drag"})) continue;
+    auto nodes = nodes_of(m, "node", p);
+    auto mass = positive(m, "mass", p, true, "the mass");
+    double rho = 0, cda = 0;
+    if (has(m, "drag")) {
+      const Node d = m["drag"];
+      const std::string dp = sub(p, "drag");
+      if (check_map(d, dp, {"rho", "cd_area"})) {
+        rho = non_negative(d, "rho", dp, "the air density").value_or(0);
+        cda = non_negative(d, "cd_area", dp, "cd_area").value_or(0);
+        require(d, "rho", dp);
+        require(d, "cd_area", dp);
+      }
+    }
+    if (!nodes || !mass) continue;
+    for (int n : *nodes) in_.model.masses.push_back({n, *mass, rho, cda});
+  }
+}
+
+void Reader::parse_boundary(const Node& bs) {
+  if (!bs.IsSequence()) {
+    error(bs, "boundary", "expected a list of {nodes, fix | displacement | symmetry}");
+    return;
+  }
+  for (size_t i = 0; i < bs.size(); ++i) {
+    const Node b = bs[i];
+    const std::string p = item("boundary", i);
+    if (!check_map(b, p, {"nodes", "fix", "displacement", "function", "symmetry"})) continue;
+    auto nodes = nodes_of(b, "nodes", p);
+    const int kinds = has(b, "fix") + has(b, "displacement") + has(b, "symmetry");
+    if (kinds != 1) {
+      error(b, p, "give exactly one of fix, displacement or symmetry");
+      continue;
+    }
+    if (has(b, "fix")) {
+      FixedDofs f;
+      const Node fx = b["fix"];
+      const std::string fp = sub(p, "fix");
+      bool ok = fx.IsSequence() && fx.size() > 0;
+      if (!ok) error(fx, fp, "expected a list of components, e.g. [x, y, z]");
+      for (size_t k = 0; ok && k < fx.size(); ++k) {
+        const std::string c = fx[k].IsScalar() ? fx[k].Scalar() : "";
+        if (c == "x" || c == "y" || c == "z") {
+          f.fix[static_cast<size_t>(c[0] - 'x')] = true;
+        } else {
+          error(fx[k], fp,
+                fmt::format("unknown component '{}'{}", c, suggestion(c, {"x", "y", "z"})));
+          ok = false;
+        }
+      }
+      if (has(b, "function"))
+        error(b["function"], sub(p, "function"), "a fixed boundary takes no function");
+      if (ok && nodes) {
+        f.nodes = std::move(*nodes);
+        in_.model.fixed.push_back(std::move(f));
+      }
+    } else if (has(b, "displacement")) {
+      auto d = vec3(b, "displacement", p, true);
+      const int fn = function_ref(b, p);
+      if (d && nodes) in_.model.prescribed.push_back({std::move(*nodes), *d, fn});
+    } else {
+      const Node s = b["symmetry"];
+      const std::string sp = sub(p, "symmetry");
+      if (!check_map(s, sp, {"normal"})) continue;
+      auto n = vec3(s, "normal", sp, true);
+      if (n && n->norm() == 0) {
+        error(s["normal"], sub(sp, "normal"), "the plane normal must not be zero");
+        n.reset();
+      }
+      if (n && nodes) in_.model.symmetry.push_back({std::move(*nodes), n->normalized()});
+    }
+  }
+}
+
+void Reader::parse_loads(const Node& ls) {
+  if (!ls.IsSequence()) {
+    error(ls, "loads", "expected a list of {type: point | edge | pressure | gravity, ...}");
+    return;
+  }
+  for (size_t i = 0; i < ls.size(); ++i) {
+    const Node l = ls[i];
+    const std::string p = item("loads", i);
+    if (!l.IsMap()) {
+      check_map(l, p, {});
+      continue;
+    }
+    auto type = text(l, "type", p, true);
+    if (!type) continue;
+    if (*type == "point") {
+      check_map(l, p, {"type", "nodes", "force", "function"});
+      auto nodes = nodes_of(l, "nodes", p);
+      auto f = vec3(l, "force", p, true);
+      const int fn = function_ref(l, p);
+      if (nodes && f) in_.model.point_loads.push_back({std::move(*nodes), *f, fn});
+    } else if (*type == "edge") {
+      check_map(l, p, {"type", "nodes", "force_per_length", "function"});
+      auto nodes = nodes_of(l, "nodes", p);
+      auto f = vec3(l, "force_per_length", p, true);
+      const int fn = function_ref(l, p);
+      if (nodes && f) {
+        in_.model.edge_loads.push_back({std::move(*nodes), *f, fn});
+        edge_load_nodes_.push_back({l["nodes"], sub(p, "nodes")});
+      }
+    } else if (*type == "pressure") {
+      check_map(l, p, {"type", "elements", "value", "function"});
+      auto set = text(l, "elements", p, true);
+      auto v = number(l, "value", p, true);
+      const int fn = function_ref(l, p);
+      if (!set || !v) continue;
+      auto sit = element_sets_.find(*set);
+      if (sit == element_sets_.end()) {
+        if (mesh_ok_)
+          error(l["elements"], sub(p, "elements"),
+                fmt::format("undefined element set '{}'{}", *set,
+                            suggestion(*set, keys_of(element_sets_))));
+        continue;
+      }
+      if (sit->second.dimension != 2) {
+        error(l["elements"], sub(p, "elements"),
+              fmt::format("pressure acts on membranes; set '{}' holds cables", *set));
+        continue;
+      }
+      for (int b : set_blocks_[*set]) {
+        PressureLoad pl;
+        pl.block = b;
+        pl.value = *v;
+        pl.function = fn;
+        pl.elements.resize(static_cast<size_t>(in_.model.blocks[b]->size()));
+        for (size_t e = 0; e < pl.elements.size(); ++e) pl.elements[e] = static_cast<int>(e);
+        in_.model.pressures.push_back(std::move(pl));
+      }
+    } else if (*type == "gravity") {
+      check_map(l, p, {"type", "acceleration", "function"});
+      auto g = vec3(l, "acceleration", p, true);
+      const int fn = function_ref(l, p);
+      if (g) in_.model.gravity.push_back({*g, fn});
+    } else {
+      error(l["type"], sub(p, "type"),
+            fmt::format("unknown load type '{}'{}", *type,
+                        suggestion(*type, {"point", "edge", "pressure", "gravity"})));
+    }
+  }
+}
+
+}  // namespace velum::io::model_file

@@ -1,0 +1,283 @@
+// Reads mesh: (nodes and elements from a Gmsh file or inline, node sets).
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "reader.hpp"
+
+namespace velum::io::model_file {
+
+void Reader::add_node(long id, const Vec3& x, const Node& at, const std::string& path) {
+  if (in_.model.node_index.count(id)) {
+    error(at, path, fmt::format("duplicate node id {}", id));
+    return;
+  }
+  in_.model.add_node(id, x);
+}
+
+void Reader::parse_mesh(const Node& mesh) {
+  if (!check_map(mesh, "mesh", {"file", "nodes", "elements", "node_sets"})) return;
+  mesh_ok_ = true;
+  if (!has(mesh, "file") && !has(mesh, "nodes")) {
+    error(mesh, "mesh", "give a mesh file (mesh.file) or inline nodes (mesh.nodes)");
+    mesh_ok_ = false;
+    return;
+  }
+  long max_element_id = 0;
+  if (auto f = text(mesh, "file", "mesh", false)) {
+    std::filesystem::path p = *f;
+    if (p.is_relative()) p = file_.parent_path() / p;
+    try {
+      MeshData m = read_gmsh(p);
+      for (const auto& n : m.nodes) add_node(n.id, n.x, mesh["file"], "mesh.file");
+      for (auto& g : m.groups) {
+        for (long id : g.ids) max_element_id = std::max(max_element_id, id);
+        auto& set = element_sets_[g.set];
+        set.from_file = true;
+        set.dimension = is_membrane_type(g.type) ? 2 : 1;
+        set.groups.push_back(std::move(g));
+      }
+      for (auto& [name, ids] : m.node_sets) file_node_sets_[name] = std::move(ids);
+    } catch (const MeshFileError& e) {
+      error(mesh["file"], "mesh.file", e.what());
+      mesh_ok_ = false;
+    }
+  }
+  if (has(mesh, "nodes")) {
+    const Node nodes = mesh["nodes"];
+    if (!nodes.IsSequence()) {
+      error(nodes, "mesh.nodes", "expected a list of [id, x, y, z]");
+      mesh_ok_ = false;
+    } else {
+      for (size_t i = 0; i < nodes.size(); ++i) {
+        const Node n = nodes[i];
+        const std::string p = item("mesh.nodes", i);
+        if (!n.IsSequence() || n.size() != 4) {
+          error(n, p, "expected [id, x, y, z]");
+          mesh_ok_ = false;
+          continue;
+        }
+        auto id = integer(n[0], p, "node id");
+        auto x = number(n[1], p), y = number(n[2], p), z = number(n[3], p);
+        if (!id || !x || !y || !z) {
+          mesh_ok_ = false;
+          continue;
+        }
+        add_node(*id, Vec3(*x, *y, *z), n, p);
+      }
+    }
+  }
+  if (has(mesh, "elements")) parse_inline_elements(mesh["elements"], max_element_id);
+  // Node sets: those of the mesh file, then inline ones (which may not collide).
+  for (auto& [name, ids] : file_node_sets_) {
+    std::vector<int> idx;
+    for (long id : ids)
+      if (auto it = in_.model.node_index.find(id); it != in_.model.node_index.end())
+        idx.push_back(it->second);
+    node_sets_[name] = std::move(idx);
+  }
+  if (has(mesh, "node_sets")) {
+    const Node ns = mesh["node_sets"];
+    if (!ns.IsMap()) {
+      error(ns, "mesh.node_sets", "expected a mapping of name: [ids] or name: {box: [...]}");
+    } else {
+      for (const auto& kv : ns) {
+        const std::string name = kv.first.Scalar();
+        const std::string p = sub("mesh.node_sets", name);
+        if (node_sets_.count(name)) {
+          error(kv.first, p,
+                fmt::format("node set '{}' is already defined by the mesh file", name));
+          continue;
+        }
+        if (kv.second.IsMap() && !kv.second["box"]) {
+          check_map(kv.second, p, {"box"});
+          continue;
+        }
+        if (auto nodes = node_list(kv.second, p, false)) node_sets_[name] = std::move(*nodes);
+      }
+    }
+  }
+}
+
+void Reader::parse_inline_elements(const Node& els, long max_file_id) {
+  if (!els.IsSequence()) {
+    error(els, "mesh.elements", "expected a list of {set, type, connectivity}");
+    return;
+  }
+  long next_id = max_file_id + 1;
+  for (size_t i = 0; i < els.size(); ++i) {
+    const Node e = els[i];
+    const std::string p = item("mesh.elements", i);
+    if (!check_map(e, p, {"set", "type", "connectivity", "ids"})) continue;
+    auto set = text(e, "set", p, true);
+    auto type = text(e, "type", p, true);
+    if (!require(e, "connectivity", p) || !set || !type) continue;
+    const int nn = nodes_of_type(*type);
+    if (nn == 0) {
+      error(e["type"], sub(p, "type"),
+            fmt::format("unknown element type '{}'{}", *type,
+                        suggestion(*type, {"tri3", "tri6", "quad4", "quad8", "quad9", "cable2",
+                                           "cable3"})));
+      continue;
+    }
+    const Node conn = e["connectivity"];
+    const std::string cp = sub(p, "connectivity");
+    if (!conn.IsSequence()) {
+      error(conn, cp, "expected a list of node-id lists");
+      continue;
+    }
+    ElementGroup g{*set, *type, {}, {}, line_of(e)};
+    std::vector<long> ids;
+    if (has(e, "ids")) {
+      const Node in = e["ids"];
+      if (!in.IsSequence() || in.size() != conn.size()) {
+        error(in, sub(p, "ids"), "expected one element id per connectivity entry");
+        continue;
+      }
+      for (size_t k = 0; k < in.size(); ++k)
+        if (auto id = integer(in[k], sub(p, "ids"), "element id")) ids.push_back(*id);
+    }
+    bool ok = true;
+    for (size_t k = 0; k < conn.size(); ++k) {
+      const Node c = conn[k];
+      const std::string ckp = item(cp, k);
+      if (!c.IsSequence() || static_cast<int>(c.size()) != nn) {
+        error(c, ckp,
+              fmt::format("a {} element needs {} node ids, got {}", *type, nn,
+                          c.IsSequence() ? std::to_string(c.size()) : "no list"));
+        ok = false;
+        continue;
+      }
+      const long eid = k < ids.size() ? ids[k] : next_id++;
+      for (size_t j = 0; j < c.size(); ++j) {
+        auto id = integer(c[j], ckp, "node id");
+        if (!id) {
+          ok = false;
+          break;
+        }
+        if (!in_.model.node_index.count(*id)) {
+          error(c[j], ckp, fmt::format("element {} refers to undefined node {}", eid, *id));
+          ok = false;
+        }
+        g.node_ids.push_back(*id);
+      }
+      if (!element_ids_.insert(eid).second) {
+        error(c, ckp, fmt::format("duplicate element id {}", eid));
+        ok = false;
+      }
+      g.ids.push_back(eid);
+    }
+    if (!ok) {
+      mesh_ok_ = false;
+      continue;
+    }
+    auto& set_ref = element_sets_[*set];
+    if (set_ref.from_file) {
+      error(e["set"], sub(p, "set"),
+            fmt::format("element set '{}' is already defined by the mesh file", *set));
+      continue;
+    }
+    set_ref.dimension = is_membrane_type(*type) ? 2 : 1;
+    set_ref.groups.push_back(std::move(g));
+  }
+}
+
+/// Node indices from a node reference: an id, a list of ids, a set name or {box: [...]}.
+std::optional<std::vector<int>> Reader::node_list(const Node& n, const std::string& path,
+                                                  bool allow_names) {
+  std::vector<int> out;
+  auto by_id = [&](const Node& v) -> bool {
+    auto id = integer(v, path, "node id");
+    if (!id) return false;
+    auto it = in_.model.node_index.find(*id);
+    if (it == in_.model.node_index.end()) {
+      error(v, path, fmt::format("undefined node {}", *id));
+      return false;
+    }
+    out.push_back(it->second);
+    return true;
+  };
+  if (n.IsSequence()) {
+    if (n.size() == 0) {
+      error(n, path, "the node list is empty");
+      return std::nullopt;
+    }
+    for (size_t i = 0; i < n.size(); ++i)
+      if (!by_id(n[i])) return std::nullopt;
+    return out;
+  }
+  if (n.IsMap()) {
+    if (!check_map(n, path, {"box"}) || !require(n, "box", path)) return std::nullopt;
+    const Node b = n["box"];
+    if (!b.IsSequence() || b.size() != 6) {
+      error(b, sub(path, "box"), "expected [xmin, ymin, zmin, xmax, ymax, zmax]");
+      return std::nullopt;
+    }
+    double v[6];
+    for (int i = 0; i < 6; ++i) {
+      auto c = number(b[i], sub(path, "box"));
+      if (!c) return std::nullopt;
+      v[i] = *c;
+    }
+    const Vec3 lo(v[0], v[1], v[2]), hi(v[3], v[4], v[5]);
+    if ((hi - lo).minCoeff() < 0) {
+      error(b, sub(path, "box"), "the box has a maximum below its minimum");
+      return std::nullopt;
+    }
+    const auto& X = in_.model.X;
+    const double tol =
+        1e-9 *
+        std::max(1.0, X.cols() ? (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm() : 1.0);
+    for (int i = 0; i < in_.model.num_nodes(); ++i)
+      if (((X.col(i) - lo).array() >= -tol).all() && ((hi - X.col(i)).array() >= -tol).all())
+        out.push_back(i);
+    if (out.empty()) {
+      error(b, sub(path, "box"), "the box contains no node");
+      return std::nullopt;
+    }
+    return out;
+  }
+  if (!n.IsScalar()) {
+    error(n, path, "expected a node id, a list of node ids or a node set name");
+    return std::nullopt;
+  }
+  long id = 0;
+  if (YAML::convert<long>::decode(n, id)) {
+    if (!by_id(n)) return std::nullopt;
+    return out;
+  }
+  if (!allow_names) {
+    error(n, path, "expected a list of node ids or {box: [...]}");
+    return std::nullopt;
+  }
+  const std::string name = n.Scalar();
+  if (auto it = node_sets_.find(name); it != node_sets_.end()) {
+    if (it->second.empty()) {
+      error(n, path, fmt::format("node set '{}' is empty", name));
+      return std::nullopt;
+    }
+    return it->second;
+  }
+  if (auto it = element_sets_.find(name); it != element_sets_.end()) {
+    std::set<int> nodes;
+    for (const auto& g : it->second.groups)
+      for (long id2 : g.node_ids) nodes.insert(in_.model.node_index.at(id2));
+    return std::vector<int>(nodes.begin(), nodes.end());
+  }
+  auto names = keys_of(node_sets_);
+  for (const auto& kv : element_sets_) names.push_back(kv.first);
+  if (mesh_ok_)
+    error(n, path, fmt::format("undefined node set '{}'{}", name, suggestion(name, names)));
+  return std::nullopt;
+}
+
+std::optional<std::vector<int>> Reader::nodes_of(const Node& map, const char* key,
+                                                 const std::string& path) {
+  if (!require(map, key, path)) return std::nullopt;
+  return node_list(map[key], sub(path, key), true);
+}
+
+}  // namespace velum::io::model_file

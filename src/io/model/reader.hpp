@@ -1,0 +1,92 @@
+// The model-file reader: one member per part of the file. Its definitions are split by what
+// they read: model_reader.cpp (the file as a whole and the final checks), read_mesh.cpp
+// (nodes, elements, node sets), read_materials.cpp (materials), read_sections.cpp (sections
+// and the element blocks they make), read_loads.cpp (time functions, masses, boundary
+// conditions, loads) and read_analysis.cpp (analysis and output).
+#pragma once
+
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "reader_context.hpp"
+#include "velum/io/mesh_data.hpp"
+
+namespace velum::io::model_file {
+
+struct MaterialDef {
+  std::string type;
+  bool cable = false;
+  std::optional<PlaneStressLaw> law;
+  CableLaw cable_law;
+  double density = 0;
+  bool ok = false;
+};
+
+struct ElementSet {
+  std::vector<ElementGroup> groups;
+  bool from_file = false;
+  int dimension = 2;
+  bool has_section = false;
+};
+
+class Reader : public ReaderContext {
+ public:
+  using ReaderContext::ReaderContext;
+
+  ModelInput read();
+
+ private:
+  // model_reader.cpp
+  void parse(const Node& root);
+  void final_checks(const Node& root);
+
+  // read_mesh.cpp
+  void add_node(long id, const Vec3& x, const Node& at, const std::string& path);
+  void parse_mesh(const Node& mesh);
+  void parse_inline_elements(const Node& els, long max_file_id);
+  /// Node indices from a node reference: an id, a list of ids, a set name or {box: [...]}.
+  std::optional<std::vector<int>> node_list(const Node& n, const std::string& path,
+                                            bool allow_names);
+  std::optional<std::vector<int>> nodes_of(const Node& map, const char* key,
+                                           const std::string& path);
+
+  // read_materials.cpp
+  void parse_materials(const Node& ms);
+
+  // read_sections.cpp
+  void parse_sections(const Node& ss);
+  std::optional<SheetAxes> parse_axes(const Node& a, const std::string& p);
+  void build_blocks(const std::string& set, const ElementSet& es, const MaterialDef& md,
+                    double size, const SheetAxes* axes, shape::Integration integration,
+                    const Node& at, const std::string& p);
+
+  // read_loads.cpp
+  void parse_functions(const Node& fs);
+  /// Index of a function named in map[key]; -1 (constant 1) when absent or "step".
+  int function_ref(const Node& map, const std::string& path);
+  void parse_masses(const Node& ms);
+  void parse_boundary(const Node& bs);
+  void parse_loads(const Node& ls);
+
+  // read_analysis.cpp
+  void parse_analysis(const Node& a);
+  void parse_output(const Node& o, const Node& root);
+  bool locate(HistoryEntry& he) const;
+
+  bool mesh_ok_ = false;
+  std::map<std::string, int> functions_;
+  std::map<std::string, MaterialDef> materials_;
+  std::map<std::string, ElementSet> element_sets_;
+  std::map<std::string, std::vector<long>> file_node_sets_;
+  std::map<std::string, std::vector<int>> node_sets_;
+  std::map<std::string, std::vector<int>> set_blocks_;
+  std::vector<std::vector<long>> block_ids_;
+  std::vector<std::pair<Node, std::string>> edge_load_nodes_;
+  std::set<long> element_ids_;
+};
+
+}  // namespace velum::io::model_file
