@@ -139,8 +139,11 @@ int check_command(const std::filesystem::path& file) {
              m.prescribed.size(), m.symmetry.size());
   const auto& a = in->analysis;
   fmt::print("analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n",
-             a.type == AnalysisSettings::Type::kStatic ? "static" : "dynamic",
-             a.type == AnalysisSettings::Type::kStatic ? "load stepping" : a.scheme, a.time.t_end,
+             a.type_name(),
+             a.type == AnalysisSettings::Type::kStatic       ? "load stepping"
+             : a.type == AnalysisSettings::Type::kRelaxation ? "kinetic damping, then Newton"
+                                                             : a.scheme,
+             a.time.t_end,
              a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
   fmt::print("output:     {} every {:.6g}, {} history column{}{}\n", in->output.directory.string(),
              in->output.interval, in->output.history.size(),
@@ -184,8 +187,9 @@ int run_command(const RunOptions& opt) {
                in->output.directory.string());
 
   Progress progress(opt.quiet, settings.time.t0, settings.time.t_end);
-  progress.start(settings.type == AnalysisSettings::Type::kStatic
-                     ? "static load stepping"
+  progress.start(settings.type == AnalysisSettings::Type::kStatic ? "static load stepping"
+                 : settings.type == AnalysisSettings::Type::kRelaxation
+                     ? "dynamic relaxation"
                      : "dynamic run (" + settings.scheme + ")");
   AnalysisResult result;
   RunSummary summary;

@@ -24,6 +24,16 @@ struct MaterialDef {
   CableLaw cable_law;
   double density = 0;
   bool ok = false;
+  // What a section adds to the material (read_sections.cpp).
+  bool wrinkling = false;
+  Vec3 prestress = Vec3::Zero();  ///< membranes: 2nd PK [s11, s22, s12], sheet axes
+  double cable_prestress = 0;     ///< cables: axial force
+  SheetLaw sheet_law() const {
+    SheetLaw s(*law);
+    if (prestress.squaredNorm() > 0) s.with_prestress(prestress);
+    if (wrinkling) s.with_wrinkling();
+    return s;
+  }
 };
 
 struct ElementSet {
