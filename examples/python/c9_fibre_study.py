@@ -1,0 +1,119 @@
+#!/usr/bin/python3
+"""A parametric study from Python: the C9 canopy with two fibre families at ±angle from each
+gore's centreline, angle from 0° (both families radial) to 90° (both along the hoop).
+
+For each angle the model is edited in memory and run in this process; the settled skirt
+diameter (2 × the skirt node's x, history column skirt_x) and the largest maximum principal
+true stress of the canopy (last frame) are collected, tabulated and plotted against the angle.
+tools/c9-parachute writes the model (as `make demo` does; ±60° is its "anisotropic" material
+and ±30° its "anisotropic30"). Units: lbf, ft, s (the model's).
+
+usage: c9_fibre_study.py [--angles 0 15 ... 90] [--out DIR] [--small] [--threads N]
+"""
+import argparse
+import csv
+import math
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+import velum  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
+# A coarse, short version for the test suite: 8 gores (2 in the quarter), 1 x 3 quad9 per gore,
+# 1 s of inflation.
+SMALL = ["--gores", "8", "--across", "1", "--along", "3", "--line-elements", "2", "--end", "1.0",
+         "--step", "0.05", "--interval", "0.5"]
+
+
+def parse():
+    p = argparse.ArgumentParser(description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--angles", type=float, nargs="+", default=list(range(0, 91, 15)),
+                   help="fibre angles from the gore centreline [deg]")
+    p.add_argument("--out", type=Path, default=Path("out/python/c9-fibre-study"))
+    p.add_argument("--small", action="store_true", help="a coarse, short model (for tests)")
+    p.add_argument("--threads", type=int, default=1)
+    return p.parse_args()
+
+
+def write_model(out, small):
+    """The C9 model with fibre families (tools/c9-parachute --material anisotropic)."""
+    path = out / "c9.yaml"
+    cmd = [sys.executable, str(ROOT / "tools" / "c9-parachute"), "--material", "anisotropic",
+           "-o", str(path)] + (SMALL if small else [])
+    subprocess.run(cmd, check=True)
+    return path
+
+
+def run_angle(base, angle, out, threads):
+    m = base.copy()
+    fibers = m["materials"]["canopy"]["fibers"]
+    fibers[0]["angle"], fibers[1]["angle"] = angle, -angle
+    m["title"] = f"C9 parachute, fibres at ±{angle:g}°"
+    started = time.process_time()
+    try:
+        r = velum.run(m, output=out / f"angle_{angle:g}", threads=threads, quiet=True)
+    except velum.SolveError as e:  # keep the study going; the partial results say how far
+        print(f"  ±{angle:g}°: {e}", file=sys.stderr)
+        r = e.results
+    cpu = time.process_time() - started
+    diameter = 2 * r.history["skirt_x"][-1]
+    f = r.frame(-1)
+    canopy = np.concatenate([r.cells(b.set) for b in r.blocks if b.set.startswith("gore")])
+    smax = f.true_stress_max[canopy].max()
+    return dict(angle=angle, status=r.status, final_time=r.summary["final_time"],
+                skirt_diameter=diameter, max_stress=smax, steps=r.summary["steps"],
+                newton_iterations=r.summary["newton_iterations"], cpu_seconds=cpu)
+
+
+def plot(rows, path):
+    ok = [r for r in rows if r["status"] == "converged"]
+    bad = [r for r in rows if r["status"] != "converged"]
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for ax, key, label in ((a1, "skirt_diameter", "settled skirt diameter [ft]"),
+                           (a2, "max_stress", "largest max. principal true stress [lbf/ft²]")):
+        ax.plot([r["angle"] for r in ok], [r[key] for r in ok], "o-", label="converged")
+        if bad:
+            ax.plot([r["angle"] for r in bad], [r[key] for r in bad], "x", color="C3",
+                    label="failed (last state)")
+            ax.legend()
+        ax.set_xlabel("fibre angle ± from the gore centreline [deg]")
+        ax.set_ylabel(label)
+        ax.set_xticks(sorted({r["angle"] for r in rows}))
+        ax.grid(alpha=0.3)
+    fig.suptitle("C9 canopy, two fibre families at ±angle (E = 4.32e5 lbf/ft² each)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main():
+    a = parse()
+    a.out.mkdir(parents=True, exist_ok=True)
+    base = velum.load(write_model(a.out, a.small))
+    rows = []
+    for angle in a.angles:
+        rows.append(run_angle(base, angle, a.out, a.threads))
+        r = rows[-1]
+        print(f"  ±{angle:4g}°  {r['status']:<9}  skirt diameter {r['skirt_diameter']:7.3f} ft  "
+              f"max stress {r['max_stress']:9.0f} lbf/ft²  {r['newton_iterations']} iterations, "
+              f"{r['cpu_seconds']:.1f} s CPU", flush=True)
+    with open(a.out / "study.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    plot(rows, a.out / "fibre_angle.png")
+    print(f"table: {a.out / 'study.csv'}; figure: {a.out / 'fibre_angle.png'}")
+    return 0 if all(math.isfinite(r["skirt_diameter"]) for r in rows) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
