@@ -5,9 +5,11 @@ canopy, from the last frame of a run.
 The cells of the gore's element set that touch its centreline (the two either side for an even
 number of elements across, the middle one for an odd number) are found from their reference
 centroids, ordered from the vent to the skirt, and their cell stresses (true_stress_max,
-true_stress_min) plotted against the reference distance from the vent; pairs either side are
-averaged. The history's stress samples along the centreline (columns smax_NN and smin_NN of
-models written by tools/c9-parachute) are drawn as well, when present. Units: the model's
+true_stress_min, at the element centre) plotted against the reference distance from the vent;
+pairs either side are averaged. The history's stress samples at the centreline's nodes
+(columns smax_NN and smin_NN of models written by tools/c9-parachute) are drawn as well, when
+present: they differ from the cell values where the stress changes across an element (at the
+vent and the skirt). Units: the model's
 (lbf, ft for the C9).
 
 usage: gore_stress.py RESULTS_DIR MODEL.yaml [--gore SET] [--out FIG.png]
