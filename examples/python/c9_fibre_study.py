@@ -16,7 +16,12 @@ true stress of the canopy (last frame) are collected, tabulated and plotted agai
 tools/c9-parachute writes the model (as `make demo` does; ±60° is its "anisotropic" material
 and ±30° its "anisotropic30"). Units: lbf, ft, s (the model's).
 
+A run that needs more than --max-steps time steps is stopped from the progress callback and
+kept with the state it reached (status "stopped", drawn apart); --reuse takes the results of
+an angle that a previous study already wrote into DIR instead of running it again.
+
 usage: c9_fibre_study.py [--angles 0 15 ... 90] [--out DIR] [--small] [--threads N]
+                         [--max-steps N] [--reuse]
 """
 import argparse
 import csv
@@ -51,6 +56,10 @@ def parse():
                    help="modulus of each of the coating's three families / the fibres' modulus")
     p.add_argument("--small", action="store_true", help="a coarse, short model (for tests)")
     p.add_argument("--threads", type=int, default=1)
+    p.add_argument("--max-steps", type=int, default=4000,
+                   help="stop a run after this many time steps (it is kept, marked stopped)")
+    p.add_argument("--reuse", action="store_true",
+                   help="take an angle's converged results from DIR when they are there")
     return p.parse_args()
 
 
@@ -63,25 +72,32 @@ def write_model(out, small):
     return path
 
 
-def run_angle(base, angle, coating, out, threads):
+def run_angle(base, angle, coating, out, threads, max_steps=0, reuse=False):
     m = base.copy()
     fibers = m["materials"]["canopy"]["fibers"]
     fibers[0]["angle"], fibers[1]["angle"] = angle, -angle
     if coating > 0:
         fibers += [{"E": coating * fibers[0]["E"], "angle": a} for a in (0, 60, 120)]
     m["title"] = f"C9 parachute, fibres at ±{angle:g}°, coating {coating:g}"
+    directory = out / f"angle_{angle:g}"
     started = time.process_time()
-    try:
-        r = velum.run(m, output=out / f"angle_{angle:g}", threads=threads, quiet=True)
-    except velum.SolveError as e:  # keep the study going; the partial results say how far
-        print(f"  ±{angle:g}°: {e}", file=sys.stderr)
-        r = e.results
-    cpu = time.process_time() - started
+    if reuse and (directory / "summary.json").exists() and \
+            velum.open_results(directory).status == "converged":
+        r, cpu = velum.open_results(directory, model=m), float("nan")
+    else:
+        try:
+            r = velum.run(m, output=directory, threads=threads, quiet=True,
+                          progress=lambda t, step, iterations: not max_steps or step < max_steps)
+        except velum.SolveError as e:  # keep the study going; the partial results say how far
+            print(f"  ±{angle:g}°: {e}", file=sys.stderr)
+            r = e.results
+        cpu = time.process_time() - started
     diameter = 2 * r.history["skirt_x"][-1]
     f = r.frame(-1)
     canopy = np.concatenate([r.cells(b.set) for b in r.blocks if b.set.startswith("gore")])
     smax = f.true_stress_max[canopy].max()
-    return dict(angle=angle, status=r.status, final_time=r.summary["final_time"],
+    return dict(angle=angle, status="stopped" if r.stopped else r.status,
+                final_time=r.summary["final_time"],
                 skirt_diameter=diameter, max_stress=smax, steps=r.summary["steps"],
                 newton_iterations=r.summary["newton_iterations"], cpu_seconds=cpu)
 
@@ -95,8 +111,10 @@ def plot(rows, path, title):
         ax.plot([r["angle"] for r in ok], [r[key] for r in ok], "o-", label="converged")
         if bad:
             ax.plot([r["angle"] for r in bad], [r[key] for r in bad], "x", color="C3",
-                    label="failed (last state)")
-            ax.legend()
+                    label="not settled (" + ", ".join(
+                        f"{r['angle']:g}°: {r['status']} at t = {r['final_time']:.2f} s"
+                        for r in bad) + ")")
+            ax.legend(fontsize=8)
         ax.set_xlabel("fibre angle ± from the gore centreline [deg]")
         ax.set_ylabel(label)
         ax.set_xticks(sorted({r["angle"] for r in rows}))
@@ -113,9 +131,9 @@ def main():
     base = velum.load(write_model(a.out, a.small))
     rows = []
     for angle in a.angles:
-        rows.append(run_angle(base, angle, a.coating, a.out, a.threads))
+        rows.append(run_angle(base, angle, a.coating, a.out, a.threads, a.max_steps, a.reuse))
         r = rows[-1]
-        print(f"  ±{angle:4g}°  {r['status']:<9}  skirt diameter {r['skirt_diameter']:7.3f} ft  "
+        print(f"  ±{angle:4g}°  {r['status']:<9}  t = {r['final_time']:.3g} s  skirt diameter {r['skirt_diameter']:7.3f} ft  "
               f"max stress {r['max_stress']:9.0f} lbf/ft²  {r['newton_iterations']} iterations, "
               f"{r['cpu_seconds']:.1f} s CPU", flush=True)
     with open(a.out / "study.csv", "w", newline="") as f:
