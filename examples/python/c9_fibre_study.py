@@ -109,11 +109,11 @@ def plot(rows, path, title):
     for ax, key, label in ((a1, "skirt_diameter", "settled skirt diameter [ft]"),
                            (a2, "max_stress", "largest max. principal true stress [lbf/ft²]")):
         ax.plot([r["angle"] for r in ok], [r[key] for r in ok], "o-", label="converged")
+        for r in bad:  # no settled value to draw: mark the angle and say how far it got
+            ax.axvline(r["angle"], color="C3", linestyle=":",
+                       label=f"{r['angle']:g}°: {r['status']} at t = {r['final_time']:.2f} s, "
+                             "not settled")
         if bad:
-            ax.plot([r["angle"] for r in bad], [r[key] for r in bad], "x", color="C3",
-                    label="not settled (" + ", ".join(
-                        f"{r['angle']:g}°: {r['status']} at t = {r['final_time']:.2f} s"
-                        for r in bad) + ")")
             ax.legend(fontsize=8)
         ax.set_xlabel("fibre angle ± from the gore centreline [deg]")
         ax.set_ylabel(label)
