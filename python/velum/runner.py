@@ -40,7 +40,7 @@ def run(model, output=None, threads=0, quiet=False, progress=None):
         raise OutputError("\n".join(out["errors"]))
     results = Results(out["directory"], out["node_ids"], out["blocks"], out["stopped"],
                       out["warnings"])
-    if status == _velum.EXIT_SOLVE_FAILED and not out["stopped"]:
+    if status != _velum.EXIT_OK and not out["stopped"]:  # failed (or any status to come)
         raise SolveError("\n".join(out["errors"]), results)
     return results
 
