@@ -130,3 +130,24 @@ def test_dict_and_path_models(tmp_path, cable):
     assert r.status == "converged"
     r2 = velum.run(str(cable), output=tmp_path / "path", threads=1, quiet=True)
     assert np.array_equal(r.history["mid_uz"], r2.history["mid_uz"])
+
+
+def test_ctrl_c_stops_the_run_and_raises_keyboard_interrupt(tmp_path, square):
+    # SIGINT while the solver runs (the GIL released): Python's handler runs at the next step's
+    # check, the run stops there, writes summary.json, and KeyboardInterrupt is raised.
+    import os
+    import signal
+    import threading
+
+    m = velum.load(square)
+    m["analysis"]["time"].update(step=2.0e-5, adaptive=False)  # 5,000 steps, seconds
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            velum.run(m, output=tmp_path, threads=1, quiet=True)
+    finally:
+        timer.cancel()
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert s["status"] == "failed" and "stopped" in s["reason"]
+    assert 0 < s["final_time"] < 0.1
