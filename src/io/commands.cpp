@@ -10,8 +10,6 @@
 
 #include "velum/assembly/dof_map.hpp"
 #include "velum/config.hpp"
-#include "velum/io/model_reader.hpp"
-#include "velum/io/results_writer.hpp"
 
 // Present when the BLAS behind SuiteSparse is OpenBLAS (Debian's alternatives), absent (null)
 // with the reference BLAS.
@@ -68,9 +66,14 @@ class Progress {
     std::fflush(stderr);
     drawn_ = true;
   }
+  /// Ends the bar's line so that a message can follow.
+  void end_line() {
+    if (drawn_) fmt::print(stderr, "\n");
+    drawn_ = false;
+  }
   void finish(const TimeLoopResult& r) {
     if (quiet_) return;
-    if (drawn_) fmt::print(stderr, "\n");
+    end_line();
     fmt::print(
         stderr,
         "velum: {} at t = {:.6g} after {} steps, {} Newton iterations ({} factorisations), {} "
@@ -152,39 +155,38 @@ int check_command(const std::filesystem::path& file) {
   return kExitOk;
 }
 
-int run_command(const RunOptions& opt) {
-  const auto wall0 = Clock::now();
-  if (!opt.quiet)
-    fmt::print(stderr, "velum {} run: {}\n{}\n", VELUM_VERSION, opt.model.string(), kUnitsNote);
+RunOutcome run_model(ModelInput& input, const RunControls& opt) {
+  RunOutcome out;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   // OpenBLAS (behind CHOLMOD and UMFPACK) keeps its own busy-waiting threads: with more threads
   // than cores they spin against ours (a 2,000-DOF run spent 14 s in the kernel, 0.1 s with
   // one BLAS thread). Give BLAS the same count as OpenMP.
   if (openblas_set_num_threads) openblas_set_num_threads(omp_get_max_threads());
-  auto in = load(opt.model);
-  if (!in) return kExitBadInput;
-  if (opt.output) in->output.directory = *opt.output;
+  if (opt.output) input.output.directory = *opt.output;
+  out.directory = input.output.directory;
 
   std::unique_ptr<MechanicalSystem> system;
   try {
-    system = std::make_unique<MechanicalSystem>(in->model);
+    system = std::make_unique<MechanicalSystem>(input.model);
   } catch (const std::exception& e) {
-    fmt::print(stderr, "error: {}: {}\n", opt.model.string(), e.what());
-    return kExitBadInput;
+    out.status = kExitBadInput;
+    out.errors.push_back(fmt::format("{}: {}", input.file.string(), e.what()));
+    return out;
   }
   std::unique_ptr<ResultsWriter> writer;
   try {
-    writer = std::make_unique<ResultsWriter>(*in, *system, in->output.directory);
+    writer = std::make_unique<ResultsWriter>(input, *system, input.output.directory);
   } catch (const OutputError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
-    return kExitIo;
+    out.status = kExitIo;
+    out.errors.push_back(e.what());
+    return out;
   }
-  AnalysisSettings settings = in->analysis;
-  settings.time.output_interval = in->output.interval;
+  AnalysisSettings settings = input.analysis;
+  settings.time.output_interval = input.output.interval;
   if (!opt.quiet)
     fmt::print(stderr, "velum: {} nodes, {} elements, {} equations; results in {}\n",
-               in->model.num_nodes(), in->model.num_elements(), system->size(),
-               in->output.directory.string());
+               input.model.num_nodes(), input.model.num_elements(), system->size(),
+               input.output.directory.string());
 
   Progress progress(opt.quiet, settings.time.t0, settings.time.t_end);
   progress.start(settings.type == AnalysisSettings::Type::kStatic ? "static load stepping"
@@ -192,17 +194,16 @@ int run_command(const RunOptions& opt) {
                      ? "dynamic relaxation"
                      : "dynamic run (" + settings.scheme + ")");
   AnalysisResult result;
-  RunSummary summary;
-  summary.elements = in->model.num_elements();
+  RunSummary& summary = out.summary;
+  summary.elements = input.model.num_elements();
   summary.dofs = system->size();
-  int status = kExitOk;
   try {
     result = run_analysis(*system, settings, [&](const StepSnapshot& snap) {
       writer->write_step(snap.step);
       if (snap.step.output_time) writer->write(snap);
       summary.final_time = snap.step.t;
       progress.update(snap.step);
-      return true;
+      return !opt.on_step || opt.on_step(snap.step);
     });
     progress.finish(result.loop);
     summary.converged = result.loop.completed;
@@ -215,28 +216,34 @@ int run_command(const RunOptions& opt) {
     summary.integrator = result.integrator;
     summary.solver = result.solver;
     summary.dofs = result.dofs;
-    if (!result.loop.completed) status = kExitSolveFailed;
+    out.stopped = result.loop.stopped;
+    if (out.stopped && summary.reason.empty())
+      summary.reason = fmt::format("stopped by the caller at t = {:.6g}", summary.final_time);
+    if (!result.loop.completed) out.status = kExitSolveFailed;
   } catch (const OutputError& e) {
-    fmt::print(stderr, "\nerror: {}\n", e.what());
-    return kExitIo;
+    progress.end_line();
+    out.status = kExitIo;
+    out.errors.push_back(e.what());
+    return out;
   } catch (const std::exception& e) {
     summary.converged = false;
     summary.reason = e.what();
-    status = kExitSolveFailed;
+    out.status = kExitSolveFailed;
   }
-  summary.wall_seconds = seconds_since(wall0);
+  summary.wall_seconds = seconds_since(opt.started);
   try {
     writer->write_summary(summary);
   } catch (const OutputError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
-    return kExitIo;
+    out.status = kExitIo;
+    out.errors.push_back(e.what());
+    return out;
   }
-  if (status == kExitSolveFailed) {
-    fmt::print(stderr,
-               "error: the solve failed at t = {:.6g} (step {}, last output kept in {}): {}\n",
-               result.loop.t, result.loop.steps + 1, in->output.directory.string(),
-               summary.reason.empty() ? "unknown reason" : summary.reason);
-    return status;
+  if (out.status == kExitSolveFailed) {
+    out.errors.push_back(
+        fmt::format("the solve failed at t = {:.6g} (step {}, last output kept in {}): {}",
+                    result.loop.t, result.loop.steps + 1, input.output.directory.string(),
+                    summary.reason.empty() ? "unknown reason" : summary.reason));
+    return out;
   }
   if (!opt.quiet)
     fmt::print(stderr,
@@ -244,7 +251,21 @@ int run_command(const RunOptions& opt) {
                "damping {:.6g}\n",
                summary.energy.kinetic, summary.energy.strain, summary.energy.external_work,
                summary.energy.damping);
-  return kExitOk;
+  return out;
+}
+
+int run_command(const RunOptions& opt) {
+  RunControls controls;
+  if (!opt.quiet)
+    fmt::print(stderr, "velum {} run: {}\n{}\n", VELUM_VERSION, opt.model.string(), kUnitsNote);
+  controls.output = opt.output;
+  controls.threads = opt.threads;
+  controls.quiet = opt.quiet;
+  auto in = load(opt.model);
+  if (!in) return kExitBadInput;
+  const RunOutcome out = run_model(*in, controls);
+  for (const auto& e : out.errors) fmt::print(stderr, "error: {}\n", e);
+  return out.status;
 }
 
 }  // namespace velum::io

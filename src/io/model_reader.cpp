@@ -1,5 +1,6 @@
-// The model file as a whole: loading the YAML, the order in which its sections are read,
-// and the checks that need all of them. Each section is read in model/read_*.cpp.
+// The model as a whole (from a file, YAML text or an in-memory YAML node): loading the YAML, the
+// order in which its sections are read, and the checks that need all of them. Each section is read
+// in model/read_*.cpp.
 #include "velum/io/model_reader.hpp"
 
 #include <fmt/format.h>
@@ -8,6 +9,7 @@
 #include <algorithm>
 
 #include "model/reader.hpp"
+#include "velum/io/model_reader_yaml.hpp"
 
 namespace velum::io {
 
@@ -30,15 +32,30 @@ int edit_distance(std::string_view a, std::string_view b) {
 
 namespace model_file {
 
-ModelInput Reader::read() {
+ModelInput Reader::read_file(const std::filesystem::path& file) {
+  in_.file = file;
   Node root;
   try {
-    root = YAML::LoadFile(name_);
+    root = YAML::LoadFile(file.string());
   } catch (const YAML::BadFile&) {
     throw InputError({fmt::format("{}: cannot open the model file", name_)});
   } catch (const YAML::ParserException& e) {
     throw InputError({fmt::format("{}:{}: YAML syntax error: {}", name_, e.mark.line + 1, e.msg)});
   }
+  return read(root);
+}
+
+ModelInput Reader::read_text(const std::string& yaml) {
+  Node root;
+  try {
+    root = YAML::Load(yaml);
+  } catch (const YAML::ParserException& e) {
+    throw InputError({fmt::format("{}:{}: YAML syntax error: {}", name_, e.mark.line + 1, e.msg)});
+  }
+  return read(root);
+}
+
+ModelInput Reader::read(const Node& root) {
   if (!root.IsMap()) {
     throw InputError(
         {fmt::format("{}:{}: the model file must be a mapping of sections (mesh, "
@@ -115,7 +132,15 @@ void Reader::final_checks(const Node& root) {
 }  // namespace model_file
 
 ModelInput read_model(const std::filesystem::path& file) {
-  return model_file::Reader(file).read();
+  return model_file::Reader(file.string(), file.parent_path()).read_file(file);
+}
+
+ModelInput read_model_text(const std::string& yaml, const ModelSource& source) {
+  return model_file::Reader(source.name, source.base_dir).read_text(yaml);
+}
+
+ModelInput read_model(const YAML::Node& root, const ModelSource& source) {
+  return model_file::Reader(source.name, source.base_dir).read(root);
 }
 
 }  // namespace velum::io

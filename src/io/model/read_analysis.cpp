@@ -168,13 +168,13 @@ void Reader::parse_analysis(const Node& a) {
 
 void Reader::parse_output(const Node& o, const Node& root) {
   OutputSettings& out = in_.output;
-  out.directory = file_.parent_path() / "out";
+  out.directory = base_dir_ / "out";
   out.interval = in_.analysis.time.step;
   if (!o) return;
   if (!check_map(o, "output", {"directory", "interval", "fields", "history"})) return;
   if (auto d = text(o, "directory", "output", false)) {
     std::filesystem::path p = *d;
-    out.directory = p.is_relative() ? file_.parent_path() / p : p;
+    out.directory = p.is_relative() ? base_dir_ / p : p;
   }
   if (auto iv = positive(o, "interval", "output", false, "the output interval")) {
     out.interval = *iv;

@@ -221,7 +221,7 @@ void Reader::build_blocks(const std::string& set, const ElementSet& es, const Ma
                        set, g.ids[static_cast<size_t>(report.poor_axes_element)],
                        report.poor_axes_quality));
     set_blocks_[set].push_back(static_cast<int>(in_.model.blocks.size()));
-    block_ids_.push_back(g.ids);
+    in_.element_ids.push_back(g.ids);
     in_.model.blocks.push_back(std::move(block));
   }
 }

@@ -47,7 +47,10 @@ class Reader : public ReaderContext {
  public:
   using ReaderContext::ReaderContext;
 
-  ModelInput read();
+  /// The model in a file, in YAML text, or as a YAML node. Throw InputError.
+  ModelInput read_file(const std::filesystem::path& file);
+  ModelInput read_text(const std::string& yaml);
+  ModelInput read(const Node& root);
 
  private:
   // model_reader.cpp
@@ -94,7 +97,6 @@ class Reader : public ReaderContext {
   std::map<std::string, std::vector<long>> file_node_sets_;
   std::map<std::string, std::vector<int>> node_sets_;
   std::map<std::string, std::vector<int>> set_blocks_;
-  std::vector<std::vector<long>> block_ids_;
   std::vector<std::pair<Node, std::string>> edge_load_nodes_;
   std::set<long> element_ids_;
 };
