@@ -46,10 +46,14 @@ bool DynamicRelaxation::relax(SecondOrderSystem& sys, double t, VecX& u, double 
     }
     ++iterations_;
     ++since_masses;
-    ref_ = std::max({ref_, sys.force_scale(), it == 0 ? rn : 0.0});
+    // The scale the residual is judged against: the forces of the state at hand and the
+    // imbalance the load level started from. Not a running maximum: the forces of a
+    // transient that the guard below undoes must not loosen the target.
+    if (ref_ == 0) ref_ = std::max(rn, sys.force_scale());
     if (it == 0) r_peak = rn;
+    const double scale = std::max(ref_, sys.force_scale());
     const double target =
-        std::max({rel_target * ref_, newton.abs_residual, sys.residual_noise()});
+        std::max({rel_target * scale, newton.abs_residual, sys.residual_noise()});
     if (rn <= target) return true;
     // A residual far above the one at the last peak: the masses are too light for the
     // stiffness reached (it grows as the sheet tightens). Back to the peak, heavier masses.
@@ -94,7 +98,7 @@ bool DynamicRelaxation::relax(SecondOrderSystem& sys, double t, VecX& u, double 
   why = fmt::format(
       "dynamic relaxation did not reach {:.1e} of the force scale in {} iterations (residual "
       "{:.3e}, scale {:.3e})",
-      rel_target, budget, r_.norm(), ref_);
+      rel_target, budget, r_.norm(), std::max(ref_, sys.force_scale()));
   return false;
 }
 

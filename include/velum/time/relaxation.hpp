@@ -45,7 +45,7 @@ class DynamicRelaxation : public TimeIntegrator {
 
   VecX r_, v_, m_, zero_, f_prev_;
   SparseMatrix J_;
-  double ref_ = 0;  ///< largest force scale seen at this level
+  double ref_ = 0;  ///< force scale at the start of this level
   long iterations_ = 0, peaks_ = 0;
 };
 
