@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -77,9 +78,11 @@ struct GasLoad {
   Vec3 origin = Vec3::Zero();
   double V0 = 0;  ///< reference volume, set by set_up_gas_chamber
 
-  /// Absolute pressure at volume V and amount m.
+  /// Absolute pressure at volume V and amount m; NaN when V <= 0 (a chamber turned inside
+  /// out has no pressure: the residual turns non-finite and the step is cut).
   double pressure(double V, double m) const {
-    return initial_pressure * std::pow(m * V0 / V, gamma);
+    return V > 0 ? initial_pressure * std::pow(m * V0 / V, gamma)
+                 : std::numeric_limits<double>::quiet_NaN();
   }
 };
 
