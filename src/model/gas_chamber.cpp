@@ -40,7 +40,12 @@ double gas_chamber_volume(const Model& model, const GasLoad& gas, const NodePosi
   return V;
 }
 
-void set_up_gas_chamber(const Model& model, GasLoad& gas) {
+void set_up_gas_chamber(const Model& model, GasLoad& gas,
+                        const std::function<long(int, int)>& element_id) {
+  auto element_name = [&](int part, int e) {
+    const int b = gas.parts[part].block;
+    return element_id ? element_id(b, e) : static_cast<long>(e) + 1;
+  };
   if (gas.parts.empty()) throw std::invalid_argument("the gas chamber lists no elements");
   // Extent of the chamber, for the tolerance of "on the plane".
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
@@ -72,7 +77,8 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas) {
               "elements {} of set '{}' and {} of set '{}' run the same way along the edge from "
               "node {} to node {}: their normals g1 x g2 point to opposite sides; orient every "
               "element of the chamber so that g1 x g2 points out of the gas",
-              use.element + 1, other.set_name(), e + 1, b.set_name(), id(a), id(c)));
+              element_name(use.part, use.element), other.set_name(),
+              element_name(static_cast<int>(pi), e), b.set_name(), id(a), id(c)));
         }
         if (use.count == 2)
           throw std::invalid_argument(fmt::format(
@@ -117,8 +123,8 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas) {
           "belongs to one element only and lies on no symmetry plane through the origin [{}, "
           "{}, {}] (a plane whose nodes a symmetry or fix boundary condition holds on it); "
           "close the surface, add the symmetry condition, or move `origin` onto the planes",
-          id(key.first), id(key.second), use.element + 1, b.set_name(), gas.origin.x(),
-          gas.origin.y(), gas.origin.z()));
+          id(key.first), id(key.second), element_name(use.part, use.element), b.set_name(),
+          gas.origin.x(), gas.origin.y(), gas.origin.z()));
     }
   }
 

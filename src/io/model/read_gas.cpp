@@ -80,7 +80,11 @@ void Reader::parse_gas_load(const Node& l, const std::string& p) {
 void Reader::set_up_gas_chambers() {
   for (size_t i = 0; i < in_.model.gases.size(); ++i) {
     try {
-      set_up_gas_chamber(in_.model, in_.model.gases[i]);
+      set_up_gas_chamber(in_.model, in_.model.gases[i], [&](int block, int element) {
+        const auto& ids = block_ids_[static_cast<size_t>(block)];
+        return static_cast<size_t>(element) < ids.size() ? ids[static_cast<size_t>(element)]
+                                                         : static_cast<long>(element) + 1;
+      });
     } catch (const std::invalid_argument& e) {
       error(gas_load_nodes_[i].first["elements"], sub(gas_load_nodes_[i].second, "elements"),
             e.what());
