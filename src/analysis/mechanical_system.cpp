@@ -23,6 +23,13 @@ MechanicalSystem::MechanicalSystem(const Model& model)
   for (const auto& g : model.gravity)
     gravity_forces_.push_back(assembler_.gravity_forces(g.acceleration));
   drag_ = has_drag();
+  gas_volume_.resize(model.gases.size());
+  gas_pressure_.resize(model.gases.size());
+  for (size_t i = 0; i < model.gases.size(); ++i) {
+    gas_volume_[i] = model.gases[i].V0;
+    gas_pressure_[i] = model.gases[i].pressure(model.gases[i].V0,
+                                               model.function_value(model.gases[i].amount, 0.0));
+  }
   U_.setZero(3, model.num_nodes());
 }
 
@@ -85,6 +92,27 @@ void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* 
     if (p != 0) assembler_.pressure(static_cast<int>(i), p, x_, Fext_, Kload);
   }
   if (fused) Fext_ += Fp_;
+  // Enclosed gas: the sheet carries p(V) − ambient as a follower pressure, f = (p − p_a) ∂V/∂x,
+  // so ∂r/∂x = −(p − p_a) ∂²V/∂x² − (dp/dV) a aᵀ with dp/dV = −γ p / V: the first term into the
+  // sparse matrix, the second (dense over the chamber) kept as a rank-one column.
+  if (Kload) {
+    low_rank_.U.resize(size(), static_cast<Eigen::Index>(model_.gases.size()));
+    low_rank_.W.resize(size(), static_cast<Eigen::Index>(model_.gases.size()));
+  }
+  for (size_t i = 0; i < model_.gases.size(); ++i) {
+    const auto& gas = model_.gases[i];
+    const int gi = static_cast<int>(i);
+    const double V = assembler_.gas_volume(gi, x_);
+    const double p = gas.pressure(V, model_.function_value(gas.amount, t));
+    gas_volume_[i] = V;
+    gas_pressure_[i] = p;
+    assembler_.gas_derivatives(gi, x_, p - gas.ambient, gas_gradient_, Kload);
+    Fext_ += (p - gas.ambient) * gas_gradient_;
+    if (!Kload) continue;
+    dofs_.gather(gas_gradient_, gas_gradient_eq_);
+    low_rank_.W.col(gi) = gas_gradient_eq_;
+    low_rank_.U.col(gi) = (gas.gamma * p / V) * gas_gradient_eq_;
+  }
   // Payload drag f = −½ ρ C_D A |v| v on the node velocity.
   if (drag_) {
     V_ = velocities(v);
@@ -122,7 +150,11 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     if (J && cu == 0) combine_values(*J, 0.0, nullptr, 0.0);
     assemble_external(t, v, J && cu != 0 ? J : nullptr, true);
   }
-  if (J && cu != 0 && cu != 1) combine_values(*J, cu, nullptr, 0.0);
+  if (J && cu != 0 && cu != 1) {
+    combine_values(*J, cu, nullptr, 0.0);
+    low_rank_.U *= cu;
+  }
+  if (J && cu == 0) low_rank_ = {};
 
   dofs_.gather(Fint_ - Fext_, r);
   if (a.squaredNorm() != 0) {

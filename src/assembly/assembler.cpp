@@ -145,6 +145,14 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
     for (int e : p.elements) distinct += seen[e] ? 0 : (seen[e] = 1);
     covers_block_.push_back(distinct == b.size());
   }
+  for (const auto& g : model.gases) {
+    auto& parts = gas_parts_.emplace_back();
+    for (const auto& part : g.parts) {
+      const auto& b = *model.blocks[part.block];
+      parts.push_back({color_elements(b, part.elements, model.num_nodes()),
+                       make_surface_volume_kernel(b.type_name())});
+    }
+  }
 }
 
 void combine_values(SparseMatrix& A, double a, const SparseMatrix* B, double b) {
@@ -280,6 +288,33 @@ void Assembler::pressure(int i, double p, const NodePositions& x, NodePositions&
       load.block, pressure_colors_[i],
       [&](std::span<const int> elems, double* r, double* Ke) { b.pressure(elems, x, p, r, Ke); },
       kNoLoad, K != nullptr, Fext, nullptr, K, -1.0);
+}
+
+double Assembler::gas_volume(int i, const NodePositions& x) const {
+  const auto& gas = model_.gases[i];
+  double V = 0;
+  for (size_t k = 0; k < gas.parts.size(); ++k)
+    V += gas_parts_[i][k].kernel->volume(
+        gas.parts[k].elements, model_.blocks[gas.parts[k].block]->connectivity(), x, gas.origin);
+  return V;
+}
+
+void Assembler::gas_derivatives(int i, const NodePositions& x, double scale, NodePositions& A,
+                                SparseMatrix* K) const {
+  const auto& gas = model_.gases[i];
+  A.setZero(3, model_.num_nodes());
+  for (size_t k = 0; k < gas.parts.size(); ++k) {
+    const int block = gas.parts[k].block;
+    const auto& conn = model_.blocks[block]->connectivity();
+    const auto& kernel = *gas_parts_[i][k].kernel;
+    // The residual r = f_int − f_ext holds −scale ∂²V/∂x²: the kernel scales, run negates.
+    run(
+        block, gas_parts_[i][k].colors,
+        [&](std::span<const int> elems, double* a, double* H) {
+          kernel.derivatives(elems, conn, x, gas.origin, scale, a, H);
+        },
+        kNoLoad, K != nullptr, A, nullptr, K, -1.0);
+  }
 }
 
 void Assembler::mass(SparseMatrix* M, VecX* lumped) const {

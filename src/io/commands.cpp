@@ -138,6 +138,11 @@ int check_command(const std::filesystem::path& file) {
   fmt::print("loads:      {} point, {} edge, {} pressure, {} gravity; {} point masses\n",
              m.point_loads.size(), m.edge_loads.size(), m.pressures.size(), m.gravity.size(),
              m.masses.size());
+  for (size_t i = 0; i < m.gases.size(); ++i)
+    fmt::print(
+        "gas {}:      reference volume {:.6g}, initial pressure {:.6g}, ambient {:.6g}, "
+        "gamma {:.6g}\n",
+        i, m.gases[i].V0, m.gases[i].initial_pressure, m.gases[i].ambient, m.gases[i].gamma);
   fmt::print("boundary:   {} fixed, {} prescribed, {} symmetry\n", m.fixed.size(),
              m.prescribed.size(), m.symmetry.size());
   const auto& a = in->analysis;

@@ -108,6 +108,7 @@ void Reader::final_checks(const Node& root) {
       error(edge_load_nodes_[i].first, edge_load_nodes_[i].second,
             "no membrane boundary edge has all its nodes in this node set");
   }
+  set_up_gas_chambers();
   std::vector<char> used(static_cast<size_t>(in_.model.num_nodes()), 0);
   for (const auto& b : in_.model.blocks)
     for (int n : b->connectivity()) used[static_cast<size_t>(n)] = 1;

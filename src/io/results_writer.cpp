@@ -186,8 +186,18 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
       return snap.energy.strain;
     case Q::kExternalWork:
       return snap.energy.external_work;
+    case Q::kGasVolume:
+      return system_.assembler().gas_volume(h.load, x);
+    case Q::kGasPressure:
+      return gas_pressure(h.load, snap.step.t, x);
   }
   return 0;
+}
+
+double ResultsWriter::gas_pressure(int i, double t, const NodePositions& x) const {
+  const GasLoad& gas = input_.model.gases[i];
+  return gas.pressure(system_.assembler().gas_volume(i, x),
+                      input_.model.function_value(gas.amount, t));
 }
 
 void ResultsWriter::write_history(const StepSnapshot& snap) {
@@ -268,6 +278,19 @@ void ResultsWriter::write_frame(const StepSnapshot& snap) {
     base += n;
   }
 
+  // The absolute pressure of the gas each element encloses (0: none).
+  std::vector<double> gas(ne, 0.0);
+  if (!model.gases.empty()) {
+    std::vector<int> first(model.blocks.size(), 0);
+    for (size_t b = 1; b < model.blocks.size(); ++b)
+      first[b] = first[b - 1] + model.blocks[b - 1]->size();
+    for (size_t i = 0; i < model.gases.size(); ++i) {
+      const double p = gas_pressure(static_cast<int>(i), t, x);
+      for (const auto& part : model.gases[i].parts)
+        for (int e : part.elements) gas[static_cast<size_t>(first[part.block] + e)] = p;
+    }
+  }
+
   auto flat = [nn](const NodePositions& M) {
     return std::vector<double>(M.data(), M.data() + 3 * static_cast<size_t>(nn));
   };
@@ -296,6 +319,7 @@ void ResultsWriter::write_frame(const StepSnapshot& snap) {
     xml += app.add("type=\"Int32\" Name=\"wrinkle_state\"", wstate);
     xml += app.add("type=\"Float64\" Name=\"wrinkle_dir\" NumberOfComponents=\"3\"", wdir);
   }
+  if (!model.gases.empty()) xml += app.add("type=\"Float64\" Name=\"gas_pressure\"", gas);
   xml += "</CellData>\n<Points>\n";
   xml += app.add("type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"", flat(model.X));
   xml += "</Points>\n<Cells>\n";

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "velum/time/low_rank_solver.hpp"
+
 namespace velum {
 namespace {
 
@@ -82,9 +84,11 @@ double line_search(VecX& u, VecX& r, const VecX& du, double s0, const Evaluate& 
 // solution is below the tolerance relative to the step's change u − u_start. Stops early on
 // a non-finite or diverging residual.
 template <class Evaluate>
-StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& solver, const NewtonSettings& ns,
-                          bool search_by_default, const VecX& u_start, VecX& u, VecX& r, VecX& du,
-                          SparseMatrix& J, const Evaluate& evaluate) {
+StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& sparse_solver,
+                          const NewtonSettings& ns, bool search_by_default, const VecX& u_start,
+                          VecX& u, VecX& r, VecX& du, SparseMatrix& J, const Evaluate& evaluate) {
+  // Every solve, Newton or chord, with the system's low-rank Jacobian part (enclosed gas).
+  LowRankCorrectedSolver solver(sparse_solver, sys);
   const bool search = ns.line_search.value_or(search_by_default);
   StepReport rep;
   double ref = 0, start = 0, dn = 0, dn_prev = 0, s0 = 0;

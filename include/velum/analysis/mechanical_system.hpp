@@ -19,6 +19,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   int size() const override { return dofs_.num_equations(); }
   void evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu, double cv,
                 double ca, VecX& r, SparseMatrix* J) override;
+  const LowRankJacobian& jacobian_low_rank() const override { return low_rank_; }
   const VecX& lumped_mass() const override { return lumped_eq_; }
   double force_scale() const override { return force_scale_; }
   double residual_noise() const override { return residual_noise_; }
@@ -48,6 +49,10 @@ class MechanicalSystem final : public SecondOrderSystem {
   /// constrained nodes is not included. Overwrites last_internal() and last_external().
   NodePositions reactions(double t, const VecX& u, const VecX& v);
 
+  /// Volume and absolute pressure of gas chamber i at the last evaluation of the loads.
+  double gas_volume(int i) const { return gas_volume_[i]; }
+  double gas_pressure(int i) const { return gas_pressure_[i]; }
+
   double kinetic_energy(const VecX& v) const {
     return v.squaredNorm() == 0 ? 0.0 : 0.5 * v.dot(mass_matrix() * v);
   }
@@ -76,6 +81,12 @@ class MechanicalSystem final : public SecondOrderSystem {
   std::vector<NodePositions> edge_forces_;
   std::vector<NodePositions> gravity_forces_;
   NodePositions U_, V_, x_, Fint_, Fext_, Fp_;
+  // Enclosed gas: volume and pressure per chamber, the volume gradient, and the rank-one
+  // coupling (γ p / V) a aᵀ of each chamber as the Jacobian's low-rank part.
+  std::vector<double> gas_volume_, gas_pressure_;
+  NodePositions gas_gradient_;
+  VecX gas_gradient_eq_;
+  LowRankJacobian low_rank_;
   std::vector<double> block_pressure_;  ///< whole-block pressures at the evaluated time
   VecX fred_, mv_, x_eq_, noise_eq_;
   double force_scale_ = 0, residual_noise_ = 0;

@@ -6,10 +6,12 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "velum/assembly/dof_map.hpp"
+#include "velum/element/enclosed_volume.hpp"
 
 namespace velum {
 
@@ -51,6 +53,13 @@ class Assembler {
   /// stiffness subtracted from K when K != null (K then becomes unsymmetric).
   void pressure(int i, double p, const NodePositions& x, NodePositions& Fext,
                 SparseMatrix* K) const;
+  /// Volume of gas chamber i (Model::gases) at x.
+  double gas_volume(int i, const NodePositions& x) const;
+  /// Gradient ∂V/∂x of gas chamber i's volume at x (full, global; overwrites A) and, when
+  /// K != null, `scale` ∂²V/∂x² subtracted from K: the load stiffness of a follower pressure
+  /// `scale` on the chamber's sheet (its forces are scale · A).
+  void gas_derivatives(int i, const NodePositions& x, double scale, NodePositions& A,
+                       SparseMatrix* K) const;
   /// Consistent mass (values overwritten) and lumped nodal masses (row sum; HRZ for tri6 and
   /// quad8, whose row sums are not all positive), point masses included in both.
   void mass(SparseMatrix* M, VecX* lumped) const;  ///< either may be null
@@ -85,6 +94,11 @@ class Assembler {
   std::vector<std::vector<int>> scatter_;                       // per block: ne x dofs² positions
   std::vector<std::vector<std::vector<int>>> pressure_colors_;  // per pressure load
   std::vector<char> covers_block_;                              // per pressure load
+  struct GasPart {
+    std::vector<std::vector<int>> colors;
+    std::unique_ptr<SurfaceVolumeKernel> kernel;
+  };
+  std::vector<std::vector<GasPart>> gas_parts_;  // per gas load, per part
   int max_dofs_ = 0;
   mutable std::vector<ElementBuffers> buffers_;  // one per thread, reused across calls
 };

@@ -28,7 +28,9 @@ struct HistoryEntry {
     kStress,
     kKineticEnergy,
     kStrainEnergy,
-    kExternalWork
+    kExternalWork,
+    kGasVolume,
+    kGasPressure
   };
   std::string name;
   Quantity quantity = Quantity::kDisplacement;
@@ -39,6 +41,7 @@ struct HistoryEntry {
   int block = -1, element = -1;    ///< where the point lies
   std::array<double, 2> xi{0, 0};  ///< natural coordinates of the point there
   bool degrees = true;             ///< fiber_angle_change unit
+  int load = -1;                   ///< gas_volume, gas_pressure: index into Model::gases
 };
 
 /// Components of the `stress` history quantity, in order.

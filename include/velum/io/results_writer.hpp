@@ -53,6 +53,8 @@ class ResultsWriter {
   int frames() const { return static_cast<int>(frame_times_.size()); }
 
  private:
+  /// Absolute pressure of gas chamber i at time t and positions x.
+  double gas_pressure(int i, double t, const NodePositions& x) const;
   double history_value(const HistoryEntry& h, const StepSnapshot& snap, const NodePositions& U,
                        const NodePositions& V, const NodePositions& x, NodePositions& R,
                        bool& have_R);

@@ -13,6 +13,14 @@ namespace velum {
 
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
+/// A part of the Jacobian kept out of the sparse matrix: the full Jacobian is J + U Wᵀ, with
+/// a few dense columns (an enclosed gas couples every node of its chamber through p(V): one
+/// column each). Newton applies it on J's factorisation (Sherman-Morrison-Woodbury), so the
+/// sparse matrix never holds a dense block.
+struct LowRankJacobian {
+  MatX U, W;  ///< size() x k each; k = 0: none
+};
+
 class SecondOrderSystem {
  public:
   virtual ~SecondOrderSystem() = default;
@@ -20,6 +28,11 @@ class SecondOrderSystem {
   /// Residual r (and, when J != null, the shifted Jacobian, pattern fixed) at time t.
   virtual void evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu, double cv,
                         double ca, VecX& r, SparseMatrix* J) = 0;
+  /// The low-rank part of the Jacobian of the last evaluate() that asked for one (same shift).
+  virtual const LowRankJacobian& jacobian_low_rank() const {
+    static const LowRankJacobian kNone;
+    return kNone;
+  }
   /// Lumped (diagonal) mass per equation, for explicit integration.
   virtual const VecX& lumped_mass() const = 0;
   /// A force scale of the last evaluation (norms of internal and external forces), against

@@ -190,13 +190,15 @@ void Reader::parse_output(const Node& o, const Node& root) {
     return;
   }
   const std::vector<std::string> quantities = {
-      "displacement", "velocity",       "position",      "reaction",     "fiber_angle_change",
-      "stress",       "kinetic_energy", "strain_energy", "external_work"};
+      "displacement",       "velocity",   "position",       "reaction",
+      "fiber_angle_change", "stress",     "kinetic_energy", "strain_energy",
+      "external_work",      "gas_volume", "gas_pressure"};
   std::set<std::string> names;
   for (size_t i = 0; i < h.size(); ++i) {
     const Node e = h[i];
     const std::string p = item("output.history", i);
-    if (!check_map(e, p, {"name", "quantity", "node", "nodes", "component", "point", "unit"}))
+    if (!check_map(e, p,
+                   {"name", "quantity", "node", "nodes", "component", "point", "unit", "load"}))
       continue;
     auto name = text(e, "name", p, true);
     auto q = text(e, "quantity", p, true);
@@ -286,6 +288,10 @@ void Reader::parse_output(const Node& o, const Node& root) {
         }
         break;
       }
+      case Q::kGasVolume:
+      case Q::kGasPressure:
+        ok = parse_gas_history(e, p, he);
+        break;
       default:
         break;
     }

@@ -170,7 +170,7 @@ void Reader::parse_boundary(const Node& bs) {
 
 void Reader::parse_loads(const Node& ls) {
   if (!ls.IsSequence()) {
-    error(ls, "loads", "expected a list of {type: point | edge | pressure | gravity, ...}");
+    error(ls, "loads", "expected a list of {type: point | edge | pressure | gas | gravity, ...}");
     return;
   }
   for (size_t i = 0; i < ls.size(); ++i) {
@@ -225,6 +225,8 @@ void Reader::parse_loads(const Node& ls) {
         for (size_t e = 0; e < pl.elements.size(); ++e) pl.elements[e] = static_cast<int>(e);
         in_.model.pressures.push_back(std::move(pl));
       }
+    } else if (*type == "gas") {
+      parse_gas_load(l, p);
     } else if (*type == "gravity") {
       check_map(l, p, {"type", "acceleration", "function"});
       auto g = vec3(l, "acceleration", p, true);
@@ -233,7 +235,7 @@ void Reader::parse_loads(const Node& ls) {
     } else {
       error(l["type"], sub(p, "type"),
             fmt::format("unknown load type '{}'{}", *type,
-                        suggestion(*type, {"point", "edge", "pressure", "gravity"})));
+                        suggestion(*type, {"point", "edge", "pressure", "gas", "gravity"})));
     }
   }
 }

@@ -2,7 +2,7 @@
 // they read: model_reader.cpp (the file as a whole and the final checks), read_mesh.cpp
 // (nodes, elements, node sets), read_materials.cpp (materials), read_sections.cpp (sections
 // and the element blocks they make), read_loads.cpp (time functions, masses, boundary
-// conditions, loads) and read_analysis.cpp (analysis and output).
+// conditions, loads), read_gas.cpp (enclosed gas) and read_analysis.cpp (analysis and output).
 #pragma once
 
 #include <map>
@@ -85,6 +85,13 @@ class Reader : public ReaderContext {
   void parse_boundary(const Node& bs);
   void parse_loads(const Node& ls);
 
+  // read_gas.cpp
+  void parse_gas_load(const Node& l, const std::string& path);
+  /// Closure, orientation and reference volume of every gas chamber (after the whole file).
+  void set_up_gas_chambers();
+  /// The `load:` of a gas_volume or gas_pressure history entry; false when invalid.
+  bool parse_gas_history(const Node& e, const std::string& path, HistoryEntry& he);
+
   // read_analysis.cpp
   void parse_analysis(const Node& a);
   void parse_output(const Node& o, const Node& root);
@@ -98,6 +105,7 @@ class Reader : public ReaderContext {
   std::map<std::string, std::vector<int>> node_sets_;
   std::map<std::string, std::vector<int>> set_blocks_;
   std::vector<std::pair<Node, std::string>> edge_load_nodes_;
+  std::vector<std::pair<Node, std::string>> gas_load_nodes_;
   std::set<long> element_ids_;
 };
 

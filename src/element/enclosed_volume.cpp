@@ -1,0 +1,157 @@
+#include "velum/element/enclosed_volume.hpp"
+
+namespace velum {
+namespace {
+
+// The shape's values, derivatives and weights at its Gauss points, computed once.
+template <class Shape>
+struct VolumePoints {
+  std::array<typename Shape::Values, Shape::kPoints> N;
+  std::array<typename Shape::Derivs, Shape::kPoints> dN;
+  std::array<double, Shape::kPoints> w;
+  static const VolumePoints& get() {
+    static const VolumePoints table = [] {
+      VolumePoints t;
+      const auto rule = Shape::rule();
+      for (int q = 0; q < Shape::kPoints; ++q) {
+        Shape::eval(rule.xi[q][0], rule.xi[q][1], t.N[q], t.dN[q]);
+        t.w[q] = rule.w[q] / 3.0;  // the ⅓ of the volume formula
+      }
+      return t;
+    }();
+    return table;
+  }
+};
+
+}  // namespace
+
+template <class Shape>
+double EnclosedVolume<Shape>::volume(const Nodes& x, const Vec3& o) {
+  const auto& pts = VolumePoints<Shape>::get();
+  double V = 0;
+  for (int q = 0; q < Shape::kPoints; ++q) {
+    const Vec3 y = x * pts.N[q] - o;
+    const Eigen::Matrix<double, 3, 2> g = x * pts.dN[q];
+    V += pts.w[q] * y.dot(g.col(0).cross(g.col(1)));
+  }
+  return V;
+}
+
+template <class Shape>
+double EnclosedVolume<Shape>::gradient(const Nodes& x, const Vec3& o, Vector& a) {
+  const auto& pts = VolumePoints<Shape>::get();
+  Eigen::Matrix<double, 3, kN> an = Eigen::Matrix<double, 3, kN>::Zero();
+  double V = 0;
+  for (int q = 0; q < Shape::kPoints; ++q) {
+    const auto& N = pts.N[q];
+    const auto& dN = pts.dN[q];
+    const double w = pts.w[q];
+    const Vec3 y = x * N - o;
+    const Eigen::Matrix<double, 3, 2> g = x * dN;
+    const Vec3 n = g.col(0).cross(g.col(1));
+    V += w * y.dot(n);
+    // ∂[y, g1, g2]/∂x_N = N (g1 x g2) + N,1 (g2 x y) + N,2 (y x g1)
+    const Vec3 c1 = g.col(1).cross(y), c2 = y.cross(g.col(0));
+    an.noalias() +=
+        w * (n * N.transpose() + c1 * dN.col(0).transpose() + c2 * dN.col(1).transpose());
+  }
+  a = Eigen::Map<const Vector>(an.data());
+  return V;
+}
+
+template <class Shape>
+double EnclosedVolume<Shape>::hessian(const Nodes& x, const Vec3& o, double scale, Vector& a,
+                                      Matrix& H) {
+  const auto& pts = VolumePoints<Shape>::get();
+  Eigen::Matrix<double, 3, kN> an = Eigen::Matrix<double, 3, kN>::Zero();
+  H.setZero();
+  double V = 0;
+  for (int q = 0; q < Shape::kPoints; ++q) {
+    const auto& N = pts.N[q];
+    const auto& dN = pts.dN[q];
+    const double w = pts.w[q];
+    const Vec3 y = x * N - o;
+    const Eigen::Matrix<double, 3, 2> g = x * dN;
+    const Vec3 n = g.col(0).cross(g.col(1));
+    V += w * y.dot(n);
+    const Vec3 c1 = g.col(1).cross(y), c2 = y.cross(g.col(0));
+    an.noalias() +=
+        w * (n * N.transpose() + c1 * dN.col(0).transpose() + c2 * dN.col(1).transpose());
+    // The triple product [y, g1, g2] is trilinear in x: its second derivative couples two
+    // slots. Block (n, m) (rows x_n, columns x_m):
+    //   N_n N,1m (−[g2]x) + N_n N,2m [g1]x + N,1n N_m [g2]x + N,1n N,2m (−[y]x)
+    //   + N,2n N_m (−[g1]x) + N,2n N,1m [y]x
+    const double s = scale * w;
+    const Mat3 Y = s * cross_matrix(y), G1 = s * cross_matrix(g.col(0)),
+               G2 = s * cross_matrix(g.col(1));
+    for (int m = 0; m < kN; ++m)
+      for (int k = 0; k < kN; ++k) {
+        const double a12 = dN(k, 1) * dN(m, 0) - dN(k, 0) * dN(m, 1);  // y coefficient
+        const double c2k = N[m] * dN(k, 0) - N[k] * dN(m, 0);          // g2 coefficient
+        const double c1k = N[k] * dN(m, 1) - N[m] * dN(k, 1);          // g1 coefficient
+        H.template block<3, 3>(3 * k, 3 * m) += a12 * Y + c2k * G2 + c1k * G1;
+      }
+  }
+  a = Eigen::Map<const Vector>(an.data());
+  return V;
+}
+
+namespace {
+
+template <class Shape>
+class ShapeVolumeKernel final : public SurfaceVolumeKernel {
+  using K = EnclosedVolume<Shape>;
+  static constexpr int kN = Shape::kNodes;
+
+ public:
+  int nodes_per_element() const override { return kN; }
+
+  double volume(std::span<const int> elements, std::span<const int> conn,
+                const Eigen::Matrix<double, 3, Eigen::Dynamic>& x, const Vec3& o) const override {
+    double V = 0;
+    for (int e : elements) V += K::volume(nodes_of(e, conn, x), o);
+    return V;
+  }
+
+  void derivatives(std::span<const int> elements, std::span<const int> conn,
+                   const Eigen::Matrix<double, 3, Eigen::Dynamic>& x, const Vec3& o, double scale,
+                   double* a, double* H) const override {
+    typename K::Vector ae;
+    for (size_t k = 0; k < elements.size(); ++k) {
+      const auto xe = nodes_of(elements[k], conn, x);
+      if (H)
+        K::hessian(xe, o, scale, ae,
+                   *reinterpret_cast<typename K::Matrix*>(H + k * K::kDofs * K::kDofs));
+      else
+        K::gradient(xe, o, ae);
+      Eigen::Map<typename K::Vector>(a + k * K::kDofs) = ae;
+    }
+  }
+
+ private:
+  static typename K::Nodes nodes_of(int e, std::span<const int> conn,
+                                    const Eigen::Matrix<double, 3, Eigen::Dynamic>& x) {
+    typename K::Nodes xe;
+    for (int i = 0; i < kN; ++i) xe.col(i) = x.col(conn[static_cast<size_t>(e) * kN + i]);
+    return xe;
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<SurfaceVolumeKernel> make_surface_volume_kernel(std::string_view type) {
+  if (type == "tri3") return std::make_unique<ShapeVolumeKernel<shape::Tri3>>();
+  if (type == "tri6") return std::make_unique<ShapeVolumeKernel<shape::Tri6>>();
+  if (type == "quad4") return std::make_unique<ShapeVolumeKernel<shape::Quad4>>();
+  if (type == "quad8") return std::make_unique<ShapeVolumeKernel<shape::Quad8>>();
+  if (type == "quad9") return std::make_unique<ShapeVolumeKernel<shape::Quad9>>();
+  return nullptr;
+}
+
+template struct EnclosedVolume<shape::Tri3>;
+template struct EnclosedVolume<shape::Tri6>;
+template struct EnclosedVolume<shape::Quad4>;
+template struct EnclosedVolume<shape::Quad8>;
+template struct EnclosedVolume<shape::Quad9>;
+
+}  // namespace velum

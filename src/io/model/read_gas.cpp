@@ -1,0 +1,112 @@
+// Enclosed-gas loads (`type: gas`, docs/inflatables.md) and their `gas_volume` /
+// `gas_pressure` history entries: the keys, and the chamber checks once the model is built.
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+#include "reader.hpp"
+#include "velum/model/gas_chamber.hpp"
+
+namespace velum::io::model_file {
+
+void Reader::parse_gas_load(const Node& l, const std::string& p) {
+  check_map(l, p, {"type", "elements", "initial_pressure", "ambient", "gamma", "amount", "origin"});
+  GasLoad gas;
+  bool ok = true;
+  // elements: one set name or a list of them.
+  std::vector<std::pair<std::string, Node>> sets;
+  if (!has(l, "elements")) {
+    require(l, "elements", p);
+    ok = false;
+  } else if (l["elements"].IsSequence()) {
+    for (size_t k = 0; k < l["elements"].size(); ++k) {
+      const Node s = l["elements"][k];
+      if (s.IsScalar())
+        sets.emplace_back(s.as<std::string>(), s);
+      else
+        error(s, item(sub(p, "elements"), k), "expected an element set name"), ok = false;
+    }
+  } else if (auto set = text(l, "elements", p, true)) {
+    sets.emplace_back(*set, l["elements"]);
+  } else {
+    ok = false;
+  }
+  for (const auto& [set, at] : sets) {
+    auto sit = element_sets_.find(set);
+    if (sit == element_sets_.end()) {
+      if (mesh_ok_)
+        error(at, sub(p, "elements"),
+              fmt::format("undefined element set '{}'{}", set,
+                          suggestion(set, keys_of(element_sets_))));
+      ok = false;
+      continue;
+    }
+    if (sit->second.dimension != 2) {
+      error(at, sub(p, "elements"),
+            fmt::format("gas acts on membranes; set '{}' holds cables", set));
+      ok = false;
+      continue;
+    }
+    for (int b : set_blocks_[set]) {
+      GasLoad::Part part{b, std::vector<int>(static_cast<size_t>(in_.model.blocks[b]->size()))};
+      for (size_t e = 0; e < part.elements.size(); ++e) part.elements[e] = static_cast<int>(e);
+      gas.parts.push_back(std::move(part));
+    }
+  }
+  auto p0 = positive(l, "initial_pressure", p, true, "the initial (absolute) pressure");
+  auto pa = non_negative(l, "ambient", p, "the ambient pressure");
+  auto gamma = positive(l, "gamma", p, false, "gamma");
+  if (auto o = vec3(l, "origin", p, false)) gas.origin = *o;
+  if (auto f = text(l, "amount", p, false)) {
+    if (auto it = functions_.find(*f); it != functions_.end())
+      gas.amount = it->second;
+    else if (*f != "step") {
+      auto names = keys_of(functions_);
+      names.push_back("step");
+      error(l["amount"], sub(p, "amount"),
+            fmt::format("undefined function '{}'{}", *f, suggestion(*f, names)));
+      ok = false;
+    }
+  }
+  if (!p0) ok = false;
+  if (!ok) return;
+  gas.initial_pressure = *p0;
+  gas.ambient = pa.value_or(0.0);
+  gas.gamma = gamma.value_or(1.0);
+  in_.model.gases.push_back(std::move(gas));
+  gas_load_nodes_.push_back({l, p});
+}
+
+void Reader::set_up_gas_chambers() {
+  for (size_t i = 0; i < in_.model.gases.size(); ++i) {
+    try {
+      set_up_gas_chamber(in_.model, in_.model.gases[i], [&](int block, int element) {
+        const auto& ids = block_ids_[static_cast<size_t>(block)];
+        return static_cast<size_t>(element) < ids.size() ? ids[static_cast<size_t>(element)]
+                                                         : static_cast<long>(element) + 1;
+      });
+    } catch (const std::invalid_argument& e) {
+      error(gas_load_nodes_[i].first["elements"], sub(gas_load_nodes_[i].second, "elements"),
+            e.what());
+    }
+  }
+}
+
+bool Reader::parse_gas_history(const Node& e, const std::string& p, HistoryEntry& he) {
+  if (!require(e, "load", p)) return false;
+  auto k = integer(e["load"], sub(p, "load"), "the gas load index");
+  if (!k) return false;
+  const long n = static_cast<long>(in_.model.gases.size());
+  if (*k < 0 || *k >= n) {
+    error(e["load"], sub(p, "load"),
+          n == 0 ? std::string("the model has no gas load (loads of type: gas)")
+                 : fmt::format("no gas load {}: the model has {} (counted from 0, in the order "
+                               "of the gas loads under loads)",
+                               *k, n));
+    return false;
+  }
+  he.load = static_cast<int>(*k);
+  return true;
+}
+
+}  // namespace velum::io::model_file
