@@ -68,6 +68,12 @@ class Progress {
     std::fflush(stderr);
     drawn_ = true;
   }
+  // A warning on its own line (the bar, if drawn, continues below it).
+  void warn(const std::string& w) {
+    if (drawn_) fmt::print(stderr, "\n");
+    drawn_ = false;
+    fmt::print(stderr, "warning: {}\n", w);
+  }
   void finish(const TimeLoopResult& r) {
     if (quiet_) return;
     if (drawn_) fmt::print(stderr, "\n");
@@ -197,13 +203,16 @@ int run_command(const RunOptions& opt) {
   summary.dofs = system->size();
   int status = kExitOk;
   try {
-    result = run_analysis(*system, settings, [&](const StepSnapshot& snap) {
-      writer->write_step(snap.step);
-      if (snap.step.output_time) writer->write(snap);
-      summary.final_time = snap.step.t;
-      progress.update(snap.step);
-      return true;
-    });
+    result = run_analysis(
+        *system, settings,
+        [&](const StepSnapshot& snap) {
+          writer->write_step(snap.step);
+          if (snap.step.output_time) writer->write(snap);
+          summary.final_time = snap.step.t;
+          progress.update(snap.step);
+          return true;
+        },
+        [&](const std::string& w) { progress.warn(w); });
     progress.finish(result.loop);
     summary.converged = result.loop.completed;
     summary.reason = result.loop.reason;
@@ -215,6 +224,7 @@ int run_command(const RunOptions& opt) {
     summary.integrator = result.integrator;
     summary.solver = result.solver;
     summary.dofs = result.dofs;
+    summary.warnings = result.warnings;
     if (!result.loop.completed) status = kExitSolveFailed;
   } catch (const OutputError& e) {
     fmt::print(stderr, "\nerror: {}\n", e.what());
@@ -238,6 +248,9 @@ int run_command(const RunOptions& opt) {
                summary.reason.empty() ? "unknown reason" : summary.reason);
     return status;
   }
+  if (!opt.quiet && !summary.warnings.empty())
+    fmt::print(stderr, "velum: {} warning{} (in summary.json)\n", summary.warnings.size(),
+               summary.warnings.size() == 1 ? "" : "s");
   if (!opt.quiet)
     fmt::print(stderr,
                "velum: converged; energy: kinetic {:.6g}, strain {:.6g}, external work {:.6g}, "

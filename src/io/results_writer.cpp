@@ -108,7 +108,8 @@ ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
   steps_ = std::fopen(sp.c_str(), "w");
   if (!steps_)
     throw OutputError(fmt::format("cannot write {}: {}", sp.string(), std::strerror(errno)));
-  if (std::fputs("step,time,step_size,iterations,factorizations,residuals\n", steps_) < 0 ||
+  if (std::fputs("step,time,step_size,iterations,factorizations,negative_pivots,residuals\n",
+                 steps_) < 0 ||
       std::fflush(steps_) != 0)
     throw OutputError(fmt::format("cannot write {}", sp.string()));
 }
@@ -124,8 +125,11 @@ void ResultsWriter::write_step(const AcceptedStep& step) {
   std::string all;
   if (r)
     for (double x : *r) all += fmt::format("{}{:.3e}", all.empty() ? "" : " ", x);
-  const std::string row = fmt::format("{},{:.12g},{:.6g},{},{},{}\n", step.step, step.t, step.h,
-                                      step.iterations, step.factorizations, all);
+  // Negative pivots: empty where unknown (dynamic steps, LU factorisations).
+  const int neg = step.report ? step.report->negative_pivots : -1;
+  const std::string row =
+      fmt::format("{},{:.12g},{:.6g},{},{},{},{}\n", step.step, step.t, step.h, step.iterations,
+                  step.factorizations, neg >= 0 ? std::to_string(neg) : std::string(), all);
   if (std::fputs(row.c_str(), steps_) < 0 || std::fflush(steps_) != 0)
     throw OutputError(fmt::format("cannot write {}", (dir_ / "steps.csv").string()));
 }
@@ -337,6 +341,9 @@ void ResultsWriter::write_summary(const RunSummary& r) {
   s += fmt::format("  \"integrator\": {},\n  \"linear_solver\": {},\n", json_string(r.integrator),
                    json_string(r.solver));
   s += fmt::format("  \"frames\": {},\n", frame_times_.size());
+  std::string warnings;
+  for (const auto& w : r.warnings) warnings += (warnings.empty() ? "" : ", ") + json_string(w);
+  s += fmt::format("  \"warnings\": [{}],\n", warnings);
   s += fmt::format(
       "  \"energy\": {{\"kinetic\": {}, \"strain\": {}, \"external_work\": {}, \"damping\": {}}}\n",
       json_number(r.energy.kinetic), json_number(r.energy.strain),

@@ -28,6 +28,7 @@ struct RunSummary {
   int dofs = 0, elements = 0;
   Energies energy;
   std::string reason, integrator, solver;
+  std::vector<std::string> warnings;  ///< what a user must know about a normal end
 };
 
 class ResultsWriter {
