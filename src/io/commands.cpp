@@ -185,6 +185,15 @@ int run_command(const RunOptions& opt) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kExitIo;
   }
+  if (const PathSettings& path = in->analysis.path;
+      path.method == PathSettings::Method::kDisplacement &&
+      system->dofs().equation(path.node, path.component) < 0) {
+    fmt::print(stderr,
+               "error: {}: analysis.path: node {} {} is fixed, prescribed or normal to a symmetry "
+               "plane: displacement control needs a free component\n",
+               opt.model.string(), in->model.node_ids[path.node], "xyz"[path.component]);
+    return kExitBadInput;
+  }
   AnalysisSettings settings = in->analysis;
   settings.time.output_interval = in->output.interval;
   if (!opt.quiet)
