@@ -149,20 +149,47 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
   AcceptedStep first{.t = loop.t0, .output_time = true};
   if (observer && !observer(StepSnapshot{first, sys, s, E})) return result;
 
-  result.loop = run_time_loop(
-      sys, *integrator, *solver, loop, s, [&](const AcceptedStep& st, const State& cur) {
-        const NodePositions U = sys.displacements(st.t, cur.u);
-        const NodePositions F = sys.external_forces(st.t, cur.u, cur.v);
-        E.external_work += 0.5 * ((F + F_prev).array() * (U - U_prev).array()).sum();
-        if (alpha != 0)
-          E.damping +=
-              0.5 * st.h * alpha *
-              (cur.v.dot(sys.mass_matrix() * cur.v) + v_prev.dot(sys.mass_matrix() * v_prev));
-        E.kinetic = settings.equilibrium() ? 0.0 : sys.kinetic_energy(cur.v);
-        E.strain = sys.strain_energy(st.t, cur.u);
-        U_prev = U, F_prev = F, v_prev = cur.v, t_prev = st.t;
-        return !observer || observer(StepSnapshot{st, sys, cur, E});
-      });
+  const bool dynamic = settings.type == AnalysisSettings::Type::kDynamic;
+  VecX u_last = s.u;
+  double t_last = loop.t0;
+  bool warned_fold = false;
+  auto on_step = [&](const AcceptedStep& st, const State& cur) {
+    stability.observe(st);
+    if (dynamic && !warned_fold) {  // static steps never accept one (integrators.cpp)
+      if (std::string inv = sys.inverted_element(t_last, u_last, st.t, cur.u); !inv.empty()) {
+        warned_fold = true;
+        warn(inv +
+             " (folded through zero area or length): results near it are those of a "
+             "collapsed element");
+      }
+      u_last = cur.u, t_last = st.t;
+    }
+    const NodePositions U = energy.step(st, cur, E);
+    implausible = plausible.check(st.t, U, cur, energy.balanced(), energy.held(E), E.external_work,
+                                  energy.work_scale());
+    if (!implausible.empty()) return false;
+    return !observer || observer(StepSnapshot{st, sys, cur, E});
+  };
+  if (settings.type == AnalysisSettings::Type::kStatic &&
+      settings.path.method != PathSettings::Method::kLoadControl) {
+    PathSettings path = settings.path;
+    if (path.method == PathSettings::Method::kDisplacement)
+      path.equation = sys.dofs().equation(path.node, path.component);
+    result.integrator = path.method == PathSettings::Method::kDisplacement ? "displacement control"
+                        : path.constraint == PathSettings::Constraint::kRiks
+                            ? "arc length (Riks)"
+                            : "arc length (Crisfield)";
+    result.loop = run_path_following(sys, *solver, settings.newton, loop, path, s, on_step);
+  } else {
+    result.loop = run_time_loop(sys, *integrator, *solver, loop, s, on_step);
+  }
+  if (!implausible.empty()) {
+    result.loop.stopped = false;
+    result.loop.reason = implausible;
+  }
+  if (result.loop.completed && energy.balanced())
+    plausible.final_balance(result.loop.t, energy.held(E), E.external_work, energy.work_scale(),
+                            warn);
   result.solver = std::string(solver->name());  // what `auto` settled on
   result.factorizations = solver->factorizations();
   result.analyses = solver->analyses();
