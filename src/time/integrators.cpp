@@ -388,16 +388,17 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
   if (extrapolated && (!rep.converged || less_stable)) {
     VecX u_plain = s.u;
     StepReport plain = solve_from(u_plain);
-    plain.iterations += rep.iterations;
-    plain.factorizations += rep.factorizations;
-    plain.residuals.insert(plain.residuals.begin(), rep.residuals.begin(), rep.residuals.end());
-    if (plain.converged || !rep.converged) {
+    const int iterations = rep.iterations + plain.iterations,
+              factorizations = rep.factorizations + plain.factorizations;
+    if (plain.converged || !rep.converged) {  // residuals in the order they came
+      plain.residuals.insert(plain.residuals.begin(), rep.residuals.begin(), rep.residuals.end());
       rep = std::move(plain);
       u = std::move(u_plain);
-    } else {
-      rep.iterations = plain.iterations;
-      rep.factorizations = plain.factorizations;
+    } else {  // the extrapolated state kept: its residuals last, ending on the converged one
+      rep.residuals.insert(rep.residuals.begin(), plain.residuals.begin(), plain.residuals.end());
     }
+    rep.iterations = iterations;
+    rep.factorizations = factorizations;
   }
   if (rep.converged) {
     remember(t, h, s.u, u, rep);
