@@ -50,6 +50,8 @@ class StabilityWatch {
       warn_(fmt::format("stable again from t = {:.6g} (step {})", st.t, st.step));
     last_ = neg;
   }
+  int last() const { return last_; }
+  void restore(int last) { last_ = last; }
 
  private:
   std::function<void(std::string)> warn_;
@@ -101,8 +103,37 @@ class EnergyAccount {
   /// which the trapezoidal work is only as good as the steps are fine (a softening truss in
   /// one step: 29% off), and no blow-up hides there.
   bool balanced() const { return dynamic_; }
+  void save(std::vector<double>& m) const {
+    m.push_back(held0_);
+    m.push_back(work_scale_);
+    for (const NodePositions* P : {&U_prev_, &F_prev_, &R_prev_}) put(m, P->data(), P->size());
+    put(m, v_prev_.data(), v_prev_.size());
+  }
+  // Reads what save() wrote from m[at]; returns the position after it.
+  size_t restore(const std::vector<double>& m, size_t at) {
+    held0_ = m.at(at), work_scale_ = m.at(at + 1);
+    at += 2;
+    for (NodePositions* P : {&U_prev_, &F_prev_, &R_prev_}) {
+      const auto n = static_cast<Eigen::Index>(m.at(at));
+      P->resize(3, n / 3);
+      at = take(m, at, P->data(), n);
+    }
+    v_prev_.resize(static_cast<Eigen::Index>(m.at(at)));
+    return take(m, at, v_prev_.data(), v_prev_.size());
+  }
 
  private:
+  static void put(std::vector<double>& m, const double* x, Eigen::Index n) {
+    m.push_back(static_cast<double>(n));
+    m.insert(m.end(), x, x + n);
+  }
+  static size_t take(const std::vector<double>& m, size_t at, double* x, Eigen::Index n) {
+    if (static_cast<Eigen::Index>(m.at(at)) != n || m.size() < at + 1 + n)
+      throw std::invalid_argument("checkpoint: the energy account does not fit this model");
+    std::copy(m.begin() + static_cast<long>(at) + 1, m.begin() + static_cast<long>(at) + 1 + n, x);
+    return at + 1 + static_cast<size_t>(n);
+  }
+
   MechanicalSystem& sys_;
   bool dynamic_, prescribed_;
   NodePositions U_prev_, F_prev_, R_prev_;
@@ -115,7 +146,7 @@ class EnergyAccount {
 AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& settings,
                             const std::function<bool(const StepSnapshot&)>& observer,
                             const std::function<void(const std::string&)>& on_warning,
-                            const State* start) {
+                            const State* start, const Checkpoint* resume) {
   AnalysisResult result;
   auto warn = [&](std::string w) {
     if (on_warning) on_warning(w);
@@ -133,8 +164,12 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
   s.v = VecX::Zero(sys.size());
   s.a = VecX::Zero(sys.size());
   if (start) s = *start;
+  if (resume) s = resume->state;
   TimeLoopSettings loop = settings.time;
-  if (!integrator->implicit()) {
+  if (resume) {
+    loop.step = resume->loop.step;
+    if (!integrator->implicit()) loop.adaptive = false;
+  } else if (!integrator->implicit()) {
     // Central difference: cap the step at 0.9 of the stable estimate at the start.
     result.stable_step = stable_time_step(sys, loop.t0, s);
     loop.step = std::min(loop.step, 0.9 * result.stable_step);
@@ -146,13 +181,44 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
   PlausibilityCheck plausible(sys.model());
   std::string implausible;
 
-  AcceptedStep first{.t = loop.t0, .output_time = true};
-  if (observer && !observer(StepSnapshot{first, sys, s, E})) return result;
-
   const bool dynamic = settings.type == AnalysisSettings::Type::kDynamic;
   VecX u_last = s.u;
   double t_last = loop.t0;
   bool warned_fold = false;
+  if (resume) {  // the memory laid out by make_checkpoint below
+    E = resume->energy;
+    result.warnings = resume->warnings;
+    integrator->restore(resume->integrator);
+    const std::vector<double>& m = resume->analysis;
+    if (m.size() < 3) throw std::invalid_argument("checkpoint: no analysis memory");
+    stability.restore(static_cast<int>(m[0]));
+    warned_fold = m[1] != 0;
+    t_last = m[2];
+    energy.restore(m, 3);
+  } else {
+    AcceptedStep first{.t = loop.t0, .output_time = true};
+    if (observer && !observer(StepSnapshot{first, sys, s, E})) return result;
+  }
+  const AcceptedStep* current = nullptr;
+  const State* current_state = nullptr;
+  const std::function<Checkpoint()> make_checkpoint = [&] {
+    Checkpoint c;
+    const AcceptedStep& st = *current;
+    c.loop = {.t = st.t,
+              .step = loop.step,
+              .steps = st.step,
+              .iterations = st.total_iterations,
+              .factorizations = st.total_factorizations,
+              .cutbacks = st.cutbacks,
+              .control = st.control ? *st.control : StepControlState{}};
+    c.state = *current_state;
+    c.energy = E;
+    c.integrator = integrator->save();
+    c.analysis = {static_cast<double>(stability.last()), warned_fold ? 1.0 : 0.0, t_last};
+    energy.save(c.analysis);
+    c.warnings = result.warnings;
+    return c;
+  };
   auto on_step = [&](const AcceptedStep& st, const State& cur) {
     stability.observe(st);
     if (dynamic && !warned_fold) {  // static steps never accept one (integrators.cpp)
@@ -168,7 +234,9 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
     implausible = plausible.check(st.t, U, cur, energy.balanced(), energy.held(E), E.external_work,
                                   energy.work_scale());
     if (!implausible.empty()) return false;
-    return !observer || observer(StepSnapshot{st, sys, cur, E});
+    current = &st, current_state = &cur;
+    return !observer ||
+           observer(StepSnapshot{st, sys, cur, E, st.control ? &make_checkpoint : nullptr});
   };
   if (settings.type == AnalysisSettings::Type::kStatic &&
       settings.path.method != PathSettings::Method::kLoadControl) {
@@ -181,7 +249,8 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
                             : "arc length (Crisfield)";
     result.loop = run_path_following(sys, *solver, settings.newton, loop, path, s, on_step);
   } else {
-    result.loop = run_time_loop(sys, *integrator, *solver, loop, s, on_step);
+    result.loop = run_time_loop(sys, *integrator, *solver, loop, s, on_step,
+                                resume ? &resume->loop : nullptr);
   }
   if (!implausible.empty()) {
     result.loop.stopped = false;

@@ -10,6 +10,7 @@
 
 #include "velum/assembly/dof_map.hpp"
 #include "velum/config.hpp"
+#include "velum/io/checkpoint.hpp"
 #include "velum/io/model_reader.hpp"
 #include "velum/io/results_writer.hpp"
 
@@ -106,6 +107,61 @@ std::optional<ModelInput> load(const std::filesystem::path& file) {
   }
 }
 
+// When output.checkpoint asks for one: every `steps` accepted steps, or at the first step at
+// or past each multiple of `interval`; and at the end of the run (which can then be extended).
+class CheckpointSchedule {
+ public:
+  CheckpointSchedule(const OutputSettings& out, const TimeLoopSettings& time)
+      : steps_(out.checkpoint_steps),
+        interval_(out.checkpoint_interval),
+        end_(time.t_end),
+        eps_(1e-9 * time.step) {}
+  bool due(const AcceptedStep& st) {
+    if (steps_ <= 0 && interval_ <= 0) return false;
+    bool now = st.t >= end_ - eps_ || (steps_ > 0 && st.step % steps_ == 0);
+    if (interval_ > 0) {
+      const double k = std::floor((st.t + eps_) / interval_);
+      now = now || k > last_k_;
+      last_k_ = std::max(last_k_, k);
+    }
+    return now;
+  }
+
+ private:
+  int steps_;
+  double interval_, end_, eps_, last_k_ = 0;
+};
+
+void save_checkpoint(const ResultsWriter& writer, const std::filesystem::path& model, int dofs,
+                     Checkpoint run) {
+  const WriterPosition at = writer.position();
+  write_checkpoint(writer.directory() / "checkpoint.bin",
+                   CheckpointFile{.dofs = dofs,
+                                  .model = model.filename().string(),
+                                  .run = std::move(run),
+                                  .history_bytes = at.history_bytes,
+                                  .steps_bytes = at.steps_bytes,
+                                  .frame_times = at.frame_times});
+}
+
+// The checkpoint in DIR, if it fits the model; otherwise a message and nullopt.
+std::optional<CheckpointFile> load_checkpoint(const std::filesystem::path& dir,
+                                              const ModelInput& in, const MechanicalSystem& sys) {
+  try {
+    CheckpointFile c = read_checkpoint(dir / "checkpoint.bin");
+    if (c.dofs != sys.size() || c.run.state.u.size() != sys.size())
+      throw std::runtime_error(
+          fmt::format("{}: written by a model with {} equations ({}), this one has {}",
+                      (dir / "checkpoint.bin").string(), c.dofs, c.model, sys.size()));
+    if (in.analysis.path.method != PathSettings::Method::kLoadControl)
+      throw std::runtime_error("--restart: path following (analysis.path) has no checkpoints");
+    return c;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return std::nullopt;
+  }
+}
+
 std::map<std::string, int> elements_per_type(const Model& m) {
   std::map<std::string, int> out;
   for (const auto& b : m.blocks) out[std::string(b->type_name())] += b->size();
@@ -144,13 +200,11 @@ int check_command(const std::filesystem::path& file) {
   fmt::print("boundary:   {} fixed, {} prescribed, {} symmetry\n", m.fixed.size(),
              m.prescribed.size(), m.symmetry.size());
   const auto& a = in->analysis;
-  fmt::print("analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n",
-             a.type_name(),
+  fmt::print("analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n", a.type_name(),
              a.type == AnalysisSettings::Type::kStatic       ? "load stepping"
              : a.type == AnalysisSettings::Type::kRelaxation ? "kinetic damping, then Newton"
                                                              : a.scheme,
-             a.time.t_end,
-             a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
+             a.time.t_end, a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
   fmt::print("output:     {} every {:.6g}, {} history column{}{}\n", in->output.directory.string(),
              in->output.interval, in->output.history.size(),
              in->output.history.size() == 1 ? "" : "s", in->output.fields ? ", fields" : "");
@@ -178,13 +232,25 @@ int run_command(const RunOptions& opt) {
     fmt::print(stderr, "error: {}: {}\n", opt.model.string(), e.what());
     return kExitBadInput;
   }
+  std::optional<CheckpointFile> resume;
+  if (opt.restart) {
+    in->output.directory = *opt.restart;
+    if (!(resume = load_checkpoint(*opt.restart, *in, *system))) return kExitBadInput;
+  }
   std::unique_ptr<ResultsWriter> writer;
   try {
-    writer = std::make_unique<ResultsWriter>(*in, *system, in->output.directory);
+    WriterPosition at;
+    if (resume)
+      at = {.history_bytes = resume->history_bytes,
+            .steps_bytes = resume->steps_bytes,
+            .frame_times = resume->frame_times};
+    writer =
+        std::make_unique<ResultsWriter>(*in, *system, in->output.directory, resume ? &at : nullptr);
   } catch (const OutputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kExitIo;
   }
+  CheckpointSchedule checkpoints(in->output, in->analysis.time);
   if (const PathSettings& path = in->analysis.path;
       path.method == PathSettings::Method::kDisplacement &&
       system->dofs().equation(path.node, path.component) < 0) {
@@ -202,10 +268,12 @@ int run_command(const RunOptions& opt) {
                in->output.directory.string());
 
   Progress progress(opt.quiet, settings.time.t0, settings.time.t_end);
-  progress.start(settings.type == AnalysisSettings::Type::kStatic ? "static load stepping"
-                 : settings.type == AnalysisSettings::Type::kRelaxation
-                     ? "dynamic relaxation"
-                     : "dynamic run (" + settings.scheme + ")");
+  progress.start((settings.type == AnalysisSettings::Type::kStatic
+                      ? std::string("static load stepping")
+                  : settings.type == AnalysisSettings::Type::kRelaxation
+                      ? std::string("dynamic relaxation")
+                      : "dynamic run (" + settings.scheme + ")") +
+                 (resume ? fmt::format(", restarted at t = {:.6g}", resume->run.loop.t) : ""));
   AnalysisResult result;
   RunSummary summary;
   summary.elements = in->model.num_elements();
@@ -217,11 +285,13 @@ int run_command(const RunOptions& opt) {
         [&](const StepSnapshot& snap) {
           writer->write_step(snap.step);
           if (snap.step.output_time) writer->write(snap);
+          if (snap.checkpoint && checkpoints.due(snap.step))
+            save_checkpoint(*writer, opt.model, system->size(), (*snap.checkpoint)());
           summary.final_time = snap.step.t;
           progress.update(snap.step);
           return true;
         },
-        [&](const std::string& w) { progress.warn(w); });
+        [&](const std::string& w) { progress.warn(w); }, nullptr, resume ? &resume->run : nullptr);
     progress.finish(result.loop);
     summary.converged = result.loop.completed;
     summary.reason = result.loop.reason;

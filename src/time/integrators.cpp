@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace velum {
 namespace {
@@ -405,6 +406,31 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
     s.u = u;
   }
   return rep;
+}
+
+std::vector<double> StaticNewton::save() const {
+  std::vector<double> m = {h_prev_,
+                           h_prev2_,
+                           t_prev_,
+                           prefer_parabola_ ? 1.0 : 0.0,
+                           static_cast<double>(negative_pivots_),
+                           static_cast<double>(u_prev_.size()),
+                           static_cast<double>(u_prev2_.size())};
+  m.insert(m.end(), u_prev_.data(), u_prev_.data() + u_prev_.size());
+  m.insert(m.end(), u_prev2_.data(), u_prev2_.data() + u_prev2_.size());
+  return m;
+}
+
+void StaticNewton::restore(const std::vector<double>& m) {
+  if (m.size() < 7) throw std::invalid_argument("static predictor memory: too short");
+  const auto n1 = static_cast<Eigen::Index>(m[5]), n2 = static_cast<Eigen::Index>(m[6]);
+  if (m.size() != static_cast<size_t>(7 + n1 + n2))
+    throw std::invalid_argument("static predictor memory: wrong size");
+  h_prev_ = m[0], h_prev2_ = m[1], t_prev_ = m[2];
+  prefer_parabola_ = m[3] != 0;
+  negative_pivots_ = static_cast<int>(m[4]);
+  u_prev_ = Eigen::Map<const VecX>(m.data() + 7, n1);
+  u_prev2_ = Eigen::Map<const VecX>(m.data() + 7 + n1, n2);
 }
 
 double stable_time_step(SecondOrderSystem& sys, double t, const State& s) {

@@ -16,52 +16,56 @@ namespace {
 // steps.
 class StepControl {
  public:
-  explicit StepControl(const TimeLoopSettings& cfg) : cfg_(cfg), h_(cfg.step) {}
-  double size() const { return h_; }
+  explicit StepControl(const TimeLoopSettings& cfg) : cfg_(cfg) { m_.h = cfg.step; }
+  double size() const { return m_.h; }
+  const StepControlState& state() const { return m_; }
+  void restore(const StepControlState& m) { m_ = m; }
   void failed(double tried) {
-    if (trying_) streak_needed_ = std::min(2 * streak_needed_, kMaxStreak);
-    trying_ = false;
-    h_ = tried * 0.5;
-    easy_ = streak_ = 0;
+    if (m_.trying) m_.streak_needed = std::min(2 * m_.streak_needed, kMaxStreak);
+    m_.trying = false;
+    m_.h = tried * 0.5;
+    m_.easy = m_.streak = 0;
   }
   void converged(int factorizations) {
-    trying_ = false;
-    if (!cfg_.adaptive || h_ >= cfg_.step) {
-      streak_needed_ = kFirstStreak;
+    m_.trying = false;
+    if (!cfg_.adaptive || m_.h >= cfg_.step) {
+      m_.streak_needed = kFirstStreak;
       return;
     }
-    ++streak_;
-    if (factorizations <= cfg_.easy_iterations) ++easy_;
-    if (easy_ >= kEasySteps || streak_ >= streak_needed_) {
-      trying_ = easy_ < kEasySteps;  // a try on a hard streak
-      h_ = std::min(cfg_.step, 2 * h_);
-      easy_ = streak_ = 0;
+    ++m_.streak;
+    if (factorizations <= cfg_.easy_iterations) ++m_.easy;
+    if (m_.easy >= kEasySteps || m_.streak >= m_.streak_needed) {
+      m_.trying = m_.easy < kEasySteps;  // a try on a hard streak
+      m_.h = std::min(cfg_.step, 2 * m_.h);
+      m_.easy = m_.streak = 0;
     }
   }
 
  private:
   static constexpr int kEasySteps = 3, kFirstStreak = 8, kMaxStreak = 256;
   const TimeLoopSettings& cfg_;
-  double h_;
-  int easy_ = 0, streak_ = 0, streak_needed_ = kFirstStreak;
-  bool trying_ = false;  ///< the current size is a try after a hard streak
+  StepControlState m_;
 };
 
 }  // namespace
 
-TimeLoopResult run_time_loop(
-    SecondOrderSystem& sys, TimeIntegrator& integrator, LinearSolver& solver,
-    const TimeLoopSettings& cfg, State& s,
-    const std::function<bool(const AcceptedStep&, const State&)>& observer) {
+TimeLoopResult run_time_loop(SecondOrderSystem& sys, TimeIntegrator& integrator,
+                             LinearSolver& solver, const TimeLoopSettings& cfg, State& s,
+                             const std::function<bool(const AcceptedStep&, const State&)>& observer,
+                             const LoopResume* resume) {
   TimeLoopResult res;
-  double t = cfg.t0;
+  double t = resume ? resume->t : cfg.t0;
   res.t = t;
   const double eps = 1e-9 * cfg.step;
-  if (const StepReport rep = integrator.start(sys, solver, t, s); !rep.converged) {
+  StepControl control(cfg);
+  if (resume) {
+    res.steps = resume->steps, res.iterations = resume->iterations;
+    res.factorizations = resume->factorizations, res.cutbacks = resume->cutbacks;
+    control.restore(resume->control);
+  } else if (const StepReport rep = integrator.start(sys, solver, t, s); !rep.converged) {
     res.reason = fmt::format("at t = {:g}: {}", t, rep.reason);
     return res;
   }
-  StepControl control(cfg);
   while (t < cfg.t_end - eps) {
     // Land on the next output time and on the end time.
     double target = cfg.t_end;
@@ -95,13 +99,16 @@ TimeLoopResult run_time_loop(
         .iterations = rep.iterations,
         .total_iterations = res.iterations,
         .factorizations = rep.factorizations,
+        .total_factorizations = res.factorizations,
         .output_time = hits_target && (cfg.output_interval > 0 || t >= cfg.t_end - eps),
-        .report = &rep};
+        .report = &rep,
+        .control = &control.state(),
+        .cutbacks = res.cutbacks};
+    control.converged(rep.factorizations);
     if (observer && !observer(info, s)) {
       res.stopped = true;
       return res;
     }
-    control.converged(rep.factorizations);
   }
   res.completed = true;
   return res;

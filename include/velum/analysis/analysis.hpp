@@ -49,12 +49,26 @@ struct Energies {
   double kinetic = 0, strain = 0, external_work = 0, damping = 0;
 };
 
+/// Everything a run needs to go on from an accepted step exactly as it would have (io/ writes
+/// it to DIR/checkpoint.bin): the loop's place and step control, the state, the integrator's
+/// memory, the energy account and what was warned.
+struct Checkpoint {
+  LoopResume loop;
+  State state;
+  Energies energy;
+  std::vector<double> integrator;  ///< TimeIntegrator::save
+  std::vector<double> analysis;    ///< the energy account and the watches
+  std::vector<std::string> warnings;
+};
+
 /// What an observer sees after each accepted step.
 struct StepSnapshot {
   const AcceptedStep& step;
   const MechanicalSystem& system;
   const State& state;
   const Energies& energy;
+  /// Makes the checkpoint of this step (load stepping and dynamics; null in path following).
+  const std::function<Checkpoint()>* checkpoint = nullptr;
 };
 
 struct AnalysisResult {
@@ -71,12 +85,13 @@ struct AnalysisResult {
 
 std::unique_ptr<TimeIntegrator> make_integrator(const AnalysisSettings& s);
 
-/// Runs the analysis from `start` at t0, or from rest at the reference configuration. The
+/// Runs the analysis from `resume` (a checkpoint of the same model, not in path following),
+/// from `start` at t0, or from rest at the reference configuration. The
 /// observer is called after each accepted step (and once at t0 with step 0); returning false
 /// stops the run. `on_warning` hears each warning as it arises.
 AnalysisResult run_analysis(MechanicalSystem& system, const AnalysisSettings& settings,
                             const std::function<bool(const StepSnapshot&)>& observer = {},
                             const std::function<void(const std::string&)>& on_warning = {},
-                            const State* start = nullptr);
+                            const State* start = nullptr, const Checkpoint* resume = nullptr);
 
 }  // namespace velum

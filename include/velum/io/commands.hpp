@@ -15,6 +15,7 @@ struct RunOptions {
   std::optional<std::filesystem::path> output;  ///< overrides output.directory
   int threads = 0;                              ///< 0: OpenMP's default
   bool quiet = false;
+  std::optional<std::filesystem::path> restart;  ///< a run's folder: go on from its checkpoint
 };
 
 int run_command(const RunOptions& options);

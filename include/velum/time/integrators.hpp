@@ -52,6 +52,10 @@ class TimeIntegrator {
                           State& s) = 0;
   /// Initial acceleration consistent with the equation of motion at t (implicit schemes).
   virtual StepReport start(SecondOrderSystem& sys, LinearSolver& solver, double t, State& s);
+  /// What the integrator keeps between steps (predictor history), for a checkpoint, and its
+  /// restoration; nothing for the one-step schemes.
+  virtual std::vector<double> save() const { return {}; }
+  virtual void restore(const std::vector<double>& memory) { (void)memory; }
 
   NewtonSettings newton;
 };
@@ -109,6 +113,8 @@ class StaticNewton : public TimeIntegrator {
     r.converged = true;
     return r;
   }
+  std::vector<double> save() const override;
+  void restore(const std::vector<double>& memory) override;
 
  private:
   // The start of Newton for the step from t to t + h into u; true when extrapolated.

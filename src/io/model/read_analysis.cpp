@@ -237,7 +237,25 @@ void Reader::parse_output(const Node& o, const Node& root) {
   out.directory = file_.parent_path() / "out";
   out.interval = in_.analysis.time.step;
   if (!o) return;
-  if (!check_map(o, "output", {"directory", "interval", "fields", "history"})) return;
+  if (!check_map(o, "output", {"directory", "interval", "fields", "history", "checkpoint"})) return;
+  if (has(o, "checkpoint")) {
+    const Node c = o["checkpoint"];
+    const std::string p = "output.checkpoint";
+    if (check_map(c, p, {"steps", "interval"})) {
+      if (has(c, "steps") == has(c, "interval"))
+        error(c, p,
+              "give either steps (every so many accepted steps) or interval (simulated time)");
+      if (has(c, "steps")) {
+        auto n = integer(c["steps"], sub(p, "steps"), "count");
+        if (n && (*n < 1 || *n > 1'000'000'000))
+          error(c["steps"], sub(p, "steps"), "steps must lie in [1, 1e9]");
+        else if (n)
+          out.checkpoint_steps = static_cast<int>(*n);
+      }
+      if (auto iv = positive(c, "interval", p, false, "the checkpoint interval"))
+        out.checkpoint_interval = *iv;
+    }
+  }
   if (auto d = text(o, "directory", "output", false)) {
     std::filesystem::path p = *d;
     out.directory = p.is_relative() ? file_.parent_path() / p : p;
