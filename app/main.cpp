@@ -26,6 +26,10 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--threads", run.threads, "number of OpenMP threads")
       ->check(CLI::PositiveNumber);
   run_cmd->add_flag("--quiet,-q", run.quiet, "print errors only");
+  std::string restart;
+  run_cmd->add_option("--restart", restart,
+                      "continue the run in DIR from its last checkpoint (output.checkpoint); "
+                      "results go on in DIR");
 
   std::filesystem::path check_model;
   auto* check_cmd = app.add_subcommand("check", "Validate a model file and print its statistics");
@@ -39,6 +43,7 @@ int main(int argc, char** argv) {
   }
   if (run_cmd->parsed()) {
     if (!output.empty()) run.output = output;
+    if (!restart.empty()) run.restart = restart;
     return velum::io::run_command(run);
   }
   return velum::io::check_command(check_model);

@@ -1,5 +1,9 @@
 #include "velum/analysis/analysis.hpp"
 
+#include "velum/analysis/plausibility.hpp"
+
+#include <fmt/format.h>
+
 #include <stdexcept>
 
 namespace velum {
@@ -7,13 +11,12 @@ namespace velum {
 std::unique_ptr<TimeIntegrator> make_integrator(const AnalysisSettings& s) {
   std::unique_ptr<TimeIntegrator> out;
   if (s.type == AnalysisSettings::Type::kStatic) {
-    out = std::make_unique<StaticNewton>();
+    out = std::make_unique<StaticNewton>(s.predictor == AnalysisSettings::Predictor::kExtrapolate);
   } else if (s.type == AnalysisSettings::Type::kRelaxation) {
     auto dr = std::make_unique<DynamicRelaxation>();
     dr->relaxation = s.relaxation;
     out = std::move(dr);
-  }
-  else if (s.scheme == "generalized-alpha")
+  } else if (s.scheme == "generalized-alpha")
     out = GeneralizedAlpha::chung_hulbert(s.rho_inf);
   else if (s.scheme == "hht")
     out = GeneralizedAlpha::hht(s.hht_alpha);
@@ -27,9 +30,129 @@ std::unique_ptr<TimeIntegrator> make_integrator(const AnalysisSettings& s) {
   return out;
 }
 
+namespace {
+
+// Watches the inertia of static equilibria: one warning each time the path enters an unstable
+// stretch (a negative eigenvalue of the tangent stiffness), one when it leaves it.
+class StabilityWatch {
+ public:
+  explicit StabilityWatch(const std::function<void(std::string)>& warn) : warn_(warn) {}
+  void observe(const AcceptedStep& st) {
+    const int neg = st.report ? st.report->negative_pivots : -1;
+    if (neg < 0 || neg == last_) return;
+    if (neg > 0 && last_ <= 0)
+      warn_(fmt::format(
+          "unstable equilibrium from t = {:.6g} (step {}): the tangent stiffness has {} negative "
+          "eigenvalue{} (past a limit or bifurcation point); a load step may jump to another "
+          "branch. Follow the path with analysis.path (arc_length or displacement)",
+          st.t, st.step, neg, neg == 1 ? "" : "s"));
+    else if (neg == 0 && last_ > 0)
+      warn_(fmt::format("stable again from t = {:.6g} (step {})", st.t, st.step));
+    last_ = neg;
+  }
+  int last() const { return last_; }
+  void restore(int last) { last_ = last; }
+
+ private:
+  std::function<void(std::string)> warn_;
+  int last_ = 0;
+};
+
+// The energy balance, step by step: the work of the loads by the trapezoidal rule on
+// Fext·ΔU (full vectors: loads on prescribed nodes included), the work of prescribed motions
+// likewise on the reactions (R·ΔU at eliminated components), the damping work on the
+// mass-proportional Rayleigh force.
+class EnergyAccount {
+ public:
+  EnergyAccount(MechanicalSystem& sys, bool dynamic, double t0, const State& s, Energies& E)
+      : sys_(sys), dynamic_(dynamic), prescribed_(!sys.model().prescribed.empty()) {
+    U_prev_ = sys.displacements(t0, s.u);
+    F_prev_ = sys.external_forces(t0, s.u, s.v);
+    if (prescribed_) R_prev_ = sys.reactions(t0, s.u, s.v);
+    v_prev_ = s.v;
+    E.kinetic = dynamic_ ? sys.kinetic_energy(s.v) : 0.0;
+    E.strain = sys.strain_energy(t0, s.u);
+    held0_ = E.kinetic + E.strain;
+  }
+  // Books the step that ended in `cur`; returns the full displacements there.
+  NodePositions step(const AcceptedStep& st, const State& cur, Energies& E) {
+    const NodePositions U = sys_.displacements(st.t, cur.u);
+    const NodePositions F = sys_.external_forces(st.t, cur.u, cur.v);
+    double dW = 0.5 * ((F + F_prev_).array() * (U - U_prev_).array()).sum();
+    if (prescribed_) {
+      NodePositions R = sys_.reactions(st.t, cur.u, cur.v);
+      dW += 0.5 * ((R + R_prev_).array() * (U - U_prev_).array()).sum();
+      R_prev_ = std::move(R);
+    }
+    E.external_work += dW;
+    work_scale_ += std::abs(dW);
+    const double alpha = sys_.model().rayleigh_mass;
+    if (alpha != 0)
+      E.damping +=
+          0.5 * st.h * alpha *
+          (cur.v.dot(sys_.mass_matrix() * cur.v) + v_prev_.dot(sys_.mass_matrix() * v_prev_));
+    E.kinetic = dynamic_ ? sys_.kinetic_energy(cur.v) : 0.0;
+    E.strain = sys_.strain_energy(st.t, cur.u);
+    U_prev_ = U, F_prev_ = F, v_prev_ = cur.v;
+    return U;
+  }
+  /// Kinetic + strain + damping energy, changes since the start.
+  double held(const Energies& E) const { return E.kinetic + E.strain + E.damping - held0_; }
+  double work_scale() const { return work_scale_; }
+  /// Whether the balance is a test: in dynamics. Static load steps are equilibria in between
+  /// which the trapezoidal work is only as good as the steps are fine (a softening truss in
+  /// one step: 29% off), and no blow-up hides there.
+  bool balanced() const { return dynamic_; }
+  void save(std::vector<double>& m) const {
+    m.push_back(held0_);
+    m.push_back(work_scale_);
+    for (const NodePositions* P : {&U_prev_, &F_prev_, &R_prev_}) put(m, P->data(), P->size());
+    put(m, v_prev_.data(), v_prev_.size());
+  }
+  // Reads what save() wrote from m[at]; returns the position after it.
+  size_t restore(const std::vector<double>& m, size_t at) {
+    held0_ = m.at(at), work_scale_ = m.at(at + 1);
+    at += 2;
+    for (NodePositions* P : {&U_prev_, &F_prev_, &R_prev_}) {
+      const auto n = static_cast<Eigen::Index>(m.at(at));
+      P->resize(3, n / 3);
+      at = take(m, at, P->data(), n);
+    }
+    v_prev_.resize(static_cast<Eigen::Index>(m.at(at)));
+    return take(m, at, v_prev_.data(), v_prev_.size());
+  }
+
+ private:
+  static void put(std::vector<double>& m, const double* x, Eigen::Index n) {
+    m.push_back(static_cast<double>(n));
+    m.insert(m.end(), x, x + n);
+  }
+  static size_t take(const std::vector<double>& m, size_t at, double* x, Eigen::Index n) {
+    if (static_cast<Eigen::Index>(m.at(at)) != n || m.size() < at + 1 + n)
+      throw std::invalid_argument("checkpoint: the energy account does not fit this model");
+    std::copy(m.begin() + static_cast<long>(at) + 1, m.begin() + static_cast<long>(at) + 1 + n, x);
+    return at + 1 + static_cast<size_t>(n);
+  }
+
+  MechanicalSystem& sys_;
+  bool dynamic_, prescribed_;
+  NodePositions U_prev_, F_prev_, R_prev_;
+  VecX v_prev_;
+  double held0_ = 0, work_scale_ = 0;
+};
+
+}  // namespace
+
 AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& settings,
-                            const std::function<bool(const StepSnapshot&)>& observer) {
+                            const std::function<bool(const StepSnapshot&)>& observer,
+                            const std::function<void(const std::string&)>& on_warning,
+                            const State* start, const Checkpoint* resume) {
   AnalysisResult result;
+  auto warn = [&](std::string w) {
+    if (on_warning) on_warning(w);
+    result.warnings.push_back(std::move(w));
+  };
+  StabilityWatch stability(warn);
   auto integrator = make_integrator(settings);
   auto solver = make_linear_solver(settings.solver);
   result.integrator = integrator->name();
@@ -40,41 +163,102 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
   s.u = VecX::Zero(sys.size());
   s.v = VecX::Zero(sys.size());
   s.a = VecX::Zero(sys.size());
+  if (start) s = *start;
+  if (resume) s = resume->state;
   TimeLoopSettings loop = settings.time;
-  if (!integrator->implicit()) {
+  if (resume) {
+    loop.step = resume->loop.step;
+    if (!integrator->implicit()) loop.adaptive = false;
+  } else if (!integrator->implicit()) {
     // Central difference: cap the step at 0.9 of the stable estimate at the start.
     result.stable_step = stable_time_step(sys, loop.t0, s);
     loop.step = std::min(loop.step, 0.9 * result.stable_step);
     loop.adaptive = false;
   }
 
-  // Energy balance: W_ext by the trapezoidal rule on Fext·ΔU, damping work likewise on the
-  // Rayleigh force. Full-vector quantities include prescribed motions.
   Energies& E = result.energy;
-  double t_prev = loop.t0;
-  NodePositions U_prev = sys.displacements(t_prev, s.u);
-  NodePositions F_prev = sys.external_forces(t_prev, s.u, s.v);
-  VecX v_prev = s.v;
-  const double alpha = sys.model().rayleigh_mass;
+  EnergyAccount energy(sys, settings.type == AnalysisSettings::Type::kDynamic, loop.t0, s, E);
+  PlausibilityCheck plausible(sys.model());
+  std::string implausible;
 
-  AcceptedStep start{.t = loop.t0, .output_time = true};
-  if (observer && !observer(StepSnapshot{start, sys, s, E})) return result;
-
-  result.loop = run_time_loop(
-      sys, *integrator, *solver, loop, s, [&](const AcceptedStep& st, const State& cur) {
-        const NodePositions U = sys.displacements(st.t, cur.u);
-        const NodePositions F = sys.external_forces(st.t, cur.u, cur.v);
-        E.external_work += 0.5 * ((F + F_prev).array() * (U - U_prev).array()).sum();
-        if (alpha != 0)
-          E.damping +=
-              0.5 * st.h * alpha *
-              (cur.v.dot(sys.mass_matrix() * cur.v) + v_prev.dot(sys.mass_matrix() * v_prev));
-        E.kinetic =
-            settings.equilibrium() ? 0.0 : sys.kinetic_energy(cur.v);
-        E.strain = sys.strain_energy(st.t, cur.u);
-        U_prev = U, F_prev = F, v_prev = cur.v, t_prev = st.t;
-        return !observer || observer(StepSnapshot{st, sys, cur, E});
-      });
+  const bool dynamic = settings.type == AnalysisSettings::Type::kDynamic;
+  VecX u_last = s.u;
+  double t_last = loop.t0;
+  bool warned_fold = false;
+  if (resume) {  // the memory laid out by make_checkpoint below
+    E = resume->energy;
+    result.warnings = resume->warnings;
+    integrator->restore(resume->integrator);
+    const std::vector<double>& m = resume->analysis;
+    if (m.size() < 3) throw std::invalid_argument("checkpoint: no analysis memory");
+    stability.restore(static_cast<int>(m[0]));
+    warned_fold = m[1] != 0;
+    t_last = m[2];
+    energy.restore(m, 3);
+  } else {
+    AcceptedStep first{.t = loop.t0, .output_time = true};
+    if (observer && !observer(StepSnapshot{first, sys, s, E})) return result;
+  }
+  const AcceptedStep* current = nullptr;
+  const State* current_state = nullptr;
+  const std::function<Checkpoint()> make_checkpoint = [&] {
+    Checkpoint c;
+    const AcceptedStep& st = *current;
+    c.loop = {.t = st.t,
+              .step = loop.step,
+              .steps = st.step,
+              .iterations = st.total_iterations,
+              .factorizations = st.total_factorizations,
+              .cutbacks = st.cutbacks,
+              .control = st.control ? *st.control : StepControlState{}};
+    c.state = *current_state;
+    c.energy = E;
+    c.integrator = integrator->save();
+    c.analysis = {static_cast<double>(stability.last()), warned_fold ? 1.0 : 0.0, t_last};
+    energy.save(c.analysis);
+    c.warnings = result.warnings;
+    return c;
+  };
+  auto on_step = [&](const AcceptedStep& st, const State& cur) {
+    stability.observe(st);
+    if (dynamic && !warned_fold) {  // static steps never accept one (integrators.cpp)
+      if (std::string inv = sys.inverted_element(t_last, u_last, st.t, cur.u); !inv.empty()) {
+        warned_fold = true;
+        warn(inv +
+             " (folded through zero area or length): results near it are those of a "
+             "collapsed element");
+      }
+      u_last = cur.u, t_last = st.t;
+    }
+    const NodePositions U = energy.step(st, cur, E);
+    implausible = plausible.check(st.t, U, cur, energy.balanced(), energy.held(E), E.external_work,
+                                  energy.work_scale());
+    if (!implausible.empty()) return false;
+    current = &st, current_state = &cur;
+    return !observer ||
+           observer(StepSnapshot{st, sys, cur, E, st.control ? &make_checkpoint : nullptr});
+  };
+  if (settings.type == AnalysisSettings::Type::kStatic &&
+      settings.path.method != PathSettings::Method::kLoadControl) {
+    PathSettings path = settings.path;
+    if (path.method == PathSettings::Method::kDisplacement)
+      path.equation = sys.dofs().equation(path.node, path.component);
+    result.integrator = path.method == PathSettings::Method::kDisplacement ? "displacement control"
+                        : path.constraint == PathSettings::Constraint::kRiks
+                            ? "arc length (Riks)"
+                            : "arc length (Crisfield)";
+    result.loop = run_path_following(sys, *solver, settings.newton, loop, path, s, on_step);
+  } else {
+    result.loop = run_time_loop(sys, *integrator, *solver, loop, s, on_step,
+                                resume ? &resume->loop : nullptr);
+  }
+  if (!implausible.empty()) {
+    result.loop.stopped = false;
+    result.loop.reason = implausible;
+  }
+  if (result.loop.completed && energy.balanced())
+    plausible.final_balance(result.loop.t, energy.held(E), E.external_work, energy.work_scale(),
+                            warn);
   result.solver = std::string(solver->name());  // what `auto` settled on
   result.factorizations = solver->factorizations();
   result.analyses = solver->analyses();

@@ -7,6 +7,15 @@
 #include <limits>
 
 namespace velum {
+namespace {
+
+std::vector<long> node_ids_of(const Model& m, const ElementBlock& b, int e) {
+  std::vector<long> ids;
+  for (int n : b.nodes(e)) ids.push_back(m.node_ids[n]);
+  return ids;
+}
+
+}  // namespace
 
 MechanicalSystem::MechanicalSystem(const Model& model)
     : model_(model), dofs_(model), assembler_(model, dofs_) {
@@ -229,6 +238,22 @@ double MechanicalSystem::strain_energy(double t, const VecX& u) const {
   double U = 0;
   for (const auto& b : model_.blocks) U += b->strain_energy(x);
   return U;
+}
+
+std::string MechanicalSystem::inverted_element(double t_from, const VecX& u_from, double t_to,
+                                               const VecX& u_to) const {
+  const NodePositions from = model_.X + displacements(t_from, u_from);
+  const NodePositions to = model_.X + displacements(t_to, u_to);
+  for (const auto& b : model_.blocks) {
+    const int e = b->first_inverted(from, to);
+    if (e < 0) continue;
+    return fmt::format(
+        "{} element {} of set '{}' (nodes {}) turns inside out between t = {:.6g} and "
+        "{:.6g}",
+        b->type_name(), e + 1, b->set_name(), fmt::join(node_ids_of(model_, *b, e), " "), t_from,
+        t_to);
+  }
+  return {};
 }
 
 std::string MechanicalSystem::diagnose_singular(const SparseMatrix& J) const {

@@ -61,6 +61,13 @@ void Cable<Shape>::force_tangent(const Points& pts, const CableLaw& law, const N
 }
 
 template <class Shape>
+bool Cable<Shape>::keeps_orientation(const Points& pts, const Nodes& from, const Nodes& to) {
+  for (const auto& p : pts)
+    if (!((from * p.dN).dot(to * p.dN) > 0)) return false;
+  return true;
+}
+
+template <class Shape>
 double Cable<Shape>::strain_energy(const Points& pts, const CableLaw& law, const Nodes& x) {
   double U = 0;
   for (const auto& p : pts) {

@@ -154,6 +154,16 @@ double Membrane<Shape>::strain_energy(const Points& pts, const Law& law, const N
 }
 
 template <class Shape>
+bool Membrane<Shape>::keeps_orientation(const Points& pts, const Nodes& from, const Nodes& to) {
+  for (int q = 0; q < kQ; ++q) {
+    const auto& dN = pts.shapes->dN[q];
+    const Eigen::Matrix<double, 3, 2> g0 = from * dN, g1 = to * dN;
+    if (!(g0.col(0).cross(g0.col(1)).dot(g1.col(0).cross(g1.col(1))) > 0)) return false;
+  }
+  return true;
+}
+
+template <class Shape>
 typename Membrane<Shape>::NodeMatrix Membrane<Shape>::mass(const Points& pts) {
   NodeMatrix M = NodeMatrix::Zero();
   for (int q = 0; q < kQ; ++q) {

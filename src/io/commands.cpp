@@ -10,6 +10,7 @@
 
 #include "velum/assembly/dof_map.hpp"
 #include "velum/config.hpp"
+#include "velum/io/checkpoint.hpp"
 
 // Present when the BLAS behind SuiteSparse is OpenBLAS (Debian's alternatives), absent (null)
 // with the reference BLAS.
@@ -71,6 +72,12 @@ class Progress {
     if (drawn_) fmt::print(stderr, "\n");
     drawn_ = false;
   }
+  // A warning on its own line (the bar, if drawn, continues below it).
+  void warn(const std::string& w) {
+    if (drawn_) fmt::print(stderr, "\n");
+    drawn_ = false;
+    fmt::print(stderr, "warning: {}\n", w);
+  }
   void finish(const TimeLoopResult& r) {
     if (quiet_) return;
     end_line();
@@ -99,6 +106,61 @@ std::optional<ModelInput> load(const std::filesystem::path& file) {
     for (const auto& m : e.messages()) fmt::print(stderr, "error: {}\n", m);
     fmt::print(stderr, "velum: {} error{} in {}\n", e.messages().size(),
                e.messages().size() == 1 ? "" : "s", file.string());
+    return std::nullopt;
+  }
+}
+
+// When output.checkpoint asks for one: every `steps` accepted steps, or at the first step at
+// or past each multiple of `interval`; and at the end of the run (which can then be extended).
+class CheckpointSchedule {
+ public:
+  CheckpointSchedule(const OutputSettings& out, const TimeLoopSettings& time)
+      : steps_(out.checkpoint_steps),
+        interval_(out.checkpoint_interval),
+        end_(time.t_end),
+        eps_(1e-9 * time.step) {}
+  bool due(const AcceptedStep& st) {
+    if (steps_ <= 0 && interval_ <= 0) return false;
+    bool now = st.t >= end_ - eps_ || (steps_ > 0 && st.step % steps_ == 0);
+    if (interval_ > 0) {
+      const double k = std::floor((st.t + eps_) / interval_);
+      now = now || k > last_k_;
+      last_k_ = std::max(last_k_, k);
+    }
+    return now;
+  }
+
+ private:
+  int steps_;
+  double interval_, end_, eps_, last_k_ = 0;
+};
+
+void save_checkpoint(const ResultsWriter& writer, const std::filesystem::path& model, int dofs,
+                     Checkpoint run) {
+  const WriterPosition at = writer.position();
+  write_checkpoint(writer.directory() / "checkpoint.bin",
+                   CheckpointFile{.dofs = dofs,
+                                  .model = model.filename().string(),
+                                  .run = std::move(run),
+                                  .history_bytes = at.history_bytes,
+                                  .steps_bytes = at.steps_bytes,
+                                  .frame_times = at.frame_times});
+}
+
+// The checkpoint in DIR, if it fits the model; otherwise a message and nullopt.
+std::optional<CheckpointFile> load_checkpoint(const std::filesystem::path& dir,
+                                              const ModelInput& in, const MechanicalSystem& sys) {
+  try {
+    CheckpointFile c = read_checkpoint(dir / "checkpoint.bin");
+    if (c.dofs != sys.size() || c.run.state.u.size() != sys.size())
+      throw std::runtime_error(
+          fmt::format("{}: written by a model with {} equations ({}), this one has {}",
+                      (dir / "checkpoint.bin").string(), c.dofs, c.model, sys.size()));
+    if (in.analysis.path.method != PathSettings::Method::kLoadControl)
+      throw std::runtime_error("--restart: path following (analysis.path) has no checkpoints");
+    return c;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
     return std::nullopt;
   }
 }
@@ -146,13 +208,11 @@ int check_command(const std::filesystem::path& file) {
   fmt::print("boundary:   {} fixed, {} prescribed, {} symmetry\n", m.fixed.size(),
              m.prescribed.size(), m.symmetry.size());
   const auto& a = in->analysis;
-  fmt::print("analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n",
-             a.type_name(),
+  fmt::print("analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n", a.type_name(),
              a.type == AnalysisSettings::Type::kStatic       ? "load stepping"
              : a.type == AnalysisSettings::Type::kRelaxation ? "kinetic damping, then Newton"
                                                              : a.scheme,
-             a.time.t_end,
-             a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
+             a.time.t_end, a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
   fmt::print("output:     {} every {:.6g}, {} history column{}{}\n", in->output.directory.string(),
              in->output.interval, in->output.history.size(),
              in->output.history.size() == 1 ? "" : "s", in->output.fields ? ", fields" : "");
@@ -178,12 +238,38 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
     out.errors.push_back(fmt::format("{}: {}", input.file.string(), e.what()));
     return out;
   }
+  std::optional<CheckpointFile> resume;
+  if (opt.restart) {
+    input.output.directory = *opt.restart;
+    out.directory = *opt.restart;
+    if (!(resume = load_checkpoint(*opt.restart, input, *system))) {
+      out.status = kExitBadInput;
+      return out;
+    }
+  }
   std::unique_ptr<ResultsWriter> writer;
   try {
-    writer = std::make_unique<ResultsWriter>(input, *system, input.output.directory);
+    WriterPosition at;
+    if (resume)
+      at = {.history_bytes = resume->history_bytes,
+            .steps_bytes = resume->steps_bytes,
+            .frame_times = resume->frame_times};
+    writer = std::make_unique<ResultsWriter>(input, *system, input.output.directory,
+                                             resume ? &at : nullptr);
   } catch (const OutputError& e) {
     out.status = kExitIo;
     out.errors.push_back(e.what());
+    return out;
+  }
+  CheckpointSchedule checkpoints(input.output, input.analysis.time);
+  if (const PathSettings& path = input.analysis.path;
+      path.method == PathSettings::Method::kDisplacement &&
+      system->dofs().equation(path.node, path.component) < 0) {
+    out.status = kExitBadInput;
+    out.errors.push_back(fmt::format(
+        "{}: analysis.path: node {} {} is fixed, prescribed or normal to a symmetry plane: "
+        "displacement control needs a free component",
+        input.file.string(), input.model.node_ids[path.node], "xyz"[path.component]));
     return out;
   }
   AnalysisSettings settings = input.analysis;
@@ -194,22 +280,29 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
                input.output.directory.string());
 
   Progress progress(opt.quiet, settings.time.t0, settings.time.t_end);
-  progress.start(settings.type == AnalysisSettings::Type::kStatic ? "static load stepping"
-                 : settings.type == AnalysisSettings::Type::kRelaxation
-                     ? "dynamic relaxation"
-                     : "dynamic run (" + settings.scheme + ")");
+  progress.start((settings.type == AnalysisSettings::Type::kStatic
+                      ? std::string("static load stepping")
+                  : settings.type == AnalysisSettings::Type::kRelaxation
+                      ? std::string("dynamic relaxation")
+                      : "dynamic run (" + settings.scheme + ")") +
+                 (resume ? fmt::format(", restarted at t = {:.6g}", resume->run.loop.t) : ""));
   AnalysisResult result;
   RunSummary& summary = out.summary;
   summary.elements = input.model.num_elements();
   summary.dofs = system->size();
   try {
-    result = run_analysis(*system, settings, [&](const StepSnapshot& snap) {
-      writer->write_step(snap.step);
-      if (snap.step.output_time) writer->write(snap);
-      summary.final_time = snap.step.t;
-      progress.update(snap.step);
-      return !opt.on_step || opt.on_step(snap.step);
-    });
+    result = run_analysis(
+        *system, settings,
+        [&](const StepSnapshot& snap) {
+          writer->write_step(snap.step);
+          if (snap.step.output_time) writer->write(snap);
+          if (snap.checkpoint && checkpoints.due(snap.step))
+            save_checkpoint(*writer, input.file, system->size(), (*snap.checkpoint)());
+          summary.final_time = snap.step.t;
+          progress.update(snap.step);
+          return !opt.on_step || opt.on_step(snap.step);
+        },
+        [&](const std::string& w) { progress.warn(w); }, nullptr, resume ? &resume->run : nullptr);
     progress.finish(result.loop);
     summary.converged = result.loop.completed;
     summary.reason = result.loop.reason;
@@ -225,6 +318,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
     if (out.stopped && summary.reason.empty())
       summary.reason = fmt::format("stopped by the caller at t = {:.6g}", summary.final_time);
     if (!result.loop.completed) out.status = kExitSolveFailed;
+    summary.warnings = result.warnings;
   } catch (const OutputError& e) {
     progress.end_line();
     out.status = kExitIo;
@@ -250,6 +344,9 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
                     summary.reason.empty() ? "unknown reason" : summary.reason));
     return out;
   }
+  if (!opt.quiet && !summary.warnings.empty())
+    fmt::print(stderr, "velum: {} warning{} (in summary.json)\n", summary.warnings.size(),
+               summary.warnings.size() == 1 ? "" : "s");
   if (!opt.quiet)
     fmt::print(stderr,
                "velum: converged; energy: kinetic {:.6g}, strain {:.6g}, external work {:.6g}, "
@@ -266,6 +363,7 @@ int run_command(const RunOptions& opt) {
   controls.output = opt.output;
   controls.threads = opt.threads;
   controls.quiet = opt.quiet;
+  controls.restart = opt.restart;
   auto in = load(opt.model);
   if (!in) return kExitBadInput;
   const RunOutcome out = run_model(*in, controls);

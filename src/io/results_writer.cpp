@@ -83,7 +83,7 @@ std::string json_string(const std::string& s) {
 }  // namespace
 
 ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
-                             std::filesystem::path directory)
+                             std::filesystem::path directory, const WriterPosition* resume)
     : input_(input), system_(system), dir_(std::move(directory)) {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
@@ -97,6 +97,25 @@ ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
           fmt::format("cannot create {}: {}", (dir_ / "frames").string(), ec.message()));
   }
   const auto h = dir_ / "history.csv";
+  const auto sp = dir_ / "steps.csv";
+  if (resume) {
+    // Cut back what a run after the checkpoint may have written, then append.
+    std::error_code ec1, ec2;
+    std::filesystem::resize_file(h, static_cast<std::uintmax_t>(resume->history_bytes), ec1);
+    std::filesystem::resize_file(sp, static_cast<std::uintmax_t>(resume->steps_bytes), ec2);
+    if (ec1 || ec2)
+      throw OutputError(fmt::format("cannot resume the results in {}: {}", dir_.string(),
+                                    (ec1 ? ec1 : ec2).message()));
+    history_ = std::fopen(h.c_str(), "ab");
+    steps_ = std::fopen(sp.c_str(), "ab");
+    if (!history_ || !steps_)
+      throw OutputError(
+          fmt::format("cannot append to {}: {}", dir_.string(), std::strerror(errno)));
+    std::fseek(history_, 0, SEEK_END);
+    std::fseek(steps_, 0, SEEK_END);
+    frame_times_ = resume->frame_times;
+    return;
+  }
   history_ = std::fopen(h.c_str(), "w");
   if (!history_)
     throw OutputError(fmt::format("cannot write {}: {}", h.string(), std::strerror(errno)));
@@ -104,13 +123,19 @@ ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
   for (const auto& e : input_.output.history) header += "," + e.name;
   std::fprintf(history_, "%s\n", header.c_str());
   if (std::fflush(history_) != 0) throw OutputError(fmt::format("cannot write {}", h.string()));
-  const auto sp = dir_ / "steps.csv";
   steps_ = std::fopen(sp.c_str(), "w");
   if (!steps_)
     throw OutputError(fmt::format("cannot write {}: {}", sp.string(), std::strerror(errno)));
-  if (std::fputs("step,time,step_size,iterations,factorizations,residuals\n", steps_) < 0 ||
+  if (std::fputs("step,time,step_size,iterations,factorizations,negative_pivots,residuals\n",
+                 steps_) < 0 ||
       std::fflush(steps_) != 0)
     throw OutputError(fmt::format("cannot write {}", sp.string()));
+}
+
+WriterPosition ResultsWriter::position() const {
+  return {.history_bytes = std::ftell(history_),
+          .steps_bytes = std::ftell(steps_),
+          .frame_times = frame_times_};
 }
 
 ResultsWriter::~ResultsWriter() {
@@ -124,8 +149,11 @@ void ResultsWriter::write_step(const AcceptedStep& step) {
   std::string all;
   if (r)
     for (double x : *r) all += fmt::format("{}{:.3e}", all.empty() ? "" : " ", x);
-  const std::string row = fmt::format("{},{:.12g},{:.6g},{},{},{}\n", step.step, step.t, step.h,
-                                      step.iterations, step.factorizations, all);
+  // Negative pivots: empty where unknown (dynamic steps, LU factorisations).
+  const int neg = step.report ? step.report->negative_pivots : -1;
+  const std::string row =
+      fmt::format("{},{:.12g},{:.6g},{},{},{},{}\n", step.step, step.t, step.h, step.iterations,
+                  step.factorizations, neg >= 0 ? std::to_string(neg) : std::string(), all);
   if (std::fputs(row.c_str(), steps_) < 0 || std::fflush(steps_) != 0)
     throw OutputError(fmt::format("cannot write {}", (dir_ / "steps.csv").string()));
 }
@@ -361,6 +389,9 @@ void ResultsWriter::write_summary(const RunSummary& r) {
   s += fmt::format("  \"integrator\": {},\n  \"linear_solver\": {},\n", json_string(r.integrator),
                    json_string(r.solver));
   s += fmt::format("  \"frames\": {},\n", frame_times_.size());
+  std::string warnings;
+  for (const auto& w : r.warnings) warnings += (warnings.empty() ? "" : ", ") + json_string(w);
+  s += fmt::format("  \"warnings\": [{}],\n", warnings);
   s += fmt::format(
       "  \"energy\": {{\"kinetic\": {}, \"strain\": {}, \"external_work\": {}, \"damping\": {}}}\n",
       json_number(r.energy.kinetic), json_number(r.energy.strain),

@@ -126,6 +126,12 @@ class MembraneBlock final : public ElementBlock {
       U += K::strain_energy(points_[e], policy_, gather<kN>(x, nodes(e)));
     return U;
   }
+  int first_inverted(const NodePositions& from, const NodePositions& to) const override {
+    for (int e = 0; e < size(); ++e)
+      if (!K::keeps_orientation(points_[e], gather<kN>(from, nodes(e)), gather<kN>(to, nodes(e))))
+        return e;
+    return -1;
+  }
 
   ElementOutput output(int e, const NodePositions& x) const override {
     // Stresses at the element centre: evaluate at the centroid with the point data of the
@@ -268,6 +274,12 @@ class CableBlock final : public ElementBlock {
     for (int e = 0; e < size(); ++e)
       U += K::strain_energy(points_[e], law_, gather<kN>(x, nodes(e)));
     return U;
+  }
+  int first_inverted(const NodePositions& from, const NodePositions& to) const override {
+    for (int e = 0; e < size(); ++e)
+      if (!K::keeps_orientation(points_[e], gather<kN>(from, nodes(e)), gather<kN>(to, nodes(e))))
+        return e;
+    return -1;
   }
   ElementOutput output(int e, const NodePositions& x) const override {
     ElementOutput out;

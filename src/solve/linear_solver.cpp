@@ -56,8 +56,13 @@ class Cholmod final : public EigenSolver<Eigen::CholmodSupernodalLLT<SparseMatri
   bool factorize(const SparseMatrix& A) override {
     impl_.factorize(A);
     // CHOLMOD reports a non-positive pivot through its common status, not through info().
-    return impl_.info() == Eigen::Success && impl_.cholmod().status == CHOLMOD_OK;
+    factorized_ = impl_.info() == Eigen::Success && impl_.cholmod().status == CHOLMOD_OK;
+    return factorized_;
   }
+  int negative_pivots() const override { return factorized_ ? 0 : -1; }  // definite
+
+ private:
+  bool factorized_ = false;
 };
 
 // Eigen's UmfPackLU keeps the numeric factorisation's return code protected (its accessor
@@ -123,6 +128,7 @@ class AutoSolver final : public LinearSolver {
     return active_ && active_->solve(b, x);
   }
   std::string status() const override { return active_ ? active_->status() : std::string(); }
+  int negative_pivots() const override { return active_ ? active_->negative_pivots() : -1; }
 
  private:
   // Without MUMPS: after an indefinite matrix, CHOLMOD is tried again after 1, 2, 4 ... 64

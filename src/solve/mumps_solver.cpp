@@ -95,6 +95,7 @@ class MumpsInstance {
     dmumps_c(&id_);
     return id_.infog[0] >= 0 && x.allFinite();
   }
+  int negative_pivots() const { return id_.sym == 2 && id_.infog[0] >= 0 ? id_.infog[11] : -1; }
   std::string status() const {
     const int e = id_.infog[0], e2 = id_.infog[1];
     if (e >= 0) return {};
@@ -163,6 +164,7 @@ class Mumps final : public LinearSolver {
     return active_ && active_->solve(b, x);
   }
   std::string status() const override { return active_ ? active_->status() : std::string(); }
+  int negative_pivots() const override { return active_ ? active_->negative_pivots() : -1; }
 
  private:
   bool known_symmetric_;

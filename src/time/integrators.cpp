@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "velum/time/low_rank_solver.hpp"
 
@@ -193,6 +194,18 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& sparse_solver,
   return rep;
 }
 
+// A converged static state that turned an element inside out since the step's start is no
+// solution: the step fails (and is retried from the last state, or shorter). Dynamic runs
+// only warn (the analysis does): a slack sheet held in its plane folds that way.
+void reject_inversion(const SecondOrderSystem& sys, double t0, const VecX& u0, double t1,
+                      const VecX& u1, StepReport& rep) {
+  if (!rep.converged) return;
+  if (std::string inv = sys.inverted_element(t0, u0, t1, u1); !inv.empty()) {
+    rep.converged = false;
+    rep.reason = "Newton converged on a state in which " + inv;
+  }
+}
+
 }  // namespace
 
 StepReport TimeIntegrator::start(SecondOrderSystem& sys, LinearSolver& solver, double t, State& s) {
@@ -242,14 +255,14 @@ StepReport GeneralizedAlpha::step(SecondOrderSystem& sys, LinearSolver& solver, 
   };
   // Predictor: constant acceleration.
   VecX u = un_ + h * vn_ + 0.5 * h * h * an_;
-  const StepReport rep = newton_iterate(sys, solver, newton, false, un_, u, r_, du_, J_,
-                                        [&](const VecX& x, VecX& r, SparseMatrix* J) {
-                                          kinematics(x);
-                                          uf_ = (1 - alpha_f) * x + alpha_f * un_;
-                                          vf_ = (1 - alpha_f) * v + alpha_f * vn_;
-                                          am_ = (1 - alpha_m) * a + alpha_m * an_;
-                                          sys.evaluate(tf, uf_, vf_, am_, cu, cv, ca, r, J);
-                                        });
+  StepReport rep = newton_iterate(sys, solver, newton, false, un_, u, r_, du_, J_,
+                                  [&](const VecX& x, VecX& r, SparseMatrix* J) {
+                                    kinematics(x);
+                                    uf_ = (1 - alpha_f) * x + alpha_f * un_;
+                                    vf_ = (1 - alpha_f) * v + alpha_f * vn_;
+                                    am_ = (1 - alpha_m) * a + alpha_m * an_;
+                                    sys.evaluate(tf, uf_, vf_, am_, cu, cv, ca, r, J);
+                                  });
   if (rep.converged) {
     kinematics(u);
     s.u = u, s.v = v, s.a = a;
@@ -289,15 +302,8 @@ StepReport CentralDifference::step(SecondOrderSystem& sys, LinearSolver&, double
   return rep;
 }
 
-StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, double t, double h,
-                              State& s) {
-  zero_.setZero(sys.size());
-  auto solve_from = [&](VecX& u) {
-    return newton_iterate(sys, solver, newton, true, s.u, u, r_, du_, J_,
-                          [&](const VecX& x, VecX& r, SparseMatrix* J) {
-                            sys.evaluate(t + h, x, zero_, zero_, 1.0, 0.0, 0.0, r, J);
-                          });
-  };
+bool StaticNewton::predict(const SecondOrderSystem& sys, double t, double h, const State& s,
+                           VecX& u) {
   // Extrapolate only along increments that ended where this step starts (not after a
   // restart or a change of state from outside): linearly along the last one, or along the
   // parabola through the last three states. The one taken is the one that would have left the
@@ -305,51 +311,130 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
   // parabola (its error is third order in the step), a kink in it or a first, stress-free
   // increment the line. The residual, not the distance, because the in-plane error it weighs
   // most sets the stresses and through them the tangent the chord steps reuse.
-  const bool extrapolate = h_prev_ > 0 && std::abs(t - t_prev_) <= 1e-12 * (1 + std::abs(t)) &&
-                           u_prev_.size() == s.u.size();
-  const bool second = extrapolate && h_prev2_ > 0 && u_prev2_.size() == s.u.size();
+  continuous_ = h_prev_ > 0 && std::abs(t - t_prev_) <= 1e-12 * (1 + std::abs(t)) &&
+                u_prev_.size() == s.u.size();
+  const bool extrapolate = extrapolate_ && continuous_;
+  second_ = extrapolate && h_prev2_ > 0 && u_prev2_.size() == s.u.size();
   if (extrapolate) linear_ = s.u + (h / h_prev_) * (s.u - u_prev_);
-  if (second) {
+  if (second_) {
     // Lagrange through (t − h_prev − h_prev2, u_prev2), (t − h_prev, u_prev), (t, u) at t + h.
     const double a = h_prev2_, b = h_prev_;
     const double c2 = h * (h + b) / ((a + b) * a), c1 = -h * (h + a + b) / (a * b),
                  c0 = (h + b) * (h + a + b) / ((a + b) * b);
     parabolic_ = c2 * u_prev2_ + c1 * u_prev_ + c0 * s.u;
   }
-  VecX u = !extrapolate ? s.u : second && prefer_parabola_ ? parabolic_ : linear_;
-  StepReport rep = solve_from(u);
-  if (!rep.converged && extrapolate) {
-    const int spent = rep.iterations, factorised = rep.factorizations;
-    const std::vector<double> tried = std::move(rep.residuals);
+  u = !extrapolate ? s.u : second_ && prefer_parabola_ ? parabolic_ : linear_;
+  // A predictor that turns an element inside out has left the path: start from the last state.
+  if (extrapolate && !sys.inverted_element(t, s.u, t + h, u).empty()) {
     u = s.u;
-    rep = solve_from(u);
-    rep.iterations += spent;
-    rep.factorizations += factorised;
-    rep.residuals.insert(rep.residuals.begin(), tried.begin(), tried.end());
+    return false;
+  }
+  return extrapolate;
+}
+
+void StaticNewton::record_inertia(SecondOrderSystem& sys, LinearSolver& solver, double t,
+                                  const VecX& u, StepReport& rep) {
+  rep.negative_pivots = solver.negative_pivots();
+  // The count is that of the last tangent factorised, at an iterate near u; where it differs
+  // from the last step's (a critical point may lie between), it is made exact at u itself,
+  // as it is where this step factorised nothing (it started in equilibrium).
+  const bool changed = rep.negative_pivots >= 0 && rep.negative_pivots != negative_pivots_;
+  if (rep.factorizations > 0 && !changed) return;
+  sys.evaluate(t, u, zero_, zero_, 1.0, 0.0, 0.0, r_, &J_);
+  ++rep.factorizations;
+  rep.negative_pivots = solver.refactorize(J_) ? solver.negative_pivots() : -1;
+}
+
+void StaticNewton::remember(double t, double h, const VecX& u_start, const VecX& u,
+                            const StepReport& rep) {
+  if (second_) {  // the residual each predictor left, to first order: J times its error
+    linear_ -= u;
+    parabolic_ -= u;
+    du_.noalias() = J_ * linear_;
+    const double by_line = du_.squaredNorm();
+    du_.noalias() = J_ * parabolic_;
+    prefer_parabola_ = du_.squaredNorm() < by_line;
+  } else {
+    prefer_parabola_ = false;
+  }
+  if (continuous_) {
+    std::swap(u_prev2_, u_prev_);
+    h_prev2_ = h_prev_;
+  } else {
+    h_prev2_ = 0;
+  }
+  u_prev_ = u_start;
+  h_prev_ = h;
+  t_prev_ = t + h;
+  negative_pivots_ = rep.negative_pivots;
+}
+
+StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, double t, double h,
+                              State& s) {
+  zero_.setZero(sys.size());
+  // Newton from u; a converged state that turned an element inside out is no solution.
+  auto solve_from = [&](VecX& u) {
+    StepReport rep = newton_iterate(sys, solver, newton, true, s.u, u, r_, du_, J_,
+                                    [&](const VecX& x, VecX& r, SparseMatrix* J) {
+                                      sys.evaluate(t + h, x, zero_, zero_, 1.0, 0.0, 0.0, r, J);
+                                    });
+    reject_inversion(sys, t, s.u, t + h, u, rep);
+    if (rep.converged) record_inertia(sys, solver, t + h, u, rep);
+    return rep;
+  };
+  VecX u;
+  const bool extrapolated = predict(sys, t, h, s, u);
+  StepReport rep = solve_from(u);
+  // From an extrapolated start, a failure, or a state less stable than the last (more
+  // negative eigenvalues: the predictor carried the step over a limit point onto another
+  // branch), is retried from the last state, which keeps the branch the path is on.
+  const bool less_stable =
+      rep.converged && negative_pivots_ >= 0 && rep.negative_pivots > negative_pivots_;
+  if (extrapolated && (!rep.converged || less_stable)) {
+    VecX u_plain = s.u;
+    StepReport plain = solve_from(u_plain);
+    const int iterations = rep.iterations + plain.iterations,
+              factorizations = rep.factorizations + plain.factorizations;
+    if (plain.converged || !rep.converged) {  // residuals in the order they came
+      plain.residuals.insert(plain.residuals.begin(), rep.residuals.begin(), rep.residuals.end());
+      rep = std::move(plain);
+      u = std::move(u_plain);
+    } else {  // the extrapolated state kept: its residuals last, ending on the converged one
+      rep.residuals.insert(rep.residuals.begin(), plain.residuals.begin(), plain.residuals.end());
+    }
+    rep.iterations = iterations;
+    rep.factorizations = factorizations;
   }
   if (rep.converged) {
-    if (second) {  // the residual each predictor left, to first order: J times its error
-      linear_ -= u;
-      parabolic_ -= u;
-      du_.noalias() = J_ * linear_;
-      const double by_line = du_.squaredNorm();
-      du_.noalias() = J_ * parabolic_;
-      prefer_parabola_ = du_.squaredNorm() < by_line;
-    } else {
-      prefer_parabola_ = false;
-    }
-    if (extrapolate) {
-      std::swap(u_prev2_, u_prev_);
-      h_prev2_ = h_prev_;
-    } else {
-      h_prev2_ = 0;
-    }
-    u_prev_ = s.u;
-    h_prev_ = h;
-    t_prev_ = t + h;
+    remember(t, h, s.u, u, rep);
     s.u = u;
   }
   return rep;
+}
+
+std::vector<double> StaticNewton::save() const {
+  std::vector<double> m = {h_prev_,
+                           h_prev2_,
+                           t_prev_,
+                           prefer_parabola_ ? 1.0 : 0.0,
+                           static_cast<double>(negative_pivots_),
+                           static_cast<double>(u_prev_.size()),
+                           static_cast<double>(u_prev2_.size())};
+  m.insert(m.end(), u_prev_.data(), u_prev_.data() + u_prev_.size());
+  m.insert(m.end(), u_prev2_.data(), u_prev2_.data() + u_prev2_.size());
+  return m;
+}
+
+void StaticNewton::restore(const std::vector<double>& m) {
+  if (m.size() < 7) throw std::invalid_argument("static predictor memory: too short");
+  const auto n1 = static_cast<Eigen::Index>(m[5]), n2 = static_cast<Eigen::Index>(m[6]);
+  if (m.size() != static_cast<size_t>(7 + n1 + n2))
+    throw std::invalid_argument("static predictor memory: wrong size");
+  h_prev_ = m[0], h_prev2_ = m[1], t_prev_ = m[2];
+  prefer_parabola_ = m[3] != 0;
+  negative_pivots_ = static_cast<int>(m[4]);
+  u_prev_ = Eigen::Map<const VecX>(m.data() + 7, n1);
+  u_prev2_ = Eigen::Map<const VecX>(m.data() + 7 + n1, n2);
 }
 
 double stable_time_step(SecondOrderSystem& sys, double t, const State& s) {

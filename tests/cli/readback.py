@@ -38,7 +38,7 @@ assert len(steps) == summary["steps"], f"{len(steps)} rows in steps.csv, {summar
 assert sum(int(r["iterations"]) for r in steps) == summary["newton_iterations"]
 assert sum(int(r["factorizations"]) for r in steps) == summary["factorizations"]
 for r in steps:
-    assert 0 <= int(r["factorizations"]) <= int(r["iterations"]), r
+    assert 0 <= int(r["factorizations"]) <= int(r["iterations"]) + 1, r  # +1: inertia confirmed
     res = [float(v) for v in r["residuals"].split()]
     assert len(res) >= int(r["iterations"]) + 1 or int(r["iterations"]) == 0, r
     assert all(np.isfinite(res)), r

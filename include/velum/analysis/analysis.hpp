@@ -6,10 +6,12 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "velum/analysis/mechanical_system.hpp"
 #include "velum/solve/linear_solver.hpp"
 #include "velum/time/relaxation.hpp"
+#include "velum/time/path_following.hpp"
 #include "velum/time/time_loop.hpp"
 
 namespace velum {
@@ -29,6 +31,13 @@ struct AnalysisSettings {
   double rho_inf = 0.8;     ///< generalized-alpha
   double hht_alpha = 0.05;  ///< hht, in [0, 1/3]
   double newmark_beta = 0.25, newmark_gamma = 0.5;
+  /// Static steps: start Newton from the last state extrapolated along the last increments
+  /// (kExtrapolate), or from the last state itself (kNone).
+  enum class Predictor { kExtrapolate, kNone };
+  Predictor predictor = Predictor::kExtrapolate;
+  /// Static: load control (the time loop), or a path followed by arc length or displacement
+  /// control (path_following.hpp).
+  PathSettings path;
   TimeLoopSettings time;
   NewtonSettings newton;
   RelaxationSettings relaxation;
@@ -40,12 +49,26 @@ struct Energies {
   double kinetic = 0, strain = 0, external_work = 0, damping = 0;
 };
 
+/// Everything a run needs to go on from an accepted step exactly as it would have (io/ writes
+/// it to DIR/checkpoint.bin): the loop's place and step control, the state, the integrator's
+/// memory, the energy account and what was warned.
+struct Checkpoint {
+  LoopResume loop;
+  State state;
+  Energies energy;
+  std::vector<double> integrator;  ///< TimeIntegrator::save
+  std::vector<double> analysis;    ///< the energy account and the watches
+  std::vector<std::string> warnings;
+};
+
 /// What an observer sees after each accepted step.
 struct StepSnapshot {
   const AcceptedStep& step;
   const MechanicalSystem& system;
   const State& state;
   const Energies& energy;
+  /// Makes the checkpoint of this step (load stepping and dynamics; null in path following).
+  const std::function<Checkpoint()>* checkpoint = nullptr;
 };
 
 struct AnalysisResult {
@@ -55,13 +78,20 @@ struct AnalysisResult {
   int dofs = 0;
   long factorizations = 0, analyses = 0;
   double stable_step = 0;  ///< central difference: the estimate used
+  /// What a user must know about a run that ended normally (an unstable equilibrium ...);
+  /// each also went to `on_warning` as it happened.
+  std::vector<std::string> warnings;
 };
 
 std::unique_ptr<TimeIntegrator> make_integrator(const AnalysisSettings& s);
 
-/// Runs the analysis from rest at the reference configuration. The observer is called after
-/// each accepted step (and once at t0 with step 0); returning false stops the run.
+/// Runs the analysis from `resume` (a checkpoint of the same model, not in path following),
+/// from `start` at t0, or from rest at the reference configuration. The
+/// observer is called after each accepted step (and once at t0 with step 0); returning false
+/// stops the run. `on_warning` hears each warning as it arises.
 AnalysisResult run_analysis(MechanicalSystem& system, const AnalysisSettings& settings,
-                            const std::function<bool(const StepSnapshot&)>& observer = {});
+                            const std::function<bool(const StepSnapshot&)>& observer = {},
+                            const std::function<void(const std::string&)>& on_warning = {},
+                            const State* start = nullptr, const Checkpoint* resume = nullptr);
 
 }  // namespace velum

@@ -25,6 +25,8 @@ class MechanicalSystem final : public SecondOrderSystem {
   double residual_noise() const override { return residual_noise_; }
   std::string diagnose_singular(const SparseMatrix& J) const override;
   const std::vector<int>& equation_groups() const override { return equation_node_; }
+  std::string inverted_element(double t_from, const VecX& u_from, double t_to,
+                               const VecX& u_to) const override;
 
   const Model& model() const { return model_; }
   const DofMap& dofs() const { return dofs_; }

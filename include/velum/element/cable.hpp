@@ -35,6 +35,9 @@ struct Cable {
   static void force_tangent(const Points& pts, const CableLaw& law, const Nodes& x, Vector& r,
                             Matrix& K);
   static double strain_energy(const Points& pts, const CableLaw& law, const Nodes& x);
+  /// Whether the axis x' at every point of `to` is non-zero and within 90° of its direction in
+  /// `from`: a line that reverses between two nearby states went through zero length.
+  static bool keeps_orientation(const Points& pts, const Nodes& from, const Nodes& to);
   /// Consistent mass per unit density and area (scalar n x n).
   static NodeMatrix mass(const Points& pts);
   /// Reference length.

@@ -171,6 +171,11 @@ struct Membrane {
     return {0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
             g.col(0).dot(g.col(1)) - p.G[2]};
   }
+  /// Whether the surface normal g1 x g2 at every point of configuration `to` is non-zero and
+  /// within 90° of its direction in `from`: a surface that turns inside out between two
+  /// nearby states (a step) passes through zero area on the way. Not part of the force
+  /// kernels (a separate pass, once per state checked).
+  static bool keeps_orientation(const Points& pts, const Nodes& from, const Nodes& to);
   /// Consistent mass per unit density (scalar n x n, to be multiplied by ρ and I3).
   static NodeMatrix mass(const Points& pts);
 

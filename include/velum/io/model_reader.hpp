@@ -53,6 +53,8 @@ struct OutputSettings {
   double interval = 0;                      ///< simulated time between outputs; 0: each step
   bool fields = true;                       ///< ParaView frames
   std::vector<HistoryEntry> history;
+  int checkpoint_steps = 0;        ///< > 0: DIR/checkpoint.bin every so many accepted steps
+  double checkpoint_interval = 0;  ///< > 0: ... at the first step past each multiple of it
 };
 
 struct MaterialSummary {

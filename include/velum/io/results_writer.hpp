@@ -28,13 +28,24 @@ struct RunSummary {
   int dofs = 0, elements = 0;
   Energies energy;
   std::string reason, integrator, solver;
+  std::vector<std::string> warnings;  ///< what a user must know about a normal end
+};
+
+/// Where the results files stood (for a checkpoint, and a restart that goes on from there).
+struct WriterPosition {
+  long history_bytes = 0, steps_bytes = 0;
+  std::vector<double> frame_times;
 };
 
 class ResultsWriter {
  public:
   /// Creates the directory (and frames/ when fields are on) and history.csv. `system` is the
-  /// one being solved (reactions re-evaluate its external forces). Throws OutputError.
-  ResultsWriter(const ModelInput& input, MechanicalSystem& system, std::filesystem::path directory);
+  /// one being solved (reactions re-evaluate its external forces). With `resume`, the files
+  /// already there are cut back to that position and continued. Throws OutputError.
+  ResultsWriter(const ModelInput& input, MechanicalSystem& system, std::filesystem::path directory,
+                const WriterPosition* resume = nullptr);
+  /// The position now (files flushed).
+  WriterPosition position() const;
   ~ResultsWriter();
   ResultsWriter(const ResultsWriter&) = delete;
   ResultsWriter& operator=(const ResultsWriter&) = delete;

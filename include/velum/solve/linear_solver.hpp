@@ -35,6 +35,10 @@ class LinearSolver {
   virtual bool symmetric_only() const = 0;
   /// The back-end's own words on its last failure (status codes), or empty.
   virtual std::string status() const { return {}; }
+  /// Negative eigenvalues of the last matrix factorised (its inertia, by Sylvester's law from
+  /// the pivots of LDLᵀ: MUMPS's INFOG(12); 0 after a Cholesky factorisation that succeeded),
+  /// or -1 when this factorisation does not tell (LU).
+  virtual int negative_pivots() const { return -1; }
 
   /// Factorises A, analysing its pattern first only when the pattern changed (size or number
   /// of non-zeros) since the last analysis.

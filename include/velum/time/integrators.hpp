@@ -37,6 +37,9 @@ struct StepReport {
   int factorizations = 0;         ///< of which with a fresh tangent
   std::vector<double> residuals;  ///< residual norm at each iteration (before its solve)
   std::string reason;             ///< why it failed
+  /// Static steps: negative eigenvalues of the tangent stiffness at the converged state (0: a
+  /// stable equilibrium); -1 when the factorisation does not tell (LU) or not static.
+  int negative_pivots = -1;
 };
 
 class TimeIntegrator {
@@ -49,6 +52,10 @@ class TimeIntegrator {
                           State& s) = 0;
   /// Initial acceleration consistent with the equation of motion at t (implicit schemes).
   virtual StepReport start(SecondOrderSystem& sys, LinearSolver& solver, double t, State& s);
+  /// What the integrator keeps between steps (predictor history), for a checkpoint, and its
+  /// restoration; nothing for the one-step schemes.
+  virtual std::vector<double> save() const { return {}; }
+  virtual void restore(const std::vector<double>& memory) { (void)memory; }
 
   NewtonSettings newton;
 };
@@ -91,10 +98,13 @@ class CentralDifference : public TimeIntegrator {
 /// Static equilibrium f_int(u) = f_ext(t) at each load level t (no mass, no damping).
 /// Load stepping with Newton. Each step starts from the last converged state extrapolated
 /// along the last increment (scaled by the step ratio) or along the parabola through the last
-/// three states, whichever would have predicted the last increment better, and falls back to
-/// the plain start if Newton fails from there.
+/// three states, whichever would have predicted the last increment better (unless
+/// `extrapolate` is off), and falls back to the plain start if Newton fails from there, or
+/// converges on a state with more negative eigenvalues than the last (the predictor carried
+/// the step over a limit point). A state that turns an element inside out is never accepted.
 class StaticNewton : public TimeIntegrator {
  public:
+  explicit StaticNewton(bool extrapolate = true) : extrapolate_(extrapolate) {}
   std::string name() const override { return "static"; }
   StepReport step(SecondOrderSystem& sys, LinearSolver& solver, double t, double h,
                   State& s) override;
@@ -103,15 +113,29 @@ class StaticNewton : public TimeIntegrator {
     r.converged = true;
     return r;
   }
+  std::vector<double> save() const override;
+  void restore(const std::vector<double>& memory) override;
 
  private:
+  // The start of Newton for the step from t to t + h into u; true when extrapolated.
+  bool predict(const SecondOrderSystem& sys, double t, double h, const State& s, VecX& u);
+  // The inertia of the tangent at the converged state u into rep.negative_pivots.
+  void record_inertia(SecondOrderSystem& sys, LinearSolver& solver, double t, const VecX& u,
+                      StepReport& rep);
+  // The history the next predictor needs, after the step from u_start to u was accepted.
+  void remember(double t, double h, const VecX& u_start, const VecX& u, const StepReport& rep);
+
+  bool extrapolate_;
   VecX r_, du_, zero_;
   SparseMatrix J_;                   ///< kept between steps: its pattern is allocated once
   VecX u_prev_, u_prev2_;            ///< converged states before the last two accepted steps
   double h_prev_ = 0, h_prev2_ = 0;  ///< their sizes (0: no such increment)
   double t_prev_ = -1;               ///< the time the last accepted step ended at
   VecX linear_, parabolic_;          ///< this step's two predictors
+  bool continuous_ = false;          ///< this step starts where the last one ended
+  bool second_ = false;              ///< this step has the parabola
   bool prefer_parabola_ = false;     ///< the parabola predicted the last increment better
+  int negative_pivots_ = -1;         ///< of the last accepted state (-1: unknown)
 };
 
 /// Largest stable step of central difference, 2/ω_max, with ω_max² estimated by power

@@ -50,6 +50,14 @@ class SecondOrderSystem {
     static const std::vector<int> none;
     return none;
   }
+  /// Empty when no element turns inside out between the states (t_from, u_from) and (t_to,
+  /// u_to) (a surface normal or a line's axis reversing or collapsing at a point); else says
+  /// which. A state reached that way is not a solution to keep, however small its residual.
+  virtual std::string inverted_element(double t_from, const VecX& u_from, double t_to,
+                                       const VecX& u_to) const {
+    (void)t_from, (void)u_from, (void)t_to, (void)u_to;
+    return {};
+  }
   /// Names the equations of J that carry no stiffness and no mass, and what to do about them;
   /// empty when there are none.
   virtual std::string diagnose_singular(const SparseMatrix& J) const = 0;

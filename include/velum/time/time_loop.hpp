@@ -19,14 +19,32 @@ struct TimeLoopSettings {
   int easy_iterations = 4;     ///< steps converged within this many factorisations may regrow
 };
 
+/// The step-size control's memory (time_loop.cpp): what a restart needs to step on as the run
+/// would have.
+struct StepControlState {
+  double h = 0;  ///< the size of the next step
+  int easy = 0, streak = 0, streak_needed = 8;
+  bool trying = false;
+};
+
+/// Where a restarted loop picks up (from a checkpoint).
+struct LoopResume {
+  double t = 0, step = 0;  ///< the time reached; the nominal step in force (central difference)
+  int steps = 0, iterations = 0, factorizations = 0, cutbacks = 0;
+  StepControlState control;
+};
+
 struct AcceptedStep {
   double t = 0, h = 0;
   int step = 0;
   int iterations = 0;
   int total_iterations = 0;
   int factorizations = 0;
+  int total_factorizations = 0;
   bool output_time = false;  ///< t is on an output interval (or the end)
   const StepReport* report = nullptr;
+  const StepControlState* control = nullptr;  ///< after this step (for checkpoints)
+  int cutbacks = 0;                           ///< of the run so far
 };
 
 struct TimeLoopResult {
@@ -37,10 +55,11 @@ struct TimeLoopResult {
   std::string reason;  ///< when not completed: where and why
 };
 
-/// Runs the loop; `observer` returns false to stop early.
-TimeLoopResult run_time_loop(
-    SecondOrderSystem& sys, TimeIntegrator& integrator, LinearSolver& solver,
-    const TimeLoopSettings& settings, State& s,
-    const std::function<bool(const AcceptedStep&, const State&)>& observer);
+/// Runs the loop; `observer` returns false to stop early. With `resume`, from there (s is the
+/// state then; the integrator's start, the initial acceleration, is not redone).
+TimeLoopResult run_time_loop(SecondOrderSystem& sys, TimeIntegrator& integrator,
+                             LinearSolver& solver, const TimeLoopSettings& settings, State& s,
+                             const std::function<bool(const AcceptedStep&, const State&)>& observer,
+                             const LoopResume* resume = nullptr);
 
 }  // namespace velum

@@ -12,8 +12,8 @@ namespace velum::io::model_file {
 
 void Reader::parse_analysis(const Node& a) {
   if (!check_map(a, "analysis",
-                 {"type", "integrator", "time", "newton", "damping", "linear_solver",
-                  "relaxation"}))
+                 {"type", "integrator", "time", "newton", "damping", "linear_solver", "relaxation",
+                  "predictor", "path"}))
     return;
   AnalysisSettings& s = in_.analysis;
   if (auto t = text(a, "type", "analysis", false)) {
@@ -144,6 +144,16 @@ void Reader::parse_analysis(const Node& a) {
           non_negative(d, "stiffness", p, "the stiffness-proportional damping").value_or(0);
     }
   }
+  if (auto pr = text(a, "predictor", "analysis", false)) {
+    if (*pr == "extrapolate")
+      s.predictor = AnalysisSettings::Predictor::kExtrapolate;
+    else if (*pr == "none")
+      s.predictor = AnalysisSettings::Predictor::kNone;
+    else
+      error(a["predictor"], "analysis.predictor",
+            fmt::format("unknown predictor '{}'{}", *pr, suggestion(*pr, {"extrapolate", "none"})));
+  }
+  if (has(a, "path")) parse_path(a["path"]);
   if (auto ls = text(a, "linear_solver", "analysis", false)) {
     if (*ls == "petsc") {
       error(a["linear_solver"], "analysis.linear_solver",
@@ -166,12 +176,86 @@ void Reader::parse_analysis(const Node& a) {
   }
 }
 
+// analysis.path: {method: arc_length, constraint, arc_length, max_steps} or
+// {method: displacement, node, component, displacement}; static only.
+void Reader::parse_path(const Node& pa) {
+  const std::string p = "analysis.path";
+  if (!check_map(
+          pa, p,
+          {"method", "constraint", "arc_length", "max_steps", "node", "component", "displacement"}))
+    return;
+  PathSettings& path = in_.analysis.path;
+  if (in_.analysis.type != AnalysisSettings::Type::kStatic)
+    error(pa, p, "path following needs type: static");
+  auto m = text(pa, "method", p, true);
+  if (!m) return;
+  auto only_for = [&](const char* key, const char* method) {
+    if (has(pa, key))
+      error(pa[key], sub(p, key), fmt::format("{} belongs to method: {}", key, method));
+  };
+  if (*m == "arc_length") {
+    path.method = PathSettings::Method::kArcLength;
+    if (auto c = text(pa, "constraint", p, false)) {
+      if (*c == "cylindrical")
+        path.constraint = PathSettings::Constraint::kCylindrical;
+      else if (*c == "riks")
+        path.constraint = PathSettings::Constraint::kRiks;
+      else
+        error(
+            pa["constraint"], sub(p, "constraint"),
+            fmt::format("unknown constraint '{}'{}", *c, suggestion(*c, {"cylindrical", "riks"})));
+    }
+    if (auto ds = positive(pa, "arc_length", p, false, "the arc length")) path.arc_length = *ds;
+    if (has(pa, "max_steps")) {
+      auto n = integer(pa["max_steps"], sub(p, "max_steps"), "count");
+      if (n && (*n < 1 || *n > 100'000'000))
+        error(pa["max_steps"], sub(p, "max_steps"), "max_steps must lie in [1, 1e8]");
+      else if (n)
+        path.max_steps = static_cast<int>(*n);
+    }
+    for (const char* k : {"node", "component", "displacement"}) only_for(k, "displacement");
+  } else if (*m == "displacement") {
+    path.method = PathSettings::Method::kDisplacement;
+    auto n = nodes_of(pa, "node", p);
+    if (n && n->size() != 1) {
+      error(pa["node"], sub(p, "node"), "give one node");
+      n.reset();
+    }
+    if (!has(pa, "component")) error(pa, sub(p, "component"), "component is required");
+    auto c = component(pa, "component", p);
+    auto d = number(pa, "displacement", p, true);
+    if (n && c && d) path.node = n->front(), path.component = *c, path.displacement = *d;
+    for (const char* k : {"constraint", "arc_length", "max_steps"}) only_for(k, "arc_length");
+  } else {
+    error(pa["method"], sub(p, "method"),
+          fmt::format("unknown method '{}'{}", *m, suggestion(*m, {"arc_length", "displacement"})));
+  }
+}
+
 void Reader::parse_output(const Node& o, const Node& root) {
   OutputSettings& out = in_.output;
   out.directory = base_dir_ / "out";
   out.interval = in_.analysis.time.step;
   if (!o) return;
-  if (!check_map(o, "output", {"directory", "interval", "fields", "history"})) return;
+  if (!check_map(o, "output", {"directory", "interval", "fields", "history", "checkpoint"})) return;
+  if (has(o, "checkpoint")) {
+    const Node c = o["checkpoint"];
+    const std::string p = "output.checkpoint";
+    if (check_map(c, p, {"steps", "interval"})) {
+      if (has(c, "steps") == has(c, "interval"))
+        error(c, p,
+              "give either steps (every so many accepted steps) or interval (simulated time)");
+      if (has(c, "steps")) {
+        auto n = integer(c["steps"], sub(p, "steps"), "count");
+        if (n && (*n < 1 || *n > 1'000'000'000))
+          error(c["steps"], sub(p, "steps"), "steps must lie in [1, 1e9]");
+        else if (n)
+          out.checkpoint_steps = static_cast<int>(*n);
+      }
+      if (auto iv = positive(c, "interval", p, false, "the checkpoint interval"))
+        out.checkpoint_interval = *iv;
+    }
+  }
   if (auto d = text(o, "directory", "output", false)) {
     std::filesystem::path p = *d;
     out.directory = p.is_relative() ? base_dir_ / p : p;

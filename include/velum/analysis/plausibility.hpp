@@ -1,0 +1,49 @@
+// Whether a run's answer can be true, checked after each accepted step (docs/trust.md): no
+// non-finite value, no deformation beyond a multiple of the model's size, no energy created
+// from nothing. A converged Newton iteration says the equations hold, not that the answer is
+// physical: an unstable explicit step, a blow-up with damping or a material in the wrong units
+// all converge.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "velum/model/model.hpp"
+#include "velum/time/integrators.hpp"
+
+namespace velum {
+
+struct PlausibilityLimits {
+  /// Largest node distance from the mean displacement (the rigid translation), in bounding-box
+  /// diagonals of the reference model, before the run fails.
+  double spread = 10;
+  /// The energy the system holds and has dissipated (kinetic + strain + damping, changes since
+  /// the start) may exceed the work done on it (external loads and prescribed motions) by this
+  /// multiple of the work's magnitude before the run fails (a blow-up creates orders of
+  /// magnitude; generalized-α's overshoot in its first steps 75% of the little work done)...
+  double energy_fail = 10;
+  /// ... and at the end of the run by this fraction before a warning.
+  double energy_warn = 0.1;
+};
+
+class PlausibilityCheck {
+ public:
+  explicit PlausibilityCheck(const Model& model, PlausibilityLimits limits = {});
+  /// After an accepted step at t: U the full displacements; with `energy`, `held` the energy
+  /// in the system and dissipated (changes since the start), `work` the work done on it and
+  /// `work_scale` the sum of the magnitudes of its increments. Empty when plausible, else why
+  /// not (the run fails).
+  std::string check(double t, const NodePositions& U, const State& s, bool energy, double held,
+                    double work, double work_scale) const;
+  /// The balance at the end of a run that completed: a warning (to `warn`) when the solution
+  /// created more than energy_warn of the work.
+  void final_balance(double t, double held, double work, double work_scale,
+                     const std::function<void(std::string)>& warn) const;
+  double model_size() const { return size_; }
+
+ private:
+  PlausibilityLimits limits_;
+  double size_ = 0;
+};
+
+}  // namespace velum

@@ -1,0 +1,60 @@
+#include "velum/analysis/plausibility.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace velum {
+
+PlausibilityCheck::PlausibilityCheck(const Model& model, PlausibilityLimits limits)
+    : limits_(limits) {
+  if (model.num_nodes() > 0)
+    size_ = (model.X.rowwise().maxCoeff() - model.X.rowwise().minCoeff()).norm();
+}
+
+std::string PlausibilityCheck::check(double t, const NodePositions& U, const State& s, bool energy,
+                                     double held, double work, double work_scale) const {
+  if (!s.u.allFinite() || !s.v.allFinite() || !s.a.allFinite() || !U.allFinite())
+    return fmt::format(
+        "implausible: non-finite displacements, velocities or accelerations at "
+        "t = {:.6g}",
+        t);
+  if (U.cols() > 0 && size_ > 0) {
+    const Vec3 mean = U.rowwise().mean();
+    const double spread = (U.colwise() - mean).colwise().norm().maxCoeff();
+    if (spread > limits_.spread * size_)
+      return fmt::format(
+          "implausible: at t = {:.6g} a node is {:.3g} from the mean displacement, {:.3g} times "
+          "the model's size {:.3g} (the limit is {:g} times): a blow-up, or a material or load "
+          "in other units than the geometry",
+          t, spread, spread / size_, size_, limits_.spread);
+  }
+  if (!energy) return {};
+  // Energy created: what the system holds and has dissipated beyond the work done on it.
+  // Round-off and the trapezoidal work leave a little; a blow-up leaves orders of magnitude.
+  const double created = held - work;
+  const double floor = 1e-9 * std::max(std::abs(held), work_scale);
+  if (!std::isfinite(created))
+    return fmt::format("implausible: non-finite energy at t = {:.6g}", t);
+  if (created > limits_.energy_fail * work_scale + floor)
+    return fmt::format(
+        "implausible: the energy balance fails at t = {:.6g}: kinetic + strain + damping "
+        "energy {:.4g} against {:.4g} of work done on the model (loads and prescribed "
+        "motions): {:.3g} created by the solution (the limit is {:g} times the work's "
+        "magnitude); a blow-up: try smaller steps or another integrator",
+        t, held, work, created, limits_.energy_fail);
+  return {};
+}
+
+void PlausibilityCheck::final_balance(double t, double held, double work, double work_scale,
+                                      const std::function<void(std::string)>& warn) const {
+  const double created = held - work;
+  if (created > limits_.energy_warn * work_scale + 1e-9 * std::max(std::abs(held), work_scale))
+    warn(fmt::format(
+        "energy balance off at the end (t = {:.6g}): kinetic + strain + damping energy {:.4g} "
+        "against {:.4g} of work done, {:.0f}% of the work created by the solution (more than "
+        "{:g}%)",
+        t, held, work, 100 * created / work_scale, 100 * limits_.energy_warn));
+}
+
+}  // namespace velum

@@ -1,0 +1,138 @@
+#include "velum/io/checkpoint.hpp"
+
+#include <fmt/format.h>
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+#include "velum/io/results_writer.hpp"
+
+namespace velum::io {
+namespace {
+
+constexpr char kMagic[8] = {'V', 'E', 'L', 'U', 'M', 'C', 'K', '1'};
+
+class Out {
+ public:
+  template <class T>
+  void pod(const T& x) {
+    buf_.append(reinterpret_cast<const char*>(&x), sizeof x);
+  }
+  void doubles(const double* x, long n) {
+    pod(n);
+    buf_.append(reinterpret_cast<const char*>(x), static_cast<size_t>(n) * sizeof(double));
+  }
+  void vec(const VecX& v) { doubles(v.data(), v.size()); }
+  void vec(const std::vector<double>& v) { doubles(v.data(), static_cast<long>(v.size())); }
+  void text(const std::string& s) {
+    pod(static_cast<long>(s.size()));
+    buf_ += s;
+  }
+  std::string buf_;
+};
+
+class In {
+ public:
+  In(std::string data, std::string name) : data_(std::move(data)), name_(std::move(name)) {}
+  template <class T>
+  T pod() {
+    T x;
+    need(sizeof x);
+    std::memcpy(&x, data_.data() + at_, sizeof x);
+    at_ += sizeof x;
+    return x;
+  }
+  std::vector<double> doubles() {
+    const long n = pod<long>();
+    if (n < 0) bad();
+    need(static_cast<size_t>(n) * sizeof(double));
+    std::vector<double> v(static_cast<size_t>(n));
+    std::memcpy(v.data(), data_.data() + at_, v.size() * sizeof(double));
+    at_ += v.size() * sizeof(double);
+    return v;
+  }
+  VecX vec() {
+    const std::vector<double> v = doubles();
+    return Eigen::Map<const VecX>(v.data(), static_cast<Eigen::Index>(v.size()));
+  }
+  std::string text() {
+    const long n = pod<long>();
+    if (n < 0) bad();
+    need(static_cast<size_t>(n));
+    std::string s = data_.substr(at_, static_cast<size_t>(n));
+    at_ += static_cast<size_t>(n);
+    return s;
+  }
+  bool done() const { return at_ == data_.size(); }
+  [[noreturn]] void bad() const {
+    throw std::runtime_error(name_ + ": not a Velum checkpoint, or cut short");
+  }
+
+ private:
+  void need(size_t n) const {
+    if (data_.size() - at_ < n) bad();
+  }
+  std::string data_, name_;
+  size_t at_ = 0;
+};
+
+}  // namespace
+
+void write_checkpoint(const std::filesystem::path& path, const CheckpointFile& c) {
+  Out o;
+  o.buf_.append(kMagic, sizeof kMagic);
+  o.pod(c.dofs);
+  o.text(c.model);
+  const LoopResume& l = c.run.loop;
+  o.pod(l.t), o.pod(l.step), o.pod(l.steps), o.pod(l.iterations), o.pod(l.factorizations),
+      o.pod(l.cutbacks);
+  o.pod(l.control.h), o.pod(l.control.easy), o.pod(l.control.streak),
+      o.pod(l.control.streak_needed), o.pod(l.control.trying);
+  o.vec(c.run.state.u), o.vec(c.run.state.v), o.vec(c.run.state.a);
+  const Energies& e = c.run.energy;
+  o.pod(e.kinetic), o.pod(e.strain), o.pod(e.external_work), o.pod(e.damping);
+  o.vec(c.run.integrator), o.vec(c.run.analysis);
+  o.pod(static_cast<long>(c.run.warnings.size()));
+  for (const auto& w : c.run.warnings) o.text(w);
+  o.pod(c.history_bytes), o.pod(c.steps_bytes);
+  o.vec(c.frame_times);
+  write_file_atomically(path, o.buf_);
+}
+
+CheckpointFile read_checkpoint(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f)
+    throw std::runtime_error(path.string() +
+                             ": no checkpoint (the run needs output.checkpoint to write one)");
+  std::string data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  In in(std::move(data), path.string());
+  char magic[sizeof kMagic];
+  for (char& ch : magic) ch = in.pod<char>();
+  if (std::memcmp(magic, kMagic, sizeof kMagic) != 0) in.bad();
+  CheckpointFile c;
+  c.dofs = in.pod<int>();
+  c.model = in.text();
+  LoopResume& l = c.run.loop;
+  l.t = in.pod<double>(), l.step = in.pod<double>();
+  l.steps = in.pod<int>(), l.iterations = in.pod<int>(), l.factorizations = in.pod<int>();
+  l.cutbacks = in.pod<int>();
+  l.control.h = in.pod<double>(), l.control.easy = in.pod<int>();
+  l.control.streak = in.pod<int>(), l.control.streak_needed = in.pod<int>();
+  l.control.trying = in.pod<bool>();
+  c.run.state.u = in.vec(), c.run.state.v = in.vec(), c.run.state.a = in.vec();
+  Energies& e = c.run.energy;
+  e.kinetic = in.pod<double>(), e.strain = in.pod<double>();
+  e.external_work = in.pod<double>(), e.damping = in.pod<double>();
+  c.run.integrator = in.doubles(), c.run.analysis = in.doubles();
+  const long nw = in.pod<long>();
+  if (nw < 0 || nw > 1'000'000) in.bad();
+  for (long i = 0; i < nw; ++i) c.run.warnings.push_back(in.text());
+  c.history_bytes = in.pod<long>(), c.steps_bytes = in.pod<long>();
+  c.frame_times = in.doubles();
+  if (!in.done()) in.bad();
+  return c;
+}
+
+}  // namespace velum::io
