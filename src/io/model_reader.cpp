@@ -8,6 +8,8 @@
 #include <algorithm>
 
 #include "model/reader.hpp"
+#include "model/yaml_structure.hpp"
+#include "velum/assembly/dof_map.hpp"
 
 namespace velum::io {
 
@@ -31,20 +33,47 @@ int edit_distance(std::string_view a, std::string_view b) {
 namespace model_file {
 
 ModelInput Reader::read() {
-  Node root;
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto st = fs::status(file_, ec);
+  if (fs::is_directory(st))
+    throw InputError({fmt::format("{}: is a directory, not a model file", name_)});
+  if (fs::exists(st) && !fs::is_regular_file(st))
+    throw InputError(
+        {fmt::format("{}: not a regular file (a model file is a YAML text file)", name_)});
+  if (fs::is_regular_file(st)) {
+    const auto bytes = fs::file_size(file_, ec);
+    if (!ec && bytes > kMaxModelFileBytes)
+      throw InputError({fmt::format(
+          "{}: the model file has {} bytes, more than the limit of {} MiB (put large meshes "
+          "in a Gmsh file: mesh.file)",
+          name_, bytes, kMaxModelFileBytes >> 20)});
+  }
+  std::vector<Node> documents;
   try {
-    root = YAML::LoadFile(name_);
+    documents = YAML::LoadAllFromFile(name_);
   } catch (const YAML::BadFile&) {
     throw InputError({fmt::format("{}: cannot open the model file", name_)});
   } catch (const YAML::ParserException& e) {
     throw InputError({fmt::format("{}:{}: YAML syntax error: {}", name_, e.mark.line + 1, e.msg)});
   }
+  if (documents.size() > 1) {
+    const Node& second = documents[1];
+    throw InputError({fmt::format(
+        "{}:{}: a second YAML document (after '---' or '...'): a model file holds one, which "
+        "began at line {}",
+        name_, second.Mark().is_null() ? 0 : second.Mark().line + 1,
+        documents[0].Mark().is_null() ? 1 : documents[0].Mark().line + 1)});
+  }
+  const Node root = documents.empty() ? Node() : documents.front();
   if (!root.IsMap()) {
     throw InputError(
         {fmt::format("{}:{}: the model file must be a mapping of sections (mesh, "
                      "materials, sections, ...)",
                      name_, root.Mark().line + 1 > 0 ? root.Mark().line + 1 : 1)});
   }
+  if (auto problems = yaml_structure_problems(root, name_); !problems.empty())
+    throw InputError(std::move(problems));
   try {
     parse(root);
   } catch (const YAML::Exception& e) {
@@ -110,12 +139,23 @@ void Reader::final_checks(const Node& root) {
       if (!used[n]) f.nodes.push_back(static_cast<int>(n));
     in_.model.fixed.push_back(std::move(f));
   }
+  if (DofMap(in_.model).num_equations() == 0)
+    error(root["boundary"] ? root["boundary"] : root, "boundary",
+          "every degree of freedom is fixed or prescribed: there is nothing to solve (0 "
+          "equations)");
 }
 
 }  // namespace model_file
 
 ModelInput read_model(const std::filesystem::path& file) {
-  return model_file::Reader(file).read();
+  try {
+    return model_file::Reader(file).read();
+  } catch (const std::bad_alloc&) {
+    throw InputError({fmt::format(
+        "{}: out of memory while reading the model (or its mesh file): the model is too large "
+        "for this machine",
+        file.string())});
+  }
 }
 
 }  // namespace velum::io

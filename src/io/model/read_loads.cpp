@@ -118,9 +118,28 @@ void Reader::parse_boundary(const Node& bs) {
     error(bs, "boundary", "expected a list of {nodes, fix | displacement | symmetry}");
     return;
   }
+  // Which entry first fixed, prescribed or put on a plane each node: a node both fixed and
+  // prescribed (or prescribed twice, or prescribed and on a symmetry plane) has no single
+  // motion, and a fixed component on a skew plane's node would fix a component of its local
+  // frame instead: each is an error naming both entries.
+  struct Claims {
+    int fixed = -1, prescribed = -1, plane = -1, skew = -1;  // entry index, -1: none
+  };
+  std::vector<Claims> claims(static_cast<size_t>(in_.model.num_nodes()));
+  auto entry = [&](int k) {
+    return fmt::format("boundary[{}], line {}", k,
+                       std::max(line_of(bs[static_cast<size_t>(k)]), 1));
+  };
+  auto conflict = [&](const Node& at, const std::string& p, int n, const char* here, int other,
+                      const char* there) {
+    error(at, sub(p, "nodes"),
+          fmt::format("node {} is {} here and {} by {}: give each node one motion",
+                      in_.model.node_ids[static_cast<size_t>(n)], here, there, entry(other)));
+  };
   for (size_t i = 0; i < bs.size(); ++i) {
     const Node b = bs[i];
     const std::string p = item("boundary", i);
+    const int me = static_cast<int>(i);
     if (!check_map(b, p, {"nodes", "fix", "displacement", "function", "symmetry"})) continue;
     auto nodes = nodes_of(b, "nodes", p);
     const int kinds = has(b, "fix") + has(b, "displacement") + has(b, "symmetry");
@@ -147,13 +166,41 @@ void Reader::parse_boundary(const Node& bs) {
       if (has(b, "function"))
         error(b["function"], sub(p, "function"), "a fixed boundary takes no function");
       if (ok && nodes) {
+        for (int n : *nodes) {
+          auto& c = claims[static_cast<size_t>(n)];
+          if (c.prescribed >= 0) {
+            conflict(b, p, n, "fixed", c.prescribed, "given a displacement");
+            break;
+          }
+          if (c.skew >= 0) {
+            conflict(b, p, n, "fixed", c.skew, "put on a skew symmetry plane");
+            break;
+          }
+          if (c.fixed < 0) c.fixed = me;
+        }
         f.nodes = std::move(*nodes);
         in_.model.fixed.push_back(std::move(f));
       }
     } else if (has(b, "displacement")) {
       auto d = vec3(b, "displacement", p, true);
       const int fn = function_ref(b, p);
-      if (d && nodes) in_.model.prescribed.push_back({std::move(*nodes), *d, fn});
+      if (d && nodes) {
+        for (int n : *nodes) {
+          auto& c = claims[static_cast<size_t>(n)];
+          if (c.fixed >= 0 || c.prescribed >= 0 || c.plane >= 0) {
+            conflict(b, p, n, "given a displacement",
+                     c.fixed >= 0        ? c.fixed
+                     : c.prescribed >= 0 ? c.prescribed
+                                         : c.plane,
+                     c.fixed >= 0        ? "fixed"
+                     : c.prescribed >= 0 ? "given a displacement"
+                                         : "put on a symmetry plane");
+            break;
+          }
+          c.prescribed = me;
+        }
+        in_.model.prescribed.push_back({std::move(*nodes), *d, fn});
+      }
     } else {
       const Node s = b["symmetry"];
       const std::string sp = sub(p, "symmetry");
@@ -163,7 +210,24 @@ void Reader::parse_boundary(const Node& bs) {
         error(s["normal"], sub(sp, "normal"), "the plane normal must not be zero");
         n.reset();
       }
-      if (n && nodes) in_.model.symmetry.push_back({std::move(*nodes), n->normalized()});
+      if (n && nodes) {
+        const Vec3 unit = n->normalized();
+        const bool skew = (unit.cwiseAbs().array() - 1.0).abs().minCoeff() >= 1e-12;
+        for (int k : *nodes) {
+          auto& c = claims[static_cast<size_t>(k)];
+          if (c.prescribed >= 0) {
+            conflict(b, p, k, "put on a symmetry plane", c.prescribed, "given a displacement");
+            break;
+          }
+          if (skew && c.fixed >= 0) {
+            conflict(b, p, k, "put on a skew symmetry plane", c.fixed, "fixed");
+            break;
+          }
+          if (c.plane < 0) c.plane = me;
+          if (skew && c.skew < 0) c.skew = me;
+        }
+        in_.model.symmetry.push_back({std::move(*nodes), unit});
+      }
     }
   }
 }

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "reader.hpp"
+#include "shape_checks.hpp"
 
 namespace velum::io::model_file {
 
@@ -145,6 +146,17 @@ void Reader::build_blocks(const std::string& set, const ElementSet& es, const Ma
       conn.push_back(it->second);
     }
     if (!ok) continue;
+    if (const ShapeProblem bad = check_shapes(g.type, conn, in_.model.X, in_.model.node_ids);
+        bad.element >= 0) {
+      const std::string where = g.line > 0 ? fmt::format("{}:{}", name_, g.line)
+                                           : fmt::format("{}:{}", name_, line_of(at));
+      errors_.push_back(
+          fmt::format("{}: {}: element {} of set '{}' ({}) is degenerate or "
+                      "inverted: it {}",
+                      where, g.line > 0 ? "mesh.elements" : p,
+                      g.ids[static_cast<size_t>(bad.element)], set, g.type, bad.what));
+      continue;
+    }
     BlockSetupReport report;
     std::unique_ptr<ElementBlock> block;
     try {
