@@ -12,6 +12,7 @@
 #include "velum/config.hpp"
 #include "velum/io/model_reader.hpp"
 #include "velum/io/results_writer.hpp"
+#include "velum/io/run_control.hpp"
 
 // Present when the BLAS behind SuiteSparse is OpenBLAS (Debian's alternatives), absent (null)
 // with the reference BLAS.
@@ -27,6 +28,19 @@ constexpr const char* kUnitsNote =
 
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::string json_escape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '"' || c == '\\')
+      o += '\\', o += c;
+    else if (static_cast<unsigned char>(c) < 0x20)
+      o += fmt::format("\\u{:04x}", static_cast<int>(c));
+    else
+      o += c;
+  }
+  return o;
 }
 
 std::string duration_text(double s) {
@@ -49,7 +63,7 @@ class Progress {
 
   void start(const std::string& what) {
     if (quiet_) return;
-    if (!tty_) fmt::print(stderr, "velum: {} from t = {:.6g} to {:.6g}\n", what, t0_, t_end_);
+    if (!tty_) say(stderr, "velum: {} from t = {:.6g} to {:.6g}\n", what, t0_, t_end_);
   }
   void update(const AcceptedStep& s) {
     if (quiet_ || !tty_) return;
@@ -61,18 +75,17 @@ class Progress {
     const double eta = frac > 0 ? elapsed * (1 - frac) / frac : -1;
     constexpr int kWidth = 30;
     const int filled = static_cast<int>(frac * kWidth);
-    fmt::print(stderr, "\r[{}{}] t = {:<10.4g} h = {:<9.3g} step {:<6d} newton {:<3d} ETA {:<8}",
-               std::string(static_cast<size_t>(filled), '#'),
-               std::string(static_cast<size_t>(kWidth - filled), '.'), s.t, s.h, s.step,
-               s.iterations, duration_text(eta));
+    say(stderr, "\r[{}{}] t = {:<10.4g} h = {:<9.3g} step {:<6d} newton {:<3d} ETA {:<8}",
+        std::string(static_cast<size_t>(filled), '#'),
+        std::string(static_cast<size_t>(kWidth - filled), '.'), s.t, s.h, s.step, s.iterations,
+        duration_text(eta));
     std::fflush(stderr);
     drawn_ = true;
   }
   void finish(const TimeLoopResult& r) {
     if (quiet_) return;
-    if (drawn_) fmt::print(stderr, "\n");
-    fmt::print(
-        stderr,
+    if (drawn_) say(stderr, "\n");
+    say(stderr,
         "velum: {} at t = {:.6g} after {} steps, {} Newton iterations ({} factorisations), {} "
         "cut-backs, {:.2f} s\n",
         r.completed ? "finished" : "stopped", r.t, r.steps, r.iterations, r.factorizations,
@@ -90,12 +103,12 @@ class Progress {
 std::optional<ModelInput> load(const std::filesystem::path& file) {
   try {
     ModelInput in = read_model(file);
-    for (const auto& w : in.warnings) fmt::print(stderr, "warning: {}\n", w);
+    for (const auto& w : in.warnings) say(stderr, "warning: {}\n", w);
     return in;
   } catch (const InputError& e) {
-    for (const auto& m : e.messages()) fmt::print(stderr, "error: {}\n", m);
-    fmt::print(stderr, "velum: {} error{} in {}\n", e.messages().size(),
-               e.messages().size() == 1 ? "" : "s", file.string());
+    for (const auto& m : e.messages()) say(stderr, "error: {}\n", m);
+    say(stderr, "velum: {} error{} in {}\n", e.messages().size(),
+        e.messages().size() == 1 ? "" : "s", file.string());
     return std::nullopt;
   }
 }
@@ -106,10 +119,27 @@ std::map<std::string, int> elements_per_type(const Model& m) {
   return out;
 }
 
+/// Marks DIR as holding a run in progress and removes what a previous run left that the new
+/// one might not overwrite (its frames and their index).
+void begin_results(const std::filesystem::path& dir, const std::filesystem::path& model) {
+  write_file_atomically(dir / "summary.json",
+                        fmt::format("{{\n  \"status\": \"running\",\n  \"model\": \"{}\",\n  "
+                                    "\"pid\": {}\n}}\n",
+                                    json_escape(model.string()), getpid()));
+  std::error_code ec;
+  std::filesystem::remove(dir / "results.pvd", ec);
+  if (std::filesystem::is_directory(dir / "frames", ec))
+    for (const auto& f : std::filesystem::directory_iterator(dir / "frames", ec)) {
+      const std::string name = f.path().filename().string();
+      if (name.rfind("frame_", 0) == 0 && f.path().extension() == ".vtu")
+        std::filesystem::remove(f.path(), ec);
+    }
+}
+
 }  // namespace
 
 int check_command(const std::filesystem::path& file) {
-  fmt::print("velum {} check: {}\n{}\n", VELUM_VERSION, file.string(), kUnitsNote);
+  say(stdout, "velum {} check: {}\n{}\n", VELUM_VERSION, file.string(), kUnitsNote);
   auto in = load(file);
   if (!in) return kExitBadInput;
   const Model& m = in->model;
@@ -117,71 +147,94 @@ int check_command(const std::filesystem::path& file) {
   try {
     dofs = DofMap(m).num_equations();
   } catch (const std::exception& e) {
-    fmt::print(stderr, "error: {}: {}\n", file.string(), e.what());
+    say(stderr, "error: {}: {}\n", file.string(), e.what());
     return kExitBadInput;
   }
-  if (!in->title.empty()) fmt::print("title:      {}\n", in->title);
-  fmt::print("nodes:      {}\n", m.num_nodes());
+  if (!in->title.empty()) say(stdout, "title:      {}\n", in->title);
+  say(stdout, "nodes:      {}\n", m.num_nodes());
   std::string per_type;
   for (const auto& [t, n] : elements_per_type(m)) per_type += fmt::format(" {} {}", t, n);
-  fmt::print("elements:   {} ({})\n", m.num_elements(), per_type.empty() ? "" : per_type.substr(1));
-  fmt::print("blocks:     {}\n", m.blocks.size());
-  fmt::print("dofs:       {} equations ({} fixed or prescribed components)\n", dofs,
-             3 * m.num_nodes() - dofs);
+  say(stdout, "elements:   {} ({})\n", m.num_elements(),
+      per_type.empty() ? "" : per_type.substr(1));
+  say(stdout, "blocks:     {}\n", m.blocks.size());
+  say(stdout, "dofs:       {} equations ({} fixed or prescribed components)\n", dofs,
+      3 * m.num_nodes() - dofs);
   std::string mats;
   for (const auto& mt : in->materials)
     mats += fmt::format("{}{} ({})", mats.empty() ? "" : ", ", mt.name, mt.type);
-  fmt::print("materials:  {}\n", mats);
-  fmt::print("loads:      {} point, {} edge, {} pressure, {} gravity; {} point masses\n",
-             m.point_loads.size(), m.edge_loads.size(), m.pressures.size(), m.gravity.size(),
-             m.masses.size());
-  fmt::print("boundary:   {} fixed, {} prescribed, {} symmetry\n", m.fixed.size(),
-             m.prescribed.size(), m.symmetry.size());
+  say(stdout, "materials:  {}\n", mats);
+  say(stdout, "loads:      {} point, {} edge, {} pressure, {} gravity; {} point masses\n",
+      m.point_loads.size(), m.edge_loads.size(), m.pressures.size(), m.gravity.size(),
+      m.masses.size());
+  say(stdout, "boundary:   {} fixed, {} prescribed, {} symmetry\n", m.fixed.size(),
+      m.prescribed.size(), m.symmetry.size());
   const auto& a = in->analysis;
-  fmt::print("analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n",
-             a.type == AnalysisSettings::Type::kStatic ? "static" : "dynamic",
-             a.type == AnalysisSettings::Type::kStatic ? "load stepping" : a.scheme, a.time.t_end,
-             a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
-  fmt::print("output:     {} every {:.6g}, {} history column{}{}\n", in->output.directory.string(),
-             in->output.interval, in->output.history.size(),
-             in->output.history.size() == 1 ? "" : "s", in->output.fields ? ", fields" : "");
-  fmt::print("velum: {} is valid\n", file.string());
+  say(stdout, "analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n",
+      a.type == AnalysisSettings::Type::kStatic ? "static" : "dynamic",
+      a.type == AnalysisSettings::Type::kStatic ? "load stepping" : a.scheme, a.time.t_end,
+      a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
+  say(stdout, "output:     {} every {:.6g}, {} history column{}{}\n", in->output.directory.string(),
+      in->output.interval, in->output.history.size(), in->output.history.size() == 1 ? "" : "s",
+      in->output.fields ? ", fields" : "");
+  say(stdout, "velum: {} is valid\n", file.string());
   return kExitOk;
 }
 
 int run_command(const RunOptions& opt) {
   const auto wall0 = Clock::now();
   if (!opt.quiet)
-    fmt::print(stderr, "velum {} run: {}\n{}\n", VELUM_VERSION, opt.model.string(), kUnitsNote);
+    say(stderr, "velum {} run: {}\n{}\n", VELUM_VERSION, opt.model.string(), kUnitsNote);
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   // OpenBLAS (behind CHOLMOD and UMFPACK) keeps its own busy-waiting threads: with more threads
   // than cores they spin against ours (a 2,000-DOF run spent 14 s in the kernel, 0.1 s with
   // one BLAS thread). Give BLAS the same count as OpenMP.
   if (openblas_set_num_threads) openblas_set_num_threads(omp_get_max_threads());
+  InterruptGuard interrupts;  // SIGINT, SIGTERM: finish the current step, then stop
   auto in = load(opt.model);
   if (!in) return kExitBadInput;
   if (opt.output) in->output.directory = *opt.output;
+  if (const int sig = InterruptGuard::signal_received())  // nothing written yet
+    return sig == SIGINT ? kExitInterrupted : kExitTerminated;
 
   std::unique_ptr<MechanicalSystem> system;
   try {
     system = std::make_unique<MechanicalSystem>(in->model);
   } catch (const std::exception& e) {
-    fmt::print(stderr, "error: {}: {}\n", opt.model.string(), e.what());
+    say(stderr, "error: {}: {}\n", opt.model.string(), e.what());
     return kExitBadInput;
+  }
+  // One run per folder: the lock first, then "running" in summary.json before anything of a
+  // previous run is touched, so that no moment shows its "converged" beside a new history.
+  const std::filesystem::path& dir = in->output.directory;
+  {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir)) {
+      say(stderr, "error: cannot create the output directory {}: {}\n", dir.string(),
+          ec ? ec.message() : "not a directory");
+      return kExitIo;
+    }
+  }
+  OutputLock lock(dir);
+  if (!lock.held()) {
+    say(stderr, "error: {}: {}; wait for it to end or choose another output directory\n",
+        dir.string(), lock.why_not());
+    return kExitIo;
   }
   std::unique_ptr<ResultsWriter> writer;
   try {
-    writer = std::make_unique<ResultsWriter>(*in, *system, in->output.directory);
+    begin_results(dir, opt.model);
+    writer = std::make_unique<ResultsWriter>(*in, *system, dir);
   } catch (const OutputError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    say(stderr, "error: {}\n", e.what());
     return kExitIo;
   }
   AnalysisSettings settings = in->analysis;
   settings.time.output_interval = in->output.interval;
   if (!opt.quiet)
-    fmt::print(stderr, "velum: {} nodes, {} elements, {} equations; results in {}\n",
-               in->model.num_nodes(), in->model.num_elements(), system->size(),
-               in->output.directory.string());
+    say(stderr, "velum: {} nodes, {} elements, {} equations; results in {}\n",
+        in->model.num_nodes(), in->model.num_elements(), system->size(),
+        in->output.directory.string());
 
   Progress progress(opt.quiet, settings.time.t0, settings.time.t_end);
   progress.start(settings.type == AnalysisSettings::Type::kStatic
@@ -198,7 +251,7 @@ int run_command(const RunOptions& opt) {
       if (snap.step.output_time) writer->write(snap);
       summary.final_time = snap.step.t;
       progress.update(snap.step);
-      return true;
+      return InterruptGuard::signal_received() == 0;
     });
     progress.finish(result.loop);
     summary.converged = result.loop.completed;
@@ -212,8 +265,15 @@ int run_command(const RunOptions& opt) {
     summary.solver = result.solver;
     summary.dofs = result.dofs;
     if (!result.loop.completed) status = kExitSolveFailed;
+    if (const int sig = InterruptGuard::signal_received(); sig && !result.loop.completed) {
+      summary.status = "interrupted";
+      summary.reason =
+          fmt::format("interrupted by {} after step {} (t = {:.6g})",
+                      sig == SIGINT ? "SIGINT" : "SIGTERM", result.loop.steps, summary.final_time);
+      status = sig == SIGINT ? kExitInterrupted : kExitTerminated;
+    }
   } catch (const OutputError& e) {
-    fmt::print(stderr, "\nerror: {}\n", e.what());
+    say(stderr, "\nerror: {}\n", e.what());
     return kExitIo;
   } catch (const std::exception& e) {
     summary.converged = false;
@@ -224,22 +284,25 @@ int run_command(const RunOptions& opt) {
   try {
     writer->write_summary(summary);
   } catch (const OutputError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    say(stderr, "error: {}\n", e.what());
     return kExitIo;
   }
+  if (status == kExitInterrupted || status == kExitTerminated) {
+    say(stderr, "velum: {}; results up to there are in {}\n", summary.reason, dir.string());
+    return status;
+  }
   if (status == kExitSolveFailed) {
-    fmt::print(stderr,
-               "error: the solve failed at t = {:.6g} (step {}, last output kept in {}): {}\n",
-               result.loop.t, result.loop.steps + 1, in->output.directory.string(),
-               summary.reason.empty() ? "unknown reason" : summary.reason);
+    say(stderr, "error: the solve failed at t = {:.6g} (step {}, last output kept in {}): {}\n",
+        result.loop.t, result.loop.steps + 1, in->output.directory.string(),
+        summary.reason.empty() ? "unknown reason" : summary.reason);
     return status;
   }
   if (!opt.quiet)
-    fmt::print(stderr,
-               "velum: converged; energy: kinetic {:.6g}, strain {:.6g}, external work {:.6g}, "
-               "damping {:.6g}\n",
-               summary.energy.kinetic, summary.energy.strain, summary.energy.external_work,
-               summary.energy.damping);
+    say(stderr,
+        "velum: converged; energy: kinetic {:.6g}, strain {:.6g}, external work {:.6g}, "
+        "damping {:.6g}\n",
+        summary.energy.kinetic, summary.energy.strain, summary.energy.external_work,
+        summary.energy.damping);
   return kExitOk;
 }
 

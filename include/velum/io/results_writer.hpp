@@ -28,6 +28,7 @@ struct RunSummary {
   int dofs = 0, elements = 0;
   Energies energy;
   std::string reason, integrator, solver;
+  std::string status;  ///< when set ("interrupted"), replaces "converged" or "failed"
 };
 
 class ResultsWriter {
