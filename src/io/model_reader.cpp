@@ -6,6 +6,10 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <string_view>
+#include <utility>
 
 #include "model/reader.hpp"
 #include "model/yaml_structure.hpp"
@@ -31,6 +35,43 @@ int edit_distance(std::string_view a, std::string_view b) {
 }
 
 namespace model_file {
+namespace {
+
+/// The 1-based lines where the first and the second YAML document of `text` begin (0: none).
+/// YAML forbids a document marker ("---" or "..." at the start of a line, then a blank or the
+/// end of the line) inside any content, so markers are found line by line.
+std::pair<int, int> document_lines(std::string_view text) {
+  int line = 0, first = 0;
+  bool ended = false;  // "..." closed the first document
+  size_t pos = 0;
+  while (pos < text.size()) {
+    size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string_view l = text.substr(pos, end - pos);
+    pos = end + 1;
+    ++line;
+    auto marker = [&](std::string_view m) {
+      return l.substr(0, 3) == m && (l.size() == 3 || l[3] == ' ' || l[3] == '\t' || l[3] == '\r');
+    };
+    if (marker("---")) {
+      if (first > 0) return {first, line};
+      first = line;
+      continue;
+    }
+    if (marker("...")) {
+      ended = first > 0;
+      continue;
+    }
+    const size_t c = l.find_first_not_of(" \t\r");
+    if (c == std::string_view::npos || l[c] == '#') continue;
+    if (first == 0 && l[0] == '%') continue;  // a directive
+    if (ended) return {first, line};
+    if (first == 0) first = line;
+  }
+  return {first, 0};
+}
+
+}  // namespace
 
 ModelInput Reader::read() {
   namespace fs = std::filesystem;
@@ -49,23 +90,27 @@ ModelInput Reader::read() {
           "in a Gmsh file: mesh.file)",
           name_, bytes, kMaxModelFileBytes >> 20)});
   }
-  std::vector<Node> documents;
-  try {
-    documents = YAML::LoadAllFromFile(name_);
-  } catch (const YAML::BadFile&) {
-    throw InputError({fmt::format("{}: cannot open the model file", name_)});
-  } catch (const YAML::ParserException& e) {
-    throw InputError({fmt::format("{}:{}: YAML syntax error: {}", name_, e.mark.line + 1, e.msg)});
+  // yaml-cpp 0.7's LoadAll loops forever on some inputs (a flow mapping followed by a comma,
+  // found by fuzzing): the file is read whole, its document markers are found here, and only
+  // the first document is parsed.
+  std::string text;
+  {
+    std::ifstream in(file_, std::ios::binary);
+    if (!in) throw InputError({fmt::format("{}: cannot open the model file", name_)});
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
-  if (documents.size() > 1) {
-    const Node& second = documents[1];
+  if (auto [first, second] = document_lines(text); second > 0)
     throw InputError({fmt::format(
         "{}:{}: a second YAML document (after '---' or '...'): a model file holds one, which "
         "began at line {}",
-        name_, second.Mark().is_null() ? 0 : second.Mark().line + 1,
-        documents[0].Mark().is_null() ? 1 : documents[0].Mark().line + 1)});
+        name_, second, first)});
+  Node document;
+  try {
+    document = YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw InputError({fmt::format("{}:{}: YAML syntax error: {}", name_, e.mark.line + 1, e.msg)});
   }
-  const Node root = documents.empty() ? Node() : documents.front();
+  const Node root = document;
   if (!root.IsMap()) {
     throw InputError(
         {fmt::format("{}:{}: the model file must be a mapping of sections (mesh, "

@@ -243,6 +243,10 @@ CASES = [
     ("model_binary_garbage", None, {"model.yaml": lambda: bytes(range(256)) * 64}, [], 1, ["model.yaml"]),
     ("model_nul_bytes", None, {"model.yaml": lambda: b"title: a\x00b\n"}, [], 1, ["model.yaml"]),
     ("check_model_is_directory", "<dir>", {}, ["check"], 1, ["is a directory"]),
+    # ---- inputs the fuzzer found (fuzz/, tests/cli/data/fuzz/) ----
+    ("fuzz_loadall_hang", None, {"model.yaml": lambda: open(os.path.join(DATA, "fuzz", "loadall-hang.yaml"), "rb").read()}, [], 1, ["model.yaml:94: a second YAML document"]),
+    ("fuzz_flow_map_then_comma", "{}\n,\n", {}, [], 1, ["mesh: required key is missing"]),
+    ("fuzz_flow_map_then_comma_second_doc", "a: 1\n---\n{}\n,\n", {}, [], 1, ["model.yaml:2: a second YAML document"]),
     # ---- integers out of range ----
     ("max_iterations_above_int", mutate(analysis__newton={"max_iterations": 4294967297}), {}, [], 1, ["analysis.newton.max_iterations", "at most 1000 iterations (got 4294967297)"]),
     ("max_iterations_above_long", mutate(analysis__newton={"max_iterations": 99999999999999999999999}), {}, [], 1, ["analysis.newton.max_iterations: expected an integer count"]),
