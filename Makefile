@@ -4,7 +4,7 @@ BUILD  := build/$(PRESET)
 JOBS   ?= $(shell nproc)
 CMAKE_FLAGS ?= $(if $(CI),-DVELUM_WERROR=ON,)
 
-.PHONY: all deps configure build check demo bench verify asan fuzz clean format
+.PHONY: all deps configure build check demo bench verify asan fuzz clean format install
 
 all: build
 
@@ -19,6 +19,11 @@ build: configure
 
 check: build
 	@cd $(BUILD) && ctest -LE 'verification|slow' -j $(JOBS) --output-on-failure
+
+# The velum command and the Python module (into Debian's dist-packages for the prefix:
+# /usr/local/lib/python3.X/dist-packages by default); PREFIX=/usr or DESTDIR=... as usual.
+install: build
+	@cmake --install $(BUILD) $(if $(PREFIX),--prefix $(PREFIX),)
 
 demo: build
 	@tools/run-demo $(BUILD)/velum out

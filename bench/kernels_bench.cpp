@@ -88,6 +88,33 @@ void BM_MembraneForceTangent(benchmark::State& state) {
   set_counters<Shape>(state);
 }
 
+// The same kernel through a sheet law evaluated at each point (LawPoints): the tension field
+// (wrinkling) on, in the deformed state above, where every point is wrinkled (stretched along
+// one axis, shortened along the other); the `wrinkled` counter is the share of wrinkled points.
+template <class Shape>
+void BM_MembraneForceTangentWrinkled(benchmark::State& state) {
+  MembraneCase<Shape> c;
+  const SheetLaw law = SheetLaw(bench_law()).with_wrinkling();
+  const LawPoints policy{&law};
+  typename Membrane<Shape>::Vector r;
+  typename Membrane<Shape>::Matrix K;
+  int wrinkled = 0;
+  for (int q = 0; q < Shape::kPoints; ++q) {
+    const Eigen::Matrix<double, 3, 2> g = c.x * c.pts.shapes->dN[q];
+    wrinkled += policy.evaluate(c.pts[q], Membrane<Shape>::strain(c.pts[q], g)).state ==
+                WrinkleState::kWrinkled;
+  }
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(c.x.data());
+    Membrane<Shape>::force_tangent(c.pts, policy, c.x, r, K);
+    benchmark::DoNotOptimize(r.data());
+    benchmark::DoNotOptimize(K.data());
+    benchmark::ClobberMemory();
+  }
+  set_counters<Shape>(state);
+  state.counters["wrinkled"] = static_cast<double>(wrinkled) / Shape::kPoints;
+}
+
 template <class Shape>
 void BM_MembranePressureTangent(benchmark::State& state) {
   MembraneCase<Shape> c;
@@ -159,6 +186,8 @@ BENCHMARK(BM_MembraneForceTangent<Tri6>);
 BENCHMARK(BM_MembraneForceTangent<Quad4>);
 BENCHMARK(BM_MembraneForceTangent<Quad8>);
 BENCHMARK(BM_MembraneForceTangent<Quad9>);
+BENCHMARK(BM_MembraneForceTangentWrinkled<Quad4>);
+BENCHMARK(BM_MembraneForceTangentWrinkled<Quad9>);
 BENCHMARK(BM_MembranePressureTangent<Tri3>);
 BENCHMARK(BM_MembranePressureTangent<Quad9>);
 BENCHMARK(BM_CableForce<Line2>);

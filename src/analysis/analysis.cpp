@@ -6,8 +6,13 @@ namespace velum {
 
 std::unique_ptr<TimeIntegrator> make_integrator(const AnalysisSettings& s) {
   std::unique_ptr<TimeIntegrator> out;
-  if (s.type == AnalysisSettings::Type::kStatic)
+  if (s.type == AnalysisSettings::Type::kStatic) {
     out = std::make_unique<StaticNewton>();
+  } else if (s.type == AnalysisSettings::Type::kRelaxation) {
+    auto dr = std::make_unique<DynamicRelaxation>();
+    dr->relaxation = s.relaxation;
+    out = std::move(dr);
+  }
   else if (s.scheme == "generalized-alpha")
     out = GeneralizedAlpha::chung_hulbert(s.rho_inf);
   else if (s.scheme == "hht")
@@ -65,7 +70,7 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
               0.5 * st.h * alpha *
               (cur.v.dot(sys.mass_matrix() * cur.v) + v_prev.dot(sys.mass_matrix() * v_prev));
         E.kinetic =
-            settings.type == AnalysisSettings::Type::kStatic ? 0.0 : sys.kinetic_energy(cur.v);
+            settings.equilibrium() ? 0.0 : sys.kinetic_energy(cur.v);
         E.strain = sys.strain_energy(st.t, cur.u);
         U_prev = U, F_prev = F, v_prev = cur.v, t_prev = st.t;
         return !observer || observer(StepSnapshot{st, sys, cur, E});

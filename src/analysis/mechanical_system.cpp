@@ -12,9 +12,13 @@ MechanicalSystem::MechanicalSystem(const Model& model)
     : model_(model), dofs_(model), assembler_(model, dofs_) {
   assembler_.mass(nullptr, &lumped_nodes_);
   lumped_eq_.setZero(size());
+  equation_node_.assign(size(), 0);
   for (int n = 0; n < model.num_nodes(); ++n)
     for (int c = 0; c < 3; ++c)
-      if (dofs_.equation(n, c) >= 0) lumped_eq_[dofs_.equation(n, c)] = lumped_nodes_[n];
+      if (const int eq = dofs_.equation(n, c); eq >= 0) {
+        lumped_eq_[eq] = lumped_nodes_[n];
+        equation_node_[eq] = n;
+      }
   for (const auto& e : model.edge_loads) edge_forces_.push_back(edge_load_forces(model, e));
   for (const auto& g : model.gravity)
     gravity_forces_.push_back(assembler_.gravity_forces(g.acceleration));

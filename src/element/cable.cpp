@@ -66,7 +66,7 @@ double Cable<Shape>::strain_energy(const Points& pts, const CableLaw& law, const
   for (const auto& p : pts) {
     const Vec3 xp = x * p.dN;
     const double eps = 0.5 * (xp.squaredNorm() / p.L0sq - 1);
-    U += 0.5 * p.EAw * p.L0sq * eps * law.stress(eps) / law.E;
+    U += p.EAw * p.L0sq * law.energy(eps) / law.E;
   }
   return U;
 }

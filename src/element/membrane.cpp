@@ -70,6 +70,15 @@ double Membrane<Shape>::setup(const Nodes& X, const Mat3& Q, const SheetAxes& ax
   return min_jac;
 }
 
+Mat3 sheet_strain_map(const Mat2& T) {
+  // E_ab = T(a,α) T(b,β) γ_αβ, written for engineering shear on both sides.
+  Mat3 A;
+  A << T(0, 0) * T(0, 0), T(0, 1) * T(0, 1), T(0, 0) * T(0, 1),  //
+      T(1, 0) * T(1, 0), T(1, 1) * T(1, 1), T(1, 0) * T(1, 1),   //
+      2 * T(0, 0) * T(1, 0), 2 * T(0, 1) * T(1, 1), T(0, 0) * T(1, 1) + T(0, 1) * T(1, 0);
+  return A;
+}
+
 template <class Shape>
 void Membrane<Shape>::strain_stress(const Points& pts, int q, const Nodes& x, Vec3& e, Vec3& S,
                                     Eigen::Matrix<double, 3, 2>& g) {
@@ -81,15 +90,15 @@ void Membrane<Shape>::strain_stress(const Points& pts, int q, const Nodes& x, Ve
 }
 
 template <class Shape>
-void Membrane<Shape>::force(const Points& pts, const Nodes& x, Vector& r) {
+template <class Law>
+void Membrane<Shape>::force(const Points& pts, const Law& law, const Nodes& x, Vector& r) {
   Eigen::Matrix<double, 3, kN> rn = Eigen::Matrix<double, 3, kN>::Zero();
   for (int q = 0; q < kQ; ++q) {
     const auto& p = pts[q];
     const auto& dN = pts.shapes->dN[q];
     const Eigen::Matrix<double, 3, 2> g = x * dN;
-    const Vec3 e(0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
-                 g.col(0).dot(g.col(1)) - p.G[2]);
-    const Vec3 S = p.D * e;  // already weighted by t0 dA w
+    Vec3 S;  // weighted by t0 dA w
+    law.stress(p, strain(p, g), S);
     Mat2 Sm;
     Sm << S[0], S[2], S[2], S[1];
     rn.noalias() += (g * Sm) * dN.transpose();
@@ -98,18 +107,20 @@ void Membrane<Shape>::force(const Points& pts, const Nodes& x, Vector& r) {
 }
 
 template <class Shape>
-void Membrane<Shape>::force_tangent(const Points& pts, const Nodes& x, Vector& r, Matrix& K) {
+template <class Law>
+void Membrane<Shape>::force_tangent(const Points& pts, const Law& law, const Nodes& x, Vector& r,
+                                    Matrix& K) {
   Eigen::Matrix<double, 3, kN> rn = Eigen::Matrix<double, 3, kN>::Zero();
   K.setZero();
   NodeMatrix Kg = NodeMatrix::Zero();
   Eigen::Matrix<double, kDofs, 3> Bt;  // Bᵀ, column-major: K += (Bᵀ D) B vectorises down columns
+  Mat3 scratch;
   for (int q = 0; q < kQ; ++q) {
     const auto& p = pts[q];
     const auto& dN = pts.shapes->dN[q];
     const Eigen::Matrix<double, 3, 2> g = x * dN;
-    const Vec3 e(0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
-                 g.col(0).dot(g.col(1)) - p.G[2]);
-    const Vec3 S = p.D * e;
+    Vec3 S;
+    const Mat3& D = law.tangent(p, strain(p, g), S, scratch);
     Mat2 Sm;
     Sm << S[0], S[2], S[2], S[1];
     rn.noalias() += (g * Sm) * dN.transpose();
@@ -120,7 +131,7 @@ void Membrane<Shape>::force_tangent(const Points& pts, const Nodes& x, Vector& r
       Bt.template block<3, 1>(3 * n, 1) = b * g.col(1);
       Bt.template block<3, 1>(3 * n, 2) = a * g.col(1) + b * g.col(0);
     }
-    const Eigen::Matrix<double, kDofs, 3> BtD = Bt * p.D;
+    const Eigen::Matrix<double, kDofs, 3> BtD = Bt * D;
     K.noalias() += BtD.lazyProduct(Bt.transpose());  // coefficient-based: no GEMM dispatch
     Kg.noalias() += dN * Sm * dN.transpose();
   }
@@ -131,15 +142,13 @@ void Membrane<Shape>::force_tangent(const Points& pts, const Nodes& x, Vector& r
 }
 
 template <class Shape>
-double Membrane<Shape>::strain_energy(const Points& pts, const Nodes& x) {
+template <class Law>
+double Membrane<Shape>::strain_energy(const Points& pts, const Law& law, const Nodes& x) {
   double U = 0;
   for (int q = 0; q < kQ; ++q) {
     const auto& p = pts[q];
-    const auto& dN = pts.shapes->dN[q];
-    const Eigen::Matrix<double, 3, 2> g = x * dN;
-    const Vec3 e(0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
-                 g.col(0).dot(g.col(1)) - p.G[2]);
-    U += 0.5 * e.dot(p.D * e);
+    const Eigen::Matrix<double, 3, 2> g = x * pts.shapes->dN[q];
+    U += law.energy(p, strain(p, g));
   }
   return U;
 }
@@ -196,5 +205,22 @@ template struct Membrane<shape::Tri6>;
 template struct Membrane<shape::Quad4>;
 template struct Membrane<shape::Quad8>;
 template struct Membrane<shape::Quad9>;
+
+#define VELUM_MEMBRANE_LAW(Shape, Law)                                                       \
+  template void Membrane<Shape>::force<Law>(const Points&, const Law&, const Nodes&, Vector&); \
+  template void Membrane<Shape>::force_tangent<Law>(const Points&, const Law&, const Nodes&,  \
+                                                    Vector&, Matrix&);                        \
+  template double Membrane<Shape>::strain_energy<Law>(const Points&, const Law&, const Nodes&);
+#define VELUM_MEMBRANE_LAWS(Shape)                  \
+  VELUM_MEMBRANE_LAW(Shape, ElasticPoints)          \
+  VELUM_MEMBRANE_LAW(Shape, PrestressedPoints)      \
+  VELUM_MEMBRANE_LAW(Shape, LawPoints)
+VELUM_MEMBRANE_LAWS(shape::Tri3)
+VELUM_MEMBRANE_LAWS(shape::Tri6)
+VELUM_MEMBRANE_LAWS(shape::Quad4)
+VELUM_MEMBRANE_LAWS(shape::Quad8)
+VELUM_MEMBRANE_LAWS(shape::Quad9)
+#undef VELUM_MEMBRANE_LAWS
+#undef VELUM_MEMBRANE_LAW
 
 }  // namespace velum

@@ -10,8 +10,6 @@
 
 #include "velum/assembly/dof_map.hpp"
 #include "velum/config.hpp"
-#include "velum/io/model_reader.hpp"
-#include "velum/io/results_writer.hpp"
 #include "velum/io/run_control.hpp"
 
 // Present when the BLAS behind SuiteSparse is OpenBLAS (Debian's alternatives), absent (null)
@@ -28,19 +26,6 @@ constexpr const char* kUnitsNote =
 
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-std::string json_escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '"' || c == '\\')
-      o += '\\', o += c;
-    else if (static_cast<unsigned char>(c) < 0x20)
-      o += fmt::format("\\u{:04x}", static_cast<int>(c));
-    else
-      o += c;
-  }
-  return o;
 }
 
 std::string duration_text(double s) {
@@ -82,9 +67,14 @@ class Progress {
     std::fflush(stderr);
     drawn_ = true;
   }
+  /// Ends the bar's line so that a message can follow.
+  void end_line() {
+    if (drawn_) say(stderr, "\n");
+    drawn_ = false;
+  }
   void finish(const TimeLoopResult& r) {
     if (quiet_) return;
-    if (drawn_) say(stderr, "\n");
+    end_line();
     say(stderr,
         "velum: {} at t = {:.6g} after {} steps, {} Newton iterations ({} factorisations), {} "
         "cut-backs, {:.2f} s\n",
@@ -117,6 +107,19 @@ std::map<std::string, int> elements_per_type(const Model& m) {
   std::map<std::string, int> out;
   for (const auto& b : m.blocks) out[std::string(b->type_name())] += b->size();
   return out;
+}
+
+std::string json_escape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '"' || c == '\\')
+      o += '\\', o += c;
+    else if (static_cast<unsigned char>(c) < 0x20)
+      o += fmt::format("\\u{:04x}", static_cast<int>(c));
+    else
+      o += c;
+  }
+  return o;
 }
 
 /// Marks DIR as holding a run in progress and removes what a previous run left that the new
@@ -169,10 +172,11 @@ int check_command(const std::filesystem::path& file) {
   say(stdout, "boundary:   {} fixed, {} prescribed, {} symmetry\n", m.fixed.size(),
       m.prescribed.size(), m.symmetry.size());
   const auto& a = in->analysis;
-  say(stdout, "analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n",
-      a.type == AnalysisSettings::Type::kStatic ? "static" : "dynamic",
-      a.type == AnalysisSettings::Type::kStatic ? "load stepping" : a.scheme, a.time.t_end,
-      a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
+  say(stdout, "analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n", a.type_name(),
+      a.type == AnalysisSettings::Type::kStatic       ? "load stepping"
+      : a.type == AnalysisSettings::Type::kRelaxation ? "kinetic damping, then Newton"
+                                                      : a.scheme,
+      a.time.t_end, a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
   say(stdout, "output:     {} every {:.6g}, {} history column{}{}\n", in->output.directory.string(),
       in->output.interval, in->output.history.size(), in->output.history.size() == 1 ? "" : "s",
       in->output.fields ? ", fields" : "");
@@ -180,78 +184,78 @@ int check_command(const std::filesystem::path& file) {
   return kExitOk;
 }
 
-int run_command(const RunOptions& opt) {
-  const auto wall0 = Clock::now();
-  if (!opt.quiet)
-    say(stderr, "velum {} run: {}\n{}\n", VELUM_VERSION, opt.model.string(), kUnitsNote);
+RunOutcome run_model(ModelInput& input, const RunControls& opt) {
+  RunOutcome out;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   // OpenBLAS (behind CHOLMOD and UMFPACK) keeps its own busy-waiting threads: with more threads
   // than cores they spin against ours (a 2,000-DOF run spent 14 s in the kernel, 0.1 s with
   // one BLAS thread). Give BLAS the same count as OpenMP.
   if (openblas_set_num_threads) openblas_set_num_threads(omp_get_max_threads());
-  InterruptGuard interrupts;  // SIGINT, SIGTERM: finish the current step, then stop
-  auto in = load(opt.model);
-  if (!in) return kExitBadInput;
-  if (opt.output) in->output.directory = *opt.output;
-  if (const int sig = InterruptGuard::signal_received())  // nothing written yet
-    return sig == SIGINT ? kExitInterrupted : kExitTerminated;
+  if (opt.output) input.output.directory = *opt.output;
+  out.directory = input.output.directory;
 
   std::unique_ptr<MechanicalSystem> system;
   try {
-    system = std::make_unique<MechanicalSystem>(in->model);
+    system = std::make_unique<MechanicalSystem>(input.model);
   } catch (const std::exception& e) {
-    say(stderr, "error: {}: {}\n", opt.model.string(), e.what());
-    return kExitBadInput;
+    out.status = kExitBadInput;
+    out.errors.push_back(fmt::format("{}: {}", input.file.string(), e.what()));
+    return out;
   }
   // One run per folder: the lock first, then "running" in summary.json before anything of a
   // previous run is touched, so that no moment shows its "converged" beside a new history.
-  const std::filesystem::path& dir = in->output.directory;
+  const std::filesystem::path dir = input.output.directory;
   {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec || !std::filesystem::is_directory(dir)) {
-      say(stderr, "error: cannot create the output directory {}: {}\n", dir.string(),
-          ec ? ec.message() : "not a directory");
-      return kExitIo;
+      out.status = kExitIo;
+      out.errors.push_back(fmt::format("cannot create the output directory {}: {}", dir.string(),
+                                       ec ? ec.message() : "not a directory"));
+      return out;
     }
   }
   OutputLock lock(dir);
   if (!lock.held()) {
-    say(stderr, "error: {}: {}; wait for it to end or choose another output directory\n",
-        dir.string(), lock.why_not());
-    return kExitIo;
+    out.status = kExitIo;
+    out.errors.push_back(
+        fmt::format("{}: {}; wait for it to end or choose another output directory", dir.string(),
+                    lock.why_not()));
+    return out;
   }
   std::unique_ptr<ResultsWriter> writer;
   try {
-    begin_results(dir, opt.model);
-    writer = std::make_unique<ResultsWriter>(*in, *system, dir);
+    begin_results(dir, input.file);
+    writer = std::make_unique<ResultsWriter>(input, *system, dir);
   } catch (const OutputError& e) {
-    say(stderr, "error: {}\n", e.what());
-    return kExitIo;
+    out.status = kExitIo;
+    out.errors.push_back(e.what());
+    return out;
   }
-  AnalysisSettings settings = in->analysis;
-  settings.time.output_interval = in->output.interval;
+  AnalysisSettings settings = input.analysis;
+  settings.time.output_interval = input.output.interval;
   if (!opt.quiet)
     say(stderr, "velum: {} nodes, {} elements, {} equations; results in {}\n",
-        in->model.num_nodes(), in->model.num_elements(), system->size(),
-        in->output.directory.string());
+        input.model.num_nodes(), input.model.num_elements(), system->size(),
+        input.output.directory.string());
 
   Progress progress(opt.quiet, settings.time.t0, settings.time.t_end);
-  progress.start(settings.type == AnalysisSettings::Type::kStatic
-                     ? "static load stepping"
+  progress.start(settings.type == AnalysisSettings::Type::kStatic ? "static load stepping"
+                 : settings.type == AnalysisSettings::Type::kRelaxation
+                     ? "dynamic relaxation"
                      : "dynamic run (" + settings.scheme + ")");
   AnalysisResult result;
-  RunSummary summary;
-  summary.elements = in->model.num_elements();
+  RunSummary& summary = out.summary;
+  summary.elements = input.model.num_elements();
   summary.dofs = system->size();
-  int status = kExitOk;
   try {
     result = run_analysis(*system, settings, [&](const StepSnapshot& snap) {
       writer->write_step(snap.step);
       if (snap.step.output_time) writer->write(snap);
       summary.final_time = snap.step.t;
       progress.update(snap.step);
-      return InterruptGuard::signal_received() == 0;
+      // SIGINT, SIGTERM (under run_command's InterruptGuard): stop after this step.
+      return (!opt.on_step || opt.on_step(snap.step)) && InterruptGuard::signal_received() == 0;
     });
     progress.finish(result.loop);
     summary.converged = result.loop.completed;
@@ -264,38 +268,41 @@ int run_command(const RunOptions& opt) {
     summary.integrator = result.integrator;
     summary.solver = result.solver;
     summary.dofs = result.dofs;
-    if (!result.loop.completed) status = kExitSolveFailed;
+    out.stopped = result.loop.stopped;
+    if (out.stopped && summary.reason.empty())
+      summary.reason = fmt::format("stopped by the caller at t = {:.6g}", summary.final_time);
+    if (!result.loop.completed) out.status = kExitSolveFailed;
     if (const int sig = InterruptGuard::signal_received(); sig && !result.loop.completed) {
       summary.status = "interrupted";
       summary.reason =
           fmt::format("interrupted by {} after step {} (t = {:.6g})",
                       sig == SIGINT ? "SIGINT" : "SIGTERM", result.loop.steps, summary.final_time);
-      status = sig == SIGINT ? kExitInterrupted : kExitTerminated;
+      out.status = sig == SIGINT ? kExitInterrupted : kExitTerminated;
     }
   } catch (const OutputError& e) {
-    say(stderr, "\nerror: {}\n", e.what());
-    return kExitIo;
+    progress.end_line();
+    out.status = kExitIo;
+    out.errors.push_back(e.what());
+    return out;
   } catch (const std::exception& e) {
     summary.converged = false;
     summary.reason = e.what();
-    status = kExitSolveFailed;
+    out.status = kExitSolveFailed;
   }
-  summary.wall_seconds = seconds_since(wall0);
+  summary.wall_seconds = seconds_since(opt.started);
   try {
     writer->write_summary(summary);
   } catch (const OutputError& e) {
-    say(stderr, "error: {}\n", e.what());
-    return kExitIo;
+    out.status = kExitIo;
+    out.errors.push_back(e.what());
+    return out;
   }
-  if (status == kExitInterrupted || status == kExitTerminated) {
-    say(stderr, "velum: {}; results up to there are in {}\n", summary.reason, dir.string());
-    return status;
-  }
-  if (status == kExitSolveFailed) {
-    say(stderr, "error: the solve failed at t = {:.6g} (step {}, last output kept in {}): {}\n",
-        result.loop.t, result.loop.steps + 1, in->output.directory.string(),
-        summary.reason.empty() ? "unknown reason" : summary.reason);
-    return status;
+  if (out.status == kExitSolveFailed) {
+    out.errors.push_back(
+        fmt::format("the solve failed at t = {:.6g} (step {}, last output kept in {}): {}",
+                    result.loop.t, result.loop.steps + 1, input.output.directory.string(),
+                    summary.reason.empty() ? "unknown reason" : summary.reason));
+    return out;
   }
   if (!opt.quiet)
     say(stderr,
@@ -303,7 +310,27 @@ int run_command(const RunOptions& opt) {
         "damping {:.6g}\n",
         summary.energy.kinetic, summary.energy.strain, summary.energy.external_work,
         summary.energy.damping);
-  return kExitOk;
+  return out;
+}
+
+int run_command(const RunOptions& opt) {
+  RunControls controls;
+  if (!opt.quiet)
+    say(stderr, "velum {} run: {}\n{}\n", VELUM_VERSION, opt.model.string(), kUnitsNote);
+  controls.output = opt.output;
+  controls.threads = opt.threads;
+  controls.quiet = opt.quiet;
+  InterruptGuard interrupts;  // SIGINT, SIGTERM: finish the current step, then stop
+  auto in = load(opt.model);
+  if (!in) return kExitBadInput;
+  if (const int sig = InterruptGuard::signal_received())  // nothing written yet
+    return sig == SIGINT ? kExitInterrupted : kExitTerminated;
+  const RunOutcome out = run_model(*in, controls);
+  for (const auto& e : out.errors) say(stderr, "error: {}\n", e);
+  if (out.status == kExitInterrupted || out.status == kExitTerminated)
+    say(stderr, "velum: {}; results up to there are in {}\n", out.summary.reason,
+        out.directory.string());
+  return out.status;
 }
 
 }  // namespace velum::io

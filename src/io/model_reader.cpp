@@ -1,5 +1,6 @@
-// The model file as a whole: loading the YAML, the order in which its sections are read,
-// and the checks that need all of them. Each section is read in model/read_*.cpp.
+// The model as a whole (from a file, YAML text or an in-memory YAML node): loading the YAML, the
+// order in which its sections are read, and the checks that need all of them. Each section is read
+// in model/read_*.cpp.
 #include "velum/io/model_reader.hpp"
 
 #include <fmt/format.h>
@@ -14,6 +15,7 @@
 #include "model/reader.hpp"
 #include "model/yaml_structure.hpp"
 #include "velum/assembly/dof_map.hpp"
+#include "velum/io/model_reader_yaml.hpp"
 
 namespace velum::io {
 
@@ -73,17 +75,18 @@ std::pair<int, int> document_lines(std::string_view text) {
 
 }  // namespace
 
-ModelInput Reader::read() {
+ModelInput Reader::read_file(const std::filesystem::path& file) {
+  in_.file = file;
   namespace fs = std::filesystem;
   std::error_code ec;
-  const auto st = fs::status(file_, ec);
+  const auto st = fs::status(file, ec);
   if (fs::is_directory(st))
     throw InputError({fmt::format("{}: is a directory, not a model file", name_)});
   if (fs::exists(st) && !fs::is_regular_file(st))
     throw InputError(
         {fmt::format("{}: not a regular file (a model file is a YAML text file)", name_)});
   if (fs::is_regular_file(st)) {
-    const auto bytes = fs::file_size(file_, ec);
+    const auto bytes = fs::file_size(file, ec);
     if (!ec && bytes > kMaxModelFileBytes)
       throw InputError({fmt::format(
           "{}: the model file has {} bytes, more than the limit of {} MiB (put large meshes "
@@ -91,26 +94,33 @@ ModelInput Reader::read() {
           name_, bytes, kMaxModelFileBytes >> 20)});
   }
   // yaml-cpp 0.7's LoadAll loops forever on some inputs (a flow mapping followed by a comma,
-  // found by fuzzing): the file is read whole, its document markers are found here, and only
-  // the first document is parsed.
+  // found by fuzzing): the file is read whole, its document markers are found here (in
+  // read_text), and only the first document is parsed.
   std::string text;
   {
-    std::ifstream in(file_, std::ios::binary);
+    std::ifstream in(file, std::ios::binary);
     if (!in) throw InputError({fmt::format("{}: cannot open the model file", name_)});
     text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
-  if (auto [first, second] = document_lines(text); second > 0)
+  return read_text(text);
+}
+
+ModelInput Reader::read_text(const std::string& yaml) {
+  if (auto [first, second] = document_lines(yaml); second > 0)
     throw InputError({fmt::format(
         "{}:{}: a second YAML document (after '---' or '...'): a model file holds one, which "
         "began at line {}",
         name_, second, first)});
-  Node document;
+  Node root;
   try {
-    document = YAML::Load(text);
+    root = YAML::Load(yaml);
   } catch (const YAML::ParserException& e) {
     throw InputError({fmt::format("{}:{}: YAML syntax error: {}", name_, e.mark.line + 1, e.msg)});
   }
-  const Node root = document;
+  return read(root);
+}
+
+ModelInput Reader::read(const Node& root) {
   if (!root.IsMap()) {
     throw InputError(
         {fmt::format("{}:{}: the model file must be a mapping of sections (mesh, "
@@ -194,13 +204,21 @@ void Reader::final_checks(const Node& root) {
 
 ModelInput read_model(const std::filesystem::path& file) {
   try {
-    return model_file::Reader(file).read();
+    return model_file::Reader(file.string(), file.parent_path()).read_file(file);
   } catch (const std::bad_alloc&) {
     throw InputError({fmt::format(
         "{}: out of memory while reading the model (or its mesh file): the model is too large "
         "for this machine",
         file.string())});
   }
+}
+
+ModelInput read_model_text(const std::string& yaml, const ModelSource& source) {
+  return model_file::Reader(source.name, source.base_dir).read_text(yaml);
+}
+
+ModelInput read_model(const YAML::Node& root, const ModelSource& source) {
+  return model_file::Reader(source.name, source.base_dir).read(root);
 }
 
 }  // namespace velum::io

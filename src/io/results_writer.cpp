@@ -217,6 +217,11 @@ void ResultsWriter::write_frame(const StepSnapshot& snap) {
   const int ne = model.num_elements();
 
   std::vector<double> smax(ne), smin(ne), dmax(3 * ne), dmin(3 * ne), angle(ne), force(ne);
+  // Tension-field state, written when a section wrinkles (docs/wrinkling.md).
+  const bool wrinkling = std::any_of(model.blocks.begin(), model.blocks.end(),
+                                     [](const auto& b) { return b->tension_field(); });
+  std::vector<std::int32_t> wstate(wrinkling ? ne : 0);
+  std::vector<double> wdir(wrinkling ? 3 * ne : 0);
   std::vector<std::int64_t> conn, offsets;
   std::vector<std::uint8_t> types;
   conn.reserve(static_cast<size_t>(ne) * 4);
@@ -240,10 +245,18 @@ void ResultsWriter::write_frame(const StepSnapshot& snap) {
         }
         angle[k] = o.stress.fiber_angle_change * kDeg;
         force[k] = 0;
+        if (wrinkling) {
+          wstate[k] = o.stress.wrinkle_state;
+          for (int c = 0; c < 3; ++c) wdir[3 * k + c] = o.stress.wrinkle_dir[c];
+        }
       } else {
         smax[k] = smin[k] = angle[k] = 0;
         for (int c = 0; c < 3; ++c) dmax[3 * k + c] = dmin[3 * k + c] = 0;
         force[k] = o.cable_force;
+        if (wrinkling) {
+          wstate[k] = 0;
+          for (int c = 0; c < 3; ++c) wdir[3 * k + c] = 0;
+        }
       }
     }
     const std::uint8_t vt = static_cast<std::uint8_t>(vtk_type(b->type_name()));
@@ -279,6 +292,10 @@ void ResultsWriter::write_frame(const StepSnapshot& snap) {
   xml += app.add("type=\"Float64\" Name=\"stress_dir_min\" NumberOfComponents=\"3\"", dmin);
   xml += app.add("type=\"Float64\" Name=\"fiber_angle_change\"", angle);
   xml += app.add("type=\"Float64\" Name=\"force\"", force);
+  if (wrinkling) {
+    xml += app.add("type=\"Int32\" Name=\"wrinkle_state\"", wstate);
+    xml += app.add("type=\"Float64\" Name=\"wrinkle_dir\" NumberOfComponents=\"3\"", wdir);
+  }
   xml += "</CellData>\n<Points>\n";
   xml += app.add("type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"", flat(model.X));
   xml += "</Points>\n<Cells>\n";

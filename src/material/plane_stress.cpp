@@ -108,7 +108,9 @@ PlaneStressLaw PlaneStressLaw::fibers(const std::string& name,
     for (int b = a; b < 2; ++b)
       for (int c = 0; c < 2; ++c)
         for (int d = c; d < 2; ++d) Q(kVoigt[a][b], kVoigt[c][d]) = q[a][b][c][d];
-  return PlaneStressLaw(name, Q);
+  PlaneStressLaw law(name, Q);
+  law.families_ = families;
+  return law;
 }
 
 PlaneStressLaw PlaneStressLaw::matrix(const std::string& name, const Mat3& Q) {

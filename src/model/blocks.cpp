@@ -18,18 +18,37 @@ Eigen::Matrix<double, 3, N> gather(const NodePositions& x, std::span<const int> 
   return out;
 }
 
-template <class Shape>
+/// The kernels' constitutive policy for a sheet law: the constant D precomputed at set-up
+/// wherever the law is affine (the fast path), the law itself at each point otherwise.
+template <class Law>
+Law points_policy(const SheetLaw& law);
+template <>
+ElasticPoints points_policy<ElasticPoints>(const SheetLaw&) {
+  return {};
+}
+template <>
+PrestressedPoints points_policy<PrestressedPoints>(const SheetLaw& law) {
+  return {law.prestress()};
+}
+
+template <class Shape, class Law>
 class MembraneBlock final : public ElementBlock {
   using K = Membrane<Shape>;
   static constexpr int kN = Shape::kNodes;
 
  public:
   MembraneBlock(std::string set, std::vector<int> conn, const NodePositions& X,
-                const PlaneStressLaw& law, double density, double t0, const SheetAxes* axes,
+                const SheetLaw& law, double density, double t0, const SheetAxes* axes,
                 shape::Integration integration, BlockSetupReport& report)
       : ElementBlock(std::move(set), std::move(conn), density),
         t0_(t0),
-        rule_(shape::rule_of<Shape>(integration)) {
+        rule_(shape::rule_of<Shape>(integration)),
+        law_(std::make_unique<SheetLaw>(law)) {
+    if constexpr (std::is_same_v<Law, LawPoints>) {
+      policy_.law = law_.get();
+    } else {
+      policy_ = points_policy<Law>(law);
+    }
     const int ne = size();
     points_.resize(ne);
     Xref_.resize(ne);
@@ -55,6 +74,7 @@ class MembraneBlock final : public ElementBlock {
 
   std::string_view type_name() const override { return Shape::kName; }
   ElementKind kind() const override { return ElementKind::kMembrane; }
+  bool tension_field() const override { return law_->wrinkling(); }
   int nodes_per_element() const override { return kN; }
 
   void internal(std::span<const int> elements, const NodePositions& x, double* r,
@@ -64,10 +84,10 @@ class MembraneBlock final : public ElementBlock {
       const int e = elements[i];
       const auto xe = gather<kN>(x, nodes(e));
       if (Kout) {
-        K::force_tangent(points_[e], xe, re,
+        K::force_tangent(points_[e], policy_, xe, re,
                          *reinterpret_cast<typename K::Matrix*>(Kout + i * K::kDofs * K::kDofs));
       } else {
-        K::force(points_[e], xe, re);
+        K::force(points_[e], policy_, xe, re);
       }
       Eigen::Map<typename K::Vector>(r + i * K::kDofs) = re;
     }
@@ -102,7 +122,8 @@ class MembraneBlock final : public ElementBlock {
 
   double strain_energy(const NodePositions& x) const override {
     double U = 0;
-    for (int e = 0; e < size(); ++e) U += K::strain_energy(points_[e], gather<kN>(x, nodes(e)));
+    for (int e = 0; e < size(); ++e)
+      U += K::strain_energy(points_[e], policy_, gather<kN>(x, nodes(e)));
     return U;
   }
 
@@ -163,8 +184,23 @@ class MembraneBlock final : public ElementBlock {
     const Vec3 Gm(Gcov(0, 0), Gcov(1, 1), Gcov(0, 1));
     const Vec3 strain(0.5 * (g.col(0).squaredNorm() - Gm[0]),
                       0.5 * (g.col(1).squaredNorm() - Gm[1]), g.col(0).dot(g.col(1)) - Gm[2]);
-    const Vec3 S = p.D * strain / p.t0dA;
-    return membrane_stress(g, S, Gm, p.T);
+    if constexpr (std::is_same_v<Law, LawPoints>) {
+      SheetResponse r;
+      law_->evaluate(sheet_strain_map(p.T) * strain, r);
+      const Vec3 S = sheet_strain_map(p.T).transpose() * r.S;
+      MembraneStress out = membrane_stress(g, S, Gm, p.T);
+      out.wrinkle_state = static_cast<int>(r.state);
+      if (r.state == WrinkleState::kWrinkled) {
+        // The tension direction n = cos θ m1 + sin θ m2, as deformed: F n = g_α T(a,α) n_a.
+        const Vec2 n(std::cos(r.angle), std::sin(r.angle));
+        out.wrinkle_dir = (g * (p.T.transpose() * n)).normalized();
+      }
+      return out;
+    } else {
+      Vec3 S;
+      policy_.stress(p, strain, S);
+      return membrane_stress(g, S / p.t0dA, Gm, p.T);
+    }
   }
 
  private:
@@ -172,6 +208,8 @@ class MembraneBlock final : public ElementBlock {
 
   double t0_;
   shape::GaussRule<Shape::kPoints, 2> rule_;
+  std::unique_ptr<SheetLaw> law_;  // owned here: the policy points to it (stable address)
+  Law policy_;
   std::vector<typename K::Points> points_;
   std::vector<Eigen::Matrix<double, 3, kN>, Eigen::aligned_allocator<Eigen::Matrix<double, 3, kN>>>
       Xref_;  // reference coordinates per element (locate, output_at)
@@ -266,7 +304,7 @@ bool is_membrane_type(std::string_view t) {
 
 std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::string set,
                                                   std::vector<int> conn, const NodePositions& X,
-                                                  const PlaneStressLaw& law, double density,
+                                                  const SheetLaw& law, double density,
                                                   double t0, const SheetAxes* axes,
                                                   shape::Integration integration,
                                                   BlockSetupReport& report) {
@@ -274,8 +312,13 @@ std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::st
     if (integration == shape::Integration::kNodal && !S::kNodalRule)
       throw std::invalid_argument(fmt::format(
           "nodal integration is available for tri3, quad4 and quad9, not {}", S::kName));
-    return std::make_unique<MembraneBlock<S>>(std::move(set), std::move(conn), X, law, density, t0,
-                                              axes, integration, report);
+    auto make = [&]<class Law>(Law) -> std::unique_ptr<ElementBlock> {
+      return std::make_unique<MembraneBlock<S, Law>>(std::move(set), std::move(conn), X, law,
+                                                     density, t0, axes, integration, report);
+    };
+    if (!law.affine()) return make(LawPoints{});
+    if (law.has_prestress()) return make(PrestressedPoints{});
+    return make(ElasticPoints{});
   };
   if (type == "tri3") return build(shape::Tri3{});
   if (type == "tri6") return build(shape::Tri6{});

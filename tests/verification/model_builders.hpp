@@ -162,7 +162,7 @@ inline int nearest_node(const Model& m, const Vec3& P) {
 }
 
 inline int add_membrane(Model& m, std::string_view type, std::vector<int> conn,
-                        const PlaneStressLaw& law, double density, double thickness,
+                        const SheetLaw& law, double density, double thickness,
                         shape::Integration integration = shape::Integration::kGauss) {
   BlockSetupReport report;
   m.blocks.push_back(make_membrane_block(type, "sheet", std::move(conn), m.X, law, density,

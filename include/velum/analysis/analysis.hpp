@@ -9,13 +9,21 @@
 
 #include "velum/analysis/mechanical_system.hpp"
 #include "velum/solve/linear_solver.hpp"
+#include "velum/time/relaxation.hpp"
 #include "velum/time/time_loop.hpp"
 
 namespace velum {
 
 struct AnalysisSettings {
-  enum class Type { kStatic, kDynamic };
+  /// static: load stepping with Newton; relaxation: each load level by dynamic relaxation,
+  /// finished by Newton (relaxation.hpp); dynamic: a time integrator.
+  enum class Type { kStatic, kDynamic, kRelaxation };
   Type type = Type::kDynamic;
+  /// Equilibrium at each load level, no inertia (static and relaxation).
+  bool equilibrium() const { return type != Type::kDynamic; }
+  std::string type_name() const {
+    return type == Type::kStatic ? "static" : type == Type::kRelaxation ? "relaxation" : "dynamic";
+  }
   /// newmark | hht | generalized-alpha | central-difference
   std::string scheme = "generalized-alpha";
   double rho_inf = 0.8;     ///< generalized-alpha
@@ -23,6 +31,7 @@ struct AnalysisSettings {
   double newmark_beta = 0.25, newmark_gamma = 0.5;
   TimeLoopSettings time;
   NewtonSettings newton;
+  RelaxationSettings relaxation;
   SolverKind solver =
       SolverKind::kAuto;  ///< auto: CHOLMOD while symmetric and definite, else UMFPACK
 };

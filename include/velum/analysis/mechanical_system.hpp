@@ -23,6 +23,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   double force_scale() const override { return force_scale_; }
   double residual_noise() const override { return residual_noise_; }
   std::string diagnose_singular(const SparseMatrix& J) const override;
+  const std::vector<int>& equation_groups() const override { return equation_node_; }
 
   const Model& model() const { return model_; }
   const DofMap& dofs() const { return dofs_; }
@@ -71,6 +72,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   mutable bool have_mass_ = false;
   SparseMatrix K_;
   VecX lumped_nodes_, lumped_eq_;
+  std::vector<int> equation_node_;  ///< node of each equation
   std::vector<NodePositions> edge_forces_;
   std::vector<NodePositions> gravity_forces_;
   NodePositions U_, V_, x_, Fint_, Fext_, Fp_;

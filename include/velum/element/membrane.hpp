@@ -9,6 +9,7 @@
 #include <array>
 
 #include "velum/material/axes.hpp"
+#include "velum/material/sheet_law.hpp"
 #include "velum/shape/shapes.hpp"
 
 namespace velum {
@@ -31,6 +32,82 @@ struct MembranePoint {
   Vec3 G;       ///< reference metric G11, G22, G12
   Mat2 T;       ///< T(a,α) = m_a · G^α: sheet axes in the convected frame
   double t0dA;  ///< t0 · dA · w (reference volume weight)
+};
+
+/// The strain map between the convected frame and the sheet axes at a point with
+/// T(a,α) = m_a · G^α: E_sheet = A γ (both engineering Voigt), and S_convected = Aᵀ S_sheet,
+/// so that a stiffness C in the sheet axes is D = Aᵀ C A in the convected frame.
+Mat3 sheet_strain_map(const Mat2& T);
+
+/// How the kernels turn a point's convected strain γ = [γ11, γ22, 2γ12] into the weighted
+/// stress t0 dA w S^{αβ} and its tangent: a compile-time policy, chosen once per block.
+/// `tangent` returns a reference to the weighted D (the point's own when it is constant).
+///
+/// The linear elastic sheet: D computed at set-up, S = D γ (the fast path).
+struct ElasticPoints {
+  template <class Point>
+  void stress(const Point& p, const Vec3& e, Vec3& S) const {
+    S.noalias() = p.D * e;
+  }
+  template <class Point>
+  const Mat3& tangent(const Point& p, const Vec3& e, Vec3& S, Mat3&) const {
+    S.noalias() = p.D * e;
+    return p.D;
+  }
+  template <class Point>
+  double energy(const Point& p, const Vec3& e) const {
+    return 0.5 * e.dot(p.D * e);
+  }
+};
+
+/// The linear elastic sheet with a prestress S0 (2nd PK, sheet axes): S = D γ + Aᵀ S0.
+struct PrestressedPoints {
+  Vec3 S0 = Vec3::Zero();
+  template <class Point>
+  void stress(const Point& p, const Vec3& e, Vec3& S) const {
+    S.noalias() = p.D * e + p.t0dA * (sheet_strain_map(p.T).transpose() * S0);
+  }
+  template <class Point>
+  const Mat3& tangent(const Point& p, const Vec3& e, Vec3& S, Mat3&) const {
+    stress(p, e, S);
+    return p.D;
+  }
+  template <class Point>
+  double energy(const Point& p, const Vec3& e) const {
+    return 0.5 * e.dot(p.D * e) + p.t0dA * S0.dot(sheet_strain_map(p.T) * e);
+  }
+};
+
+/// Any sheet law (wrinkling, prestress, nonlinear laws): evaluated in the sheet axes at each
+/// point from the strain there.
+struct LawPoints {
+  const SheetLaw* law = nullptr;
+  template <class Point>
+  SheetResponse evaluate(const Point& p, const Vec3& e) const {
+    SheetResponse r;
+    law->evaluate(sheet_strain_map(p.T) * e, r);
+    return r;
+  }
+  template <class Point>
+  void stress(const Point& p, const Vec3& e, Vec3& S) const {
+    const Mat3 A = sheet_strain_map(p.T);
+    SheetResponse r;
+    law->evaluate(A * e, r);
+    S.noalias() = p.t0dA * (A.transpose() * r.S);
+  }
+  template <class Point>
+  const Mat3& tangent(const Point& p, const Vec3& e, Vec3& S, Mat3& D) const {
+    const Mat3 A = sheet_strain_map(p.T);
+    SheetResponse r;
+    law->evaluate(A * e, r);
+    S.noalias() = p.t0dA * (A.transpose() * r.S);
+    D.noalias() = p.t0dA * (A.transpose() * r.C * A);
+    return D;
+  }
+  template <class Point>
+  double energy(const Point& p, const Vec3& e) const {
+    return p.t0dA * law->energy(sheet_strain_map(p.T) * e);
+  }
 };
 
 /// An element's integration points and the rule they belong to.
@@ -66,12 +143,34 @@ struct Membrane {
   static double setup(const Nodes& X, const Mat3& Q, const SheetAxes& axes, double t0, Points& pts,
                       shape::Integration integration = shape::Integration::kGauss);
 
-  /// Internal force r_N = t0 ∫ S^{αβ} ∂γ_αβ/∂x_N dA at current positions x.
-  static void force(const Points& pts, const Nodes& x, Vector& r);
+  /// Internal force r_N = t0 ∫ S^{αβ} ∂γ_αβ/∂x_N dA at current positions x, with the stress
+  /// from the policy `law` (ElasticPoints, PrestressedPoints or LawPoints).
+  template <class Law>
+  static void force(const Points& pts, const Law& law, const Nodes& x, Vector& r);
   /// Internal force and consistent tangent dr/dx.
-  static void force_tangent(const Points& pts, const Nodes& x, Vector& r, Matrix& K);
-  /// Strain energy t0 ∫ ½ S:E dA.
-  static double strain_energy(const Points& pts, const Nodes& x);
+  template <class Law>
+  static void force_tangent(const Points& pts, const Law& law, const Nodes& x, Vector& r,
+                            Matrix& K);
+  /// Strain energy t0 ∫ W(E) dA.
+  template <class Law>
+  static double strain_energy(const Points& pts, const Law& law, const Nodes& x);
+
+  /// The linear elastic sheet (ElasticPoints).
+  static void force(const Points& pts, const Nodes& x, Vector& r) {
+    force(pts, ElasticPoints{}, x, r);
+  }
+  static void force_tangent(const Points& pts, const Nodes& x, Vector& r, Matrix& K) {
+    force_tangent(pts, ElasticPoints{}, x, r, K);
+  }
+  static double strain_energy(const Points& pts, const Nodes& x) {
+    return strain_energy(pts, ElasticPoints{}, x);
+  }
+
+  /// Green-Lagrange strain [γ11, γ22, 2γ12] at point q for the current basis g.
+  static Vec3 strain(const MembranePoint<Shape>& p, const Eigen::Matrix<double, 3, 2>& g) {
+    return {0.5 * (g.col(0).squaredNorm() - p.G[0]), 0.5 * (g.col(1).squaredNorm() - p.G[1]),
+            g.col(0).dot(g.col(1)) - p.G[2]};
+  }
   /// Consistent mass per unit density (scalar n x n, to be multiplied by ρ and I3).
   static NodeMatrix mass(const Points& pts);
 

@@ -14,6 +14,8 @@ struct MembraneStress {
   Vec3 sheet = Vec3::Zero();      ///< σ11, σ22, σ12 in the deformed sheet axes (F m1 and normal)
   Mat3 sigma = Mat3::Zero();      ///< Cartesian true stress (in the tangent plane)
   double fiber_angle_change = 0;  ///< angle(F m1, F m2) − angle(m1, m2), radians
+  int wrinkle_state = 0;          ///< 0 taut, 1 wrinkled, 2 slack (WrinkleState)
+  Vec3 wrinkle_dir = Vec3::Zero();  ///< wrinkled: unit vector along the wrinkles, as deformed
 };
 
 /// g: current tangent basis (g1, g2); S: contravariant 2nd PK [S11, S22, S12];

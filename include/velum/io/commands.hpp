@@ -1,12 +1,20 @@
 // The commands of the `velum` executable (app/main.cpp only parses arguments): `run` solves a
 // model file and writes its results, `check` validates it and prints statistics. Both return
 // the process exit status of MODEL_FORMAT.md: 0 solved, 1 bad input, 2 solve failed, 3 I/O
-// (an output folder another run is writing into, too), 130 / 143 stopped by SIGINT / SIGTERM.
 // (including an output folder in use by another run), 130 / 143 interrupted by SIGINT / SIGTERM.
+// run_model is the run itself, shared by `velum run` and the Python module: it takes a model
+// already read and returns what happened instead of printing errors.
 #pragma once
 
+#include <chrono>
 #include <filesystem>
+#include <functional>
 #include <optional>
+#include <string>
+#include <vector>
+
+#include "velum/io/model_reader.hpp"
+#include "velum/io/results_writer.hpp"
 
 namespace velum::io {
 
@@ -20,6 +28,35 @@ struct RunOptions {
   int threads = 0;                              ///< 0: OpenMP's default
   bool quiet = false;
 };
+
+/// How run_model runs: where it writes, its threads, its console and the caller's observer.
+struct RunControls {
+  std::optional<std::filesystem::path> output;  ///< overrides output.directory
+  int threads = 0;                              ///< 0: OpenMP's default
+  bool quiet = false;                           ///< no progress or statistics on stderr
+  /// Called after each accepted step (and once at t0 with step 0), after its results are
+  /// written; returning false stops the run (it then ends as "failed", `stopped` set). It must
+  /// not throw: the caller keeps its own errors and returns false.
+  std::function<bool(const AcceptedStep&)> on_step;
+  /// When the run started (summary.json's wall_seconds count from here): the command line
+  /// starts the clock before it reads the model.
+  std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
+};
+
+/// What a run did. `status` is the exit status; `errors` the messages the command line prints
+/// after "error: " (empty when solved).
+struct RunOutcome {
+  int status = kExitOk;
+  RunSummary summary;  ///< as in summary.json (written unless status is kExitBadInput/kExitIo)
+  std::filesystem::path directory;
+  bool stopped = false;  ///< on_step asked to stop
+  std::vector<std::string> errors;
+};
+
+/// Solves `input` and writes its results (history.csv, steps.csv, frames, summary.json) as
+/// `velum run` does, printing its progress and statistics on stderr unless quiet. Models that
+/// cannot be set up, I/O failures and failed solves are reported in the outcome, not thrown.
+RunOutcome run_model(ModelInput& input, const RunControls& controls);
 
 int run_command(const RunOptions& options);
 int check_command(const std::filesystem::path& model);

@@ -1,7 +1,9 @@
 // Reads a model file (YAML, /work/shared/MODEL_FORMAT.md) into a Model, its analysis
 // settings and its output settings. Every problem found is reported with the file, the
 // 1-based line and the key path; all problems of a file are collected into one InputError.
-// Node and element ids are the user's; units are the user's and never converted.
+// Node and element ids are the user's; units are the user's and never converted. A model may
+// also come as YAML text, or as a YAML node built in memory (model_reader_yaml.hpp, for the
+// Python module): its messages then name the key without a line.
 #pragma once
 
 #include <array>
@@ -63,7 +65,8 @@ struct ModelInput {
   AnalysisSettings analysis;
   OutputSettings output;
   std::vector<MaterialSummary> materials;
-  std::vector<std::string> warnings;  ///< "file:line: key: text", not fatal
+  std::vector<std::vector<long>> element_ids;  ///< per block of model.blocks: the user's ids
+  std::vector<std::string> warnings;           ///< "file:line: key: text", not fatal
 };
 
 // Limits beyond which a model is refused as bad input (docs/model-format.md, "Limits"): each
@@ -88,6 +91,16 @@ class InputError : public std::runtime_error {
 
 /// Reads and validates a model file. Throws InputError.
 ModelInput read_model(const std::filesystem::path& file);
+
+/// Where a model that is not a file comes from: the name its messages start with (instead of
+/// the file's) and the directory relative mesh and output paths start from.
+struct ModelSource {
+  std::string name = "model";
+  std::filesystem::path base_dir;  ///< empty: the working directory
+};
+
+/// Reads and validates a model given as YAML text. Throws InputError.
+ModelInput read_model_text(const std::string& yaml, const ModelSource& source);
 
 /// Levenshtein distance (for "did you mean" suggestions).
 int edit_distance(std::string_view a, std::string_view b);

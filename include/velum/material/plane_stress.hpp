@@ -54,6 +54,8 @@ class PlaneStressLaw {
 
   const Mat3& Q() const { return Q_; }
   const std::string& name() const { return name_; }
+  /// The fibre families of a `fibers` law (empty for the others).
+  const std::vector<FiberFamily>& families() const { return families_; }
 
   /// [S11, S22, S12] for engineering strain [E11, E22, 2 E12], in the sheet axes.
   Vec3 stress(const Vec3& strain_voigt) const { return Q_ * strain_voigt; }
@@ -64,6 +66,7 @@ class PlaneStressLaw {
   PlaneStressLaw(std::string name, const Mat3& Q) : name_(std::move(name)), Q_(Q) {}
   std::string name_;
   Mat3 Q_ = Mat3::Zero();
+  std::vector<FiberFamily> families_;
 };
 
 /// Transforms a 2-D fourth-order stiffness given in engineering Voigt form between frames:

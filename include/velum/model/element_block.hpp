@@ -13,7 +13,7 @@
 #include "velum/element/stress_output.hpp"
 #include "velum/material/axes.hpp"
 #include "velum/material/cable_law.hpp"
-#include "velum/material/plane_stress.hpp"
+#include "velum/material/sheet_law.hpp"
 #include "velum/shape/shapes.hpp"
 
 namespace velum {
@@ -34,6 +34,8 @@ class ElementBlock {
 
   virtual std::string_view type_name() const = 0;  ///< tri3 ... quad9, cable2, cable3
   virtual ElementKind kind() const = 0;
+  /// True for membranes whose law is a tension field (wrinkling): outputs carry its state.
+  virtual bool tension_field() const { return false; }
   virtual int nodes_per_element() const = 0;
   int dofs_per_element() const { return 3 * nodes_per_element(); }
   int size() const { return static_cast<int>(connectivity_.size()) / nodes_per_element(); }
@@ -90,7 +92,7 @@ struct BlockSetupReport {
 /// elements (the caller decides how to complain).
 std::unique_ptr<ElementBlock> make_membrane_block(
     std::string_view type, std::string set_name, std::vector<int> connectivity,
-    const NodePositions& X, const PlaneStressLaw& law, double density, double thickness,
+    const NodePositions& X, const SheetLaw& law, double density, double thickness,
     const SheetAxes* axes, shape::Integration integration, BlockSetupReport& report);
 
 /// Cable block (cable2, cable3).

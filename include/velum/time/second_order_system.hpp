@@ -5,6 +5,7 @@
 
 #include <Eigen/SparseCore>
 #include <string>
+#include <vector>
 
 #include "velum/math/types.hpp"
 
@@ -28,6 +29,14 @@ class SecondOrderSystem {
   /// change when every coordinate moves by one unit in the last place (ε ‖|K|ᵀ |x|‖). No
   /// residual below it can be told from zero. 0 when unknown.
   virtual double residual_noise() const { return 0; }
+  /// Equations that move together (the components of one node), as a group index per
+  /// equation; empty when every equation stands alone. Dynamic relaxation gives each group
+  /// one fictitious mass, so that a direction without stiffness yet (the normal of a flat,
+  /// unstressed sheet) moves with its node's in-plane mass.
+  virtual const std::vector<int>& equation_groups() const {
+    static const std::vector<int> none;
+    return none;
+  }
   /// Names the equations of J that carry no stiffness and no mass, and what to do about them;
   /// empty when there are none.
   virtual std::string diagnose_singular(const SparseMatrix& J) const = 0;

@@ -50,8 +50,9 @@ std::optional<std::string> bad_column_name(const std::string& name) {
 }  // namespace
 
 void Reader::parse_analysis(const Node& a) {
-  if (!check_map(a, "analysis",
-                 {"type", "integrator", "time", "newton", "damping", "linear_solver"}))
+  if (!check_map(
+          a, "analysis",
+          {"type", "integrator", "time", "newton", "damping", "linear_solver", "relaxation"}))
     return;
   AnalysisSettings& s = in_.analysis;
   if (auto t = text(a, "type", "analysis", false)) {
@@ -59,9 +60,38 @@ void Reader::parse_analysis(const Node& a) {
       s.type = AnalysisSettings::Type::kStatic;
     else if (*t == "dynamic")
       s.type = AnalysisSettings::Type::kDynamic;
+    else if (*t == "relaxation")
+      s.type = AnalysisSettings::Type::kRelaxation;
     else
       error(a["type"], "analysis.type",
-            fmt::format("unknown analysis type '{}'{}", *t, suggestion(*t, {"static", "dynamic"})));
+            fmt::format("unknown analysis type '{}'{}", *t,
+                        suggestion(*t, {"static", "dynamic", "relaxation"})));
+  }
+  if (has(a, "relaxation")) {
+    const Node r = a["relaxation"];
+    const std::string p = "analysis.relaxation";
+    if (s.type != AnalysisSettings::Type::kRelaxation)
+      error(r, p, "relaxation settings need analysis.type: relaxation");
+    if (check_map(r, p, {"newton_switch", "max_iterations"})) {
+      if (auto v = positive(r, "newton_switch", p, false, "the Newton switch")) {
+        if (*v >= 1)
+          error(r["newton_switch"], sub(p, "newton_switch"),
+                fmt::format("newton_switch is a residual relative to the force scale, below 1 "
+                            "(got {})",
+                            *v));
+        else
+          s.relaxation.newton_switch = *v;
+      }
+      if (has(r, "max_iterations")) {
+        if (auto n = integer(r["max_iterations"], sub(p, "max_iterations"), "a count")) {
+          if (*n < 1 || *n > 1000000000L)
+            error(r["max_iterations"], sub(p, "max_iterations"),
+                  fmt::format("max_iterations must lie in [1, 1e9] (got {})", *n));
+          else
+            s.relaxation.max_iterations = *n;
+        }
+      }
+    }
   }
   if (has(a, "integrator")) {
     const Node in = a["integrator"];
@@ -75,7 +105,7 @@ void Reader::parse_analysis(const Node& a) {
                 fmt::format("unknown scheme '{}'{}", *sc, suggestion(*sc, schemes)));
         else
           s.scheme = *sc;
-        if (*sc == "central-difference" && s.type == AnalysisSettings::Type::kStatic)
+        if (*sc == "central-difference" && s.equilibrium())
           error(in["scheme"], sub(p, "scheme"), "central-difference needs type: dynamic");
       }
       if (auto r = number(in, "rho_inf", p, false)) {
@@ -185,13 +215,13 @@ void Reader::parse_analysis(const Node& a) {
 
 void Reader::parse_output(const Node& o, const Node& root) {
   OutputSettings& out = in_.output;
-  out.directory = file_.parent_path() / "out";
+  out.directory = base_dir_ / "out";
   out.interval = in_.analysis.time.step;
   const bool given = o && check_map(o, "output", {"directory", "interval", "fields", "history"});
   if (given) {
     if (auto d = text(o, "directory", "output", false)) {
       std::filesystem::path p = *d;
-      out.directory = p.is_relative() ? file_.parent_path() / p : p;
+      out.directory = p.is_relative() ? base_dir_ / p : p;
     }
     if (auto iv = positive(o, "interval", "output", false, "the output interval")) {
       out.interval = *iv;

@@ -29,7 +29,7 @@ void Reader::parse_mesh(const Node& mesh) {
   long max_element_id = 0;
   if (auto f = text(mesh, "file", "mesh", false)) {
     std::filesystem::path p = *f;
-    if (p.is_relative()) p = file_.parent_path() / p;
+    if (p.is_relative()) p = base_dir_ / p;
     try {
       MeshData m = read_gmsh(p);
       for (const auto& n : m.nodes) add_node(n.id, n.x, mesh["file"], "mesh.file");

@@ -20,7 +20,9 @@ void Reader::parse_sections(const Node& ss) {
   for (size_t i = 0; i < ss.size(); ++i) {
     const Node s = ss[i];
     const std::string p = item("sections", i);
-    if (!check_map(s, p, {"elements", "material", "thickness", "area", "axes", "integration"}))
+    if (!check_map(s, p,
+                   {"elements", "material", "thickness", "area", "axes", "integration", "wrinkling",
+                    "prestress"}))
       continue;
     auto set = text(s, "elements", p, true);
     auto mat = text(s, "material", p, true);
@@ -91,8 +93,49 @@ void Reader::parse_sections(const Node& ss) {
       } else if (!how)
         integration_ok = false;
     }
-    if (!size || !md.ok || !axes_ok || !integration_ok || !mesh_ok_) continue;
-    build_blocks(*set, es, md, *size, axes ? &*axes : nullptr, integration, s, p);
+    // The section's additions to its material: wrinkling (membranes) and prestress.
+    MaterialDef law = md;
+    bool law_ok = true;
+    if (has(s, "wrinkling")) {
+      const auto w = boolean(s, "wrinkling", p);
+      if (w && *w && !membrane) {
+        error(s["wrinkling"], sub(p, "wrinkling"),
+              "cables carry no compression already; wrinkling is for membranes");
+        law_ok = false;
+      }
+      law.wrinkling = w.value_or(false);
+      law_ok = law_ok && w.has_value();
+    }
+    if (has(s, "prestress")) {
+      const Node ps = s["prestress"];
+      const std::string pp = sub(p, "prestress");
+      if (membrane) {
+        const auto v = ps.IsSequence() && ps.size() == 3 ? vec3(ps, pp) : std::nullopt;
+        if (!v) {
+          if (!(ps.IsSequence() && ps.size() == 3))
+            error(ps, pp,
+                  "expected [s11, s22, s12]: a 2nd Piola-Kirchhoff stress in the sheet "
+                  "axes (force/area)");
+          law_ok = false;
+        } else {
+          law.prestress = *v;
+        }
+      } else {
+        const auto n = number(ps, pp);
+        if (!n) {
+          law_ok = false;
+        } else if (*n < 0 && !md.cable_law.compression) {
+          error(ps, pp,
+                "a cable's prestress is a tension (an axial force >= 0); only a truss "
+                "(compression: true) takes a negative one");
+          law_ok = false;
+        } else {
+          law.cable_prestress = *n;
+        }
+      }
+    }
+    if (!size || !md.ok || !axes_ok || !integration_ok || !law_ok || !mesh_ok_) continue;
+    build_blocks(*set, es, law, *size, axes ? &*axes : nullptr, integration, s, p);
   }
 }
 
@@ -161,11 +204,13 @@ void Reader::build_blocks(const std::string& set, const ElementSet& es, const Ma
     std::unique_ptr<ElementBlock> block;
     try {
       if (md.cable)
-        block = make_cable_block(g.type, set, std::move(conn), in_.model.X, md.cable_law,
-                                 md.density, size, integration, report);
+        block = make_cable_block(
+            g.type, set, std::move(conn), in_.model.X,
+            CableLaw{md.cable_law.E, md.cable_law.compression, md.cable_prestress / size},
+            md.density, size, integration, report);
       else
-        block = make_membrane_block(g.type, set, std::move(conn), in_.model.X, *md.law, md.density,
-                                    size, axes, integration, report);
+        block = make_membrane_block(g.type, set, std::move(conn), in_.model.X, md.sheet_law(),
+                                    md.density, size, axes, integration, report);
     } catch (const std::exception& e) {
       error(at, p, fmt::format("set '{}': {}", set, e.what()));
       continue;
@@ -190,7 +235,7 @@ void Reader::build_blocks(const std::string& set, const ElementSet& es, const Ma
                        set, g.ids[static_cast<size_t>(report.poor_axes_element)],
                        report.poor_axes_quality));
     set_blocks_[set].push_back(static_cast<int>(in_.model.blocks.size()));
-    block_ids_.push_back(g.ids);
+    in_.element_ids.push_back(g.ids);
     in_.model.blocks.push_back(std::move(block));
   }
 }

@@ -24,6 +24,16 @@ struct MaterialDef {
   CableLaw cable_law;
   double density = 0;
   bool ok = false;
+  // What a section adds to the material (read_sections.cpp).
+  bool wrinkling = false;
+  Vec3 prestress = Vec3::Zero();  ///< membranes: 2nd PK [s11, s22, s12], sheet axes
+  double cable_prestress = 0;     ///< cables: axial force
+  SheetLaw sheet_law() const {
+    SheetLaw s(*law);
+    if (prestress.squaredNorm() > 0) s.with_prestress(prestress);
+    if (wrinkling) s.with_wrinkling();
+    return s;
+  }
 };
 
 struct ElementSet {
@@ -37,7 +47,10 @@ class Reader : public ReaderContext {
  public:
   using ReaderContext::ReaderContext;
 
-  ModelInput read();
+  /// The model in a file, in YAML text, or as a YAML node. Throw InputError.
+  ModelInput read_file(const std::filesystem::path& file);
+  ModelInput read_text(const std::string& yaml);
+  ModelInput read(const Node& root);
 
  private:
   // model_reader.cpp
@@ -84,7 +97,6 @@ class Reader : public ReaderContext {
   std::map<std::string, std::vector<long>> file_node_sets_;
   std::map<std::string, std::vector<int>> node_sets_;
   std::map<std::string, std::vector<int>> set_blocks_;
-  std::vector<std::vector<long>> block_ids_;
   std::vector<std::pair<Node, std::string>> edge_load_nodes_;
   std::set<long> element_ids_;
 };

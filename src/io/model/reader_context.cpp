@@ -44,7 +44,9 @@ void ReaderContext::error(const Node& at, const std::string& key, const std::str
 }
 
 void ReaderContext::warn(const Node& at, const std::string& key, const std::string& text) {
-  in_.warnings.push_back(fmt::format("{}:{}: {}: {}", name_, std::max(line_of(at), 1), key, text));
+  const std::string loc =
+      at.Mark().is_null() ? name_ : fmt::format("{}:{}", name_, std::max(line_of(at), 1));
+  in_.warnings.push_back(fmt::format("{}: {}: {}", loc, key, text));
 }
 
 std::string ReaderContext::sub(const std::string& path, std::string_view key) {

@@ -1,8 +1,8 @@
-// What every part of the model-file reader shares: the file, the list of problems found so
-// far ("file:line: key: text"), the ModelInput being filled, and typed readers of YAML values
-// that report a bad value instead of throwing. Each part of the file (mesh, materials and
-// sections, boundary and loads, analysis and output) is read by a Reader member defined in
-// its own read_*.cpp.
+// What every part of the model-file reader shares: its name and base directory, the list of
+// problems found so far ("file:line: key: text"), the ModelInput being filled, and typed readers of
+// YAML values that report a bad value instead of throwing. Each part of the file (mesh, materials
+// and sections, boundary and loads, analysis and output) is read by a Reader member defined in its
+// own read_*.cpp.
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -33,9 +33,10 @@ std::vector<std::string> keys_of(const Map& m) {
 
 class ReaderContext {
  public:
-  explicit ReaderContext(std::filesystem::path file)
-      : file_(std::move(file)), name_(file_.string()) {
-    in_.file = file_;
+  /// `name` starts every message; relative mesh and output paths start from `base_dir`.
+  ReaderContext(std::string name, std::filesystem::path base_dir)
+      : base_dir_(std::move(base_dir)), name_(std::move(name)) {
+    in_.file = name_;
   }
 
  protected:
@@ -70,7 +71,7 @@ class ReaderContext {
                            bool required);
   std::optional<int> component(const Node& map, const char* key, const std::string& path);
 
-  std::filesystem::path file_;
+  std::filesystem::path base_dir_;  ///< relative mesh and output paths start here
   std::string name_;
   std::vector<std::string> errors_;
   ModelInput in_;

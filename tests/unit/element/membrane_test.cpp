@@ -68,6 +68,84 @@ TYPED_TEST(MembraneKernel, A4TangentMatchesFiniteDifferences) {
   }
 }
 
+TYPED_TEST(MembraneKernel, A4TangentOfPrestressedAndWrinklingSheetsMatchesFiniteDifferences) {
+  // The laws evaluated at each point (LawPoints) and the prestressed fast path, on every law;
+  // the deformed states are chosen so that some points are taut, some wrinkled, some slack.
+  using S = TypeParam;
+  using M = Membrane<S>;
+  test::Random rnd(150 + S::kNodes);
+  int states[3] = {0, 0, 0};
+  for (const auto& [label, elastic] : test::test_laws()) {
+    // A fibre sheet that wrinkles takes no sheet prestress (its families go slack one by one).
+    const Vec3 S0 = label == "fibers" ? Vec3::Zero() : Vec3(30.0, 12.0, -3.0);
+    const SheetLaw wrinkling = SheetLaw(elastic).with_prestress(S0).with_wrinkling();
+    const LawPoints law{&wrinkling};
+    const PrestressedPoints prestressed{S0};
+    for (int trial = 0; trial < 4; ++trial) {
+      const Mat3 R = rnd.rotation(rnd.uniform(0, 3));
+      const typename M::Nodes X =
+          test::distorted_element<S>(rnd, kH, 0.08, 0.15 * (trial % 2), R, rnd.vec3(-2, 2));
+      typename M::Points pts;
+      ASSERT_GT(M::setup(X, elastic.Q(), test::axes_at(30 + 10 * trial, R), kT0, pts), 0);
+      Mat3 F = Mat3::Identity() + 0.12 * rnd.mat3(-1, 1);
+      typename M::Nodes x;
+      for (int n = 0; n < S::kNodes; ++n) x.col(n) = F * X.col(n) + 0.04 * kH * rnd.vec3(-1, 1);
+      for (int q = 0; q < S::kPoints; ++q) {
+        const Eigen::Matrix<double, 3, 2> g = x * pts.shapes->dN[q];
+        ++states[static_cast<int>(law.evaluate(pts[q], M::strain(pts[q], g)).state)];
+      }
+      const double h = 1e-6 * kH;
+      auto check = [&](const auto& policy, const char* what) {
+        typename M::Vector r, r2;
+        typename M::Matrix K;
+        M::force_tangent(pts, policy, x, r, K);
+        M::force(pts, policy, x, r2);
+        EXPECT_LT(test::rel_max_error(r2, r), 1e-13) << label << " " << what;
+        const auto Kfd = test::fd_jacobian<typename M::Vector, typename M::Matrix>(
+            x, h, [&](const typename M::Nodes& y, typename M::Vector& f) {
+              M::force(pts, policy, y, f);
+            });
+        EXPECT_LT(test::rel_max_error(K, Kfd), 1e-6) << S::kName << " " << label << " " << what;
+        const auto rfd = test::fd_gradient<typename M::Vector>(
+            x, h, [&](const typename M::Nodes& y) { return M::strain_energy(pts, policy, y); });
+        EXPECT_LT(test::rel_max_error(rfd, r), 1e-6) << S::kName << " " << label << " " << what;
+      };
+      check(law, "wrinkling");
+      check(prestressed, "prestressed");
+    }
+  }
+  EXPECT_GT(states[0], 0);
+  EXPECT_GT(states[1], 0);
+  std::cout << S::kName << " points taut / wrinkled / slack: " << states[0] << " / " << states[1]
+            << " / " << states[2] << "\n";
+}
+
+TYPED_TEST(MembraneKernel, PrestressedAndGeneralLawPathsAgree) {
+  using S = TypeParam;
+  using M = Membrane<S>;
+  test::Random rnd(170 + S::kNodes);
+  AnisotropicConstants c;
+  c.E1 = 2000.0, c.E2 = 1000.0, c.nu12 = 0.3, c.G12 = 400.0, c.eta1 = 0.25, c.eta2 = -0.15;
+  const SheetLaw law = SheetLaw(PlaneStressLaw::anisotropic("a", c)).with_prestress({5, 7, 2});
+  const Mat3 R = rnd.rotation(1.1);
+  const typename M::Nodes X = test::distorted_element<S>(rnd, kH, 0.08, 0.1, R, Vec3::Zero());
+  typename M::Points pts;
+  M::setup(X, law.Q(), test::axes_at(35, R), kT0, pts);
+  typename M::Nodes x = X;
+  for (int n = 0; n < S::kNodes; ++n) x.col(n) += 0.1 * kH * rnd.vec3(-1, 1);
+  typename M::Vector r1, r2;
+  typename M::Matrix K1, K2;
+  M::force_tangent(pts, PrestressedPoints{law.prestress()}, x, r1, K1);
+  M::force_tangent(pts, LawPoints{&law}, x, r2, K2);
+  EXPECT_LT(test::rel_max_error(r1, r2), 1e-12);
+  EXPECT_LT(test::rel_max_error(K1, K2), 1e-12);
+  for (int q = 0; q < S::kPoints; ++q) {
+    const Mat3 A = sheet_strain_map(pts[q].T);
+    EXPECT_LT((A.transpose() * law.Q() * A * pts[q].t0dA - pts[q].D).cwiseAbs().maxCoeff(),
+              1e-12 * pts[q].D.cwiseAbs().maxCoeff());
+  }
+}
+
 TYPED_TEST(MembraneKernel, A4PressureLoadStiffnessMatchesFiniteDifferences) {
   using S = TypeParam;
   using M = Membrane<S>;

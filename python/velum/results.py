@@ -1,0 +1,209 @@
+"""Results of a run as numpy arrays, read from the files the run wrote (docs/model-format.md):
+summary.json, history.csv, steps.csv and the ParaView frames. What Python sees is what the
+command line writes, to the digit.
+"""
+import csv
+import json
+import re
+import xml.etree.ElementTree as ET
+from collections import namedtuple
+from pathlib import Path
+
+import numpy as np
+
+CellBlock = namedtuple("CellBlock", "set type ids start stop")
+CellBlock.__doc__ = ("One element block in frame order: its element set, type, the user's "
+                     "element ids, and its cells start:stop in the frames' cell arrays.")
+
+
+class Results:
+    """What a run wrote into ``directory``.
+
+    ``status`` and ``summary`` are summary.json's; ``history`` maps each history.csv column
+    (``"time"`` first) to a numpy array; ``steps`` maps steps.csv's columns to arrays (the
+    residuals as a list of arrays); ``times`` holds the frames' times and ``frame(i)`` reads
+    frame i (negative counts from the end). ``node_ids`` are the user's node ids in the frames'
+    point order; ``blocks`` the element blocks in the frames' cell order.
+    """
+
+    def __init__(self, directory, node_ids=None, blocks=None, stopped=False, warnings=()):
+        self.directory = Path(directory)
+        self.node_ids = None if node_ids is None else np.asarray(node_ids)
+        self.blocks = []
+        start = 0
+        for b in blocks or []:
+            ids = np.asarray(b["ids"])
+            self.blocks.append(CellBlock(b["set"], b["type"], ids, start, start + len(ids)))
+            start += len(ids)
+        self.stopped = bool(stopped)
+        self.warnings = list(warnings)
+        self._history = None
+        self._steps = None
+        self._times = None
+
+    def __repr__(self):
+        return (f"<velum.Results {str(self.directory)!r}: {self.status}, "
+                f"{self.summary.get('steps')} steps, {len(self.times)} frames>")
+
+    @property
+    def summary(self):
+        with open(self.directory / "summary.json") as f:
+            return json.load(f)
+
+    @property
+    def status(self):
+        """"converged" or "failed", as in summary.json."""
+        return self.summary["status"]
+
+    @property
+    def history(self):
+        if self._history is None:
+            self._history = read_csv_columns(self.directory / "history.csv")
+        return self._history
+
+    @property
+    def steps(self):
+        if self._steps is None:
+            self._steps = read_csv_columns(self.directory / "steps.csv")
+        return self._steps
+
+    @property
+    def times(self):
+        """The frames' times (results.pvd)."""
+        if self._times is None:
+            self._times, self._frame_files = _read_pvd(self.directory / "results.pvd")
+        return self._times
+
+    def __len__(self):
+        return len(self.times)
+
+    def frame(self, i):
+        """Frame i (negative: from the end) as a ``Frame``."""
+        n = len(self.times)
+        if n == 0:
+            raise IndexError(f"{self.directory}: no frames (output.fields is false, or the "
+                             "run stopped before its first output)")
+        if not -n <= i < n:
+            raise IndexError(f"frame {i} out of range: {n} frames")
+        i %= n
+        return Frame(self.directory / self._frame_files[i], self._times[i], self.node_ids,
+                     self.blocks)
+
+    @property
+    def frames(self):
+        """Every frame, read one at a time."""
+        return (self.frame(i) for i in range(len(self.times)))
+
+    def cells(self, element_set):
+        """Indices into the frames' cell arrays of the cells of an element set."""
+        parts = [np.arange(b.start, b.stop) for b in self.blocks if b.set == element_set]
+        if not parts:
+            raise KeyError(f"no element set {element_set!r} (sets: "
+                           f"{sorted({b.set for b in self.blocks})})")
+        return np.concatenate(parts)
+
+
+class Frame:
+    """One ParaView frame: ``points`` (N, 3) reference coordinates, ``displacement`` and
+    ``velocity`` (N, 3), ``position`` = points + displacement; the cell fields
+    (``true_stress_max``, ``true_stress_min``, ``stress_dir_max``, ``stress_dir_min``,
+    ``fiber_angle_change``, ``force`` and any others the run wrote) in ``cell_data`` and as
+    attributes; ``connectivity`` as a list of point-index arrays, one per cell."""
+
+    def __init__(self, path, time, node_ids=None, blocks=()):
+        self.path = Path(path)
+        self.time = float(time)
+        self.node_ids = node_ids
+        self.blocks = blocks
+        arrays, self.point_names, self.cell_names = read_vtu(self.path)
+        self.points = arrays["Points"].reshape(-1, 3)
+        self.point_data = {k: arrays[k] for k in self.point_names}
+        self.cell_data = {k: arrays[k] for k in self.cell_names}
+        offsets = arrays["offsets"]
+        conn = arrays["connectivity"]
+        self.connectivity = np.split(conn, offsets[:-1])
+        self.cell_types = arrays["types"]
+
+    @property
+    def displacement(self):
+        return self.point_data["displacement"]
+
+    @property
+    def velocity(self):
+        return self.point_data["velocity"]
+
+    @property
+    def position(self):
+        return self.points + self.displacement
+
+    def __getattr__(self, name):
+        data = self.__dict__.get("cell_data", {})
+        if name in data:
+            return data[name]
+        raise AttributeError(name)
+
+    def __repr__(self):
+        return (f"<velum.Frame t = {self.time:.6g}: {len(self.points)} points, "
+                f"{len(self.cell_types)} cells>")
+
+
+def read_csv_columns(path):
+    """A CSV file with a header row as {column: numpy array}; a column that is not numeric
+    (steps.csv's residuals) becomes a list of arrays of its space-separated numbers."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    if not rows:
+        return {}
+    head, body = rows[0], [r for r in rows[1:] if r]
+    out = {}
+    for j, name in enumerate(head):
+        col = [r[j] for r in body]
+        try:
+            out[name] = np.array([float(v) for v in col])
+        except ValueError:
+            out[name] = [np.array([float(x) for x in v.split()]) for v in col]
+    return out
+
+
+def _read_pvd(path):
+    if not path.exists():
+        return np.zeros(0), []
+    sets = ET.parse(path).getroot().findall("./Collection/DataSet")
+    return np.array([float(d.get("timestep")) for d in sets]), [d.get("file") for d in sets]
+
+
+_TYPES = {"Float64": "<f8", "Float32": "<f4", "Int64": "<i8", "Int32": "<i4", "UInt8": "u1",
+          "UInt64": "<u8", "Int8": "i1"}
+_ARRAY = re.compile(rb"<DataArray ([^>]*?)/?>")
+_ATTR = re.compile(rb'(\w+)="([^"]*)"')
+
+
+def read_vtu(path):
+    """The arrays of a VTK XML unstructured grid with raw appended data (as Velum writes
+    them): ({name: array}, point array names, cell array names). Multi-component arrays are
+    (n, components)."""
+    raw = Path(path).read_bytes()
+    marker = raw.find(b'<AppendedData encoding="raw">')
+    if marker < 0:
+        raise ValueError(f"{path}: not a VTU file with raw appended data")
+    base = raw.index(b"_", marker) + 1
+    header = raw[:marker]
+    point_start, cell_start = header.find(b"<PointData"), header.find(b"<CellData")
+    point_end, cell_end = header.find(b"</PointData>"), header.find(b"</CellData>")
+    arrays, point_names, cell_names = {}, [], []
+    for m in _ARRAY.finditer(header):
+        attrs = {k.decode(): v.decode() for k, v in _ATTR.findall(m.group(1))}
+        at = base + int(attrs["offset"])
+        nbytes = int(np.frombuffer(raw, "<u8", 1, at)[0])
+        data = np.frombuffer(raw, _TYPES[attrs["type"]], nbytes // np.dtype(
+            _TYPES[attrs["type"]]).itemsize, at + 8).copy()
+        comps = int(attrs.get("NumberOfComponents", "1"))
+        if comps > 1:
+            data = data.reshape(-1, comps)
+        name = attrs["Name"]
+        arrays[name] = data
+        if point_start <= m.start() < point_end:
+            point_names.append(name)
+        elif cell_start <= m.start() < cell_end:
+            cell_names.append(name)
+    return arrays, point_names, cell_names

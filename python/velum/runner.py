@@ -1,0 +1,55 @@
+"""velum.run: a model solved in-process by the command line's own run function."""
+import os
+import warnings
+
+from . import _velum
+from .errors import InputError, OutputError, SolveError, VelumWarning
+from .model import as_model
+from .results import Results
+
+
+def run(model, output=None, threads=0, quiet=False, progress=None):
+    """Solves a model (a ``velum.Model``, a dict, or a model file path) in this process and
+    writes the same files as ``velum run`` (history.csv, steps.csv, the ParaView frames,
+    summary.json). Returns ``velum.Results``.
+
+    output:   results directory; default the model's ``output.directory`` (relative to its
+              base_dir), as ``velum run`` without -o
+    threads:  OpenMP threads (0: OpenMP's default, as the command line)
+    quiet:    no progress or statistics on stderr
+    progress: called as ``progress(time, step, iterations)`` after every accepted step (step 0
+              at the start); returning False stops the run, which then returns results with
+              ``stopped`` set and ``status`` "failed". An exception from it stops the run and
+              is raised once summary.json is written; so is Ctrl-C.
+
+    Raises velum.InputError (bad model: every message, each naming the key),
+    velum.SolveError (no convergence at the smallest step; ``.results`` holds what was written)
+    and velum.OutputError (the results cannot be written). Model warnings become Python
+    warnings (velum.VelumWarning).
+    """
+    model = as_model(model)
+    out = _velum.run(model._data, model.name, str(model.base_dir),
+                     None if output is None else os.fspath(output), int(threads), bool(quiet),
+                     progress)
+    for w in out["warnings"]:
+        warnings.warn(w, VelumWarning, stacklevel=2)
+    status = out["status"]
+    if status == _velum.EXIT_BAD_INPUT:
+        raise InputError(out["errors"])
+    if status == _velum.EXIT_IO:
+        raise OutputError("\n".join(out["errors"]))
+    results = Results(out["directory"], out["node_ids"], out["blocks"], out["stopped"],
+                      out["warnings"])
+    if status != _velum.EXIT_OK and not out["stopped"]:  # failed (or any status to come)
+        raise SolveError("\n".join(out["errors"]), results)
+    return results
+
+
+def open_results(directory, model=None):
+    """Results of an earlier run (by ``velum run`` or ``velum.run``) in ``directory``. With
+    the model (a ``velum.Model``, a dict or a path), ``node_ids`` and ``blocks`` are set too."""
+    node_ids, blocks = None, None
+    if model is not None:
+        stats = as_model(model).check()
+        node_ids, blocks = stats["node_ids"], stats["blocks"]
+    return Results(directory, node_ids, blocks)

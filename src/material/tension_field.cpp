@@ -1,0 +1,160 @@
+// Tension field of an anisotropic elastic sheet (docs/wrinkling.md). With n = (cos θ, sin θ)
+// the tension direction and t = (−sin θ, cos θ) across the wrinkles, the wrinkled stress is
+// S = S_trial − β Q v_t, where v_t = [t1², t2², 2 t1 t2] is t ⊗ t in engineering Voigt form
+// and β the wrinkling strain across the wrinkles. The two conditions of uniaxial tension,
+// S_tt = v_t · S = 0 and S_nt = v_nt · S = 0 (v_nt = [n1 t1, n2 t2, n1 t2 + n2 t1]), give
+// β = v_t·S_trial / v_tᵀQv_t and, after clearing the denominator, the angle equation
+//     H(θ) = (v_tᵀQv_t)(v_nt·S_trial) − (v_t·S_trial)(v_ntᵀQv_t) = 0,
+// a trigonometric polynomial with period π and at most six roots there. Its roots are bracketed
+// by sampling and refined by a safeguarded Newton method; a root is admissible when β ≤ 0 (a
+// contraction) and the tension s = n·S·n > 0; among admissible roots the one of lowest elastic
+// energy (W(E − β v_t) = W(E) − ½ β² v_tᵀQv_t: the largest ½ β² v_tᵀQv_t) is the solution.
+// This rejects the spurious roots with negative tension that an anisotropic sheet can have.
+#include <cmath>
+#include <numbers>
+
+#include "velum/material/sheet_law.hpp"
+
+namespace velum {
+namespace {
+
+constexpr int kSamples = 36;  // 5° apart: at most six roots in [0, π)
+
+/// The vectors of the wrinkle frame at angle θ (c = cos θ, s = sin θ).
+struct WrinkleFrame {
+  Vec3 vt, vnt, vn;  ///< t⊗t, sym(n⊗t), n⊗n in engineering Voigt (shear doubled)
+  WrinkleFrame(double c, double s)
+      : vt(s * s, c * c, -2 * s * c), vnt(-c * s, s * c, c * c - s * s), vn(c * c, s * s, 2 * c * s) {}
+};
+
+class AngleEquation {
+ public:
+  AngleEquation(const Mat3& Q, const Vec3& St) : Q_(Q), St_(St) {}
+
+  /// H(θ) and, when dH is non-null, dH/dθ.
+  double operator()(double theta, double* dH = nullptr) const {
+    const WrinkleFrame f(std::cos(theta), std::sin(theta));
+    const Vec3 Qvt = Q_ * f.vt;
+    const double d = f.vt.dot(Qvt), a = f.vnt.dot(St_), b = f.vt.dot(St_), e = f.vnt.dot(Qvt);
+    if (dH) {
+      // v_t' = −2 v_nt and v_nt' = v_t − v_n.
+      const Vec3 dvnt = f.vt - f.vn;
+      const double dd = -4 * e, da = dvnt.dot(St_), db = -2 * a;
+      const double de = dvnt.dot(Qvt) - 2 * f.vnt.dot(Q_ * f.vnt);
+      *dH = dd * a + d * da - db * e - b * de;
+    }
+    return d * a - b * e;
+  }
+
+ private:
+  const Mat3& Q_;
+  const Vec3& St_;
+};
+
+/// Root of H in [lo, hi] where H(lo) and H(hi) differ in sign: Newton steps kept inside the
+/// shrinking bracket, bisection when a step would leave it or converge too slowly.
+double refine_root(const AngleEquation& H, double lo, double hi, double Hlo) {
+  double x = 0.5 * (lo + hi);
+  double dx_old = hi - lo, dx = dx_old;
+  for (int it = 0; it < 100; ++it) {
+    double dH = 0;
+    const double h = H(x, &dH);
+    if (h == 0) return x;
+    if ((h < 0) == (Hlo < 0)) {
+      lo = x;
+      Hlo = h;
+    } else {
+      hi = x;
+    }
+    const bool newton_leaves = dH == 0 || ((x - h / dH) - lo) * ((x - h / dH) - hi) > 0;
+    if (newton_leaves || std::abs(2 * h) > std::abs(dx_old * dH)) {
+      dx_old = dx;
+      dx = 0.5 * (hi - lo);
+      x = lo + dx;
+    } else {
+      dx_old = dx;
+      dx = h / dH;
+      x -= dx;
+    }
+    if (std::abs(dx) < 1e-15 || hi - lo < 1e-15) return x;
+  }
+  return x;
+}
+
+}  // namespace
+
+TensionField tension_field(const Mat3& Q, const Vec3& St) {
+  TensionField out;
+  // Taut: the trial stress has no negative principal value.
+  const double mean = 0.5 * (St[0] + St[1]);
+  const double radius = std::hypot(0.5 * (St[0] - St[1]), St[2]);
+  if (mean - radius >= 0) {
+    out.S = St;
+    out.C = Q;
+    out.state = WrinkleState::kTaut;
+    return out;
+  }
+  const AngleEquation H(Q, St);
+  const double scale = Q.cwiseAbs().maxCoeff();
+  double best_relief = -1, best_theta = 0, best_beta = 0;
+  const double h = std::numbers::pi / kSamples;
+  double theta0 = 0, H0 = H(0);
+  for (int k = 1; k <= kSamples; ++k) {
+    const double theta1 = k * h;
+    const double H1 = k == kSamples ? H(0) : H(theta1);  // H has period π
+    double root = -1;
+    if (H0 == 0) {
+      root = theta0;
+    } else if ((H0 < 0) != (H1 < 0) && H1 != 0) {
+      root = refine_root(H, theta0, theta1, H0);
+    }
+    if (root >= 0) {
+      const WrinkleFrame f(std::cos(root), std::sin(root));
+      const Vec3 Qvt = Q * f.vt;
+      const double d = f.vt.dot(Qvt);
+      if (d > 1e-12 * scale) {
+        const double beta = f.vt.dot(St) / d;
+        const double tension = f.vn.dot(St - beta * Qvt);
+        const double relief = 0.5 * beta * beta * d;
+        if (beta <= 0 && tension > 0 && relief > best_relief) {
+          best_relief = relief;
+          best_theta = root;
+          best_beta = beta;
+        }
+      }
+    }
+    theta0 = theta1;
+    H0 = H1;
+  }
+  if (best_relief < 0) {
+    out.state = WrinkleState::kSlack;  // S = 0, C = 0
+    return out;
+  }
+
+  // Wrinkled: S = S_trial − β Q v_t(θ). The tangent follows from differentiating the two
+  // conditions R = [v_t·S, v_nt·S] = 0 with respect to E at fixed (β, θ) and along (β, θ):
+  // d(β, θ)/dE = −J⁻¹ ∂R/∂E with ∂R/∂E = [Q v_t, Q v_nt]ᵀ and
+  // J = [[−v_tᵀQv_t, 2β v_tᵀQv_nt], [−v_ntᵀQv_t, −s + 2β v_ntᵀQv_nt]]
+  // (using S_nt = 0, S_tt = 0 at the root; s = n·S·n).
+  const WrinkleFrame f(std::cos(best_theta), std::sin(best_theta));
+  const Vec3 Qvt = Q * f.vt, Qvnt = Q * f.vnt;
+  const double beta = best_beta;
+  out.S = St - beta * Qvt;
+  const double s = f.vn.dot(out.S);
+  Mat2 J;
+  J << -f.vt.dot(Qvt), 2 * beta * f.vt.dot(Qvnt), -f.vnt.dot(Qvt), -s + 2 * beta * f.vnt.dot(Qvnt);
+  Eigen::Matrix<double, 2, 3> dRdE;
+  dRdE.row(0) = Qvt.transpose();
+  dRdE.row(1) = Qvnt.transpose();
+  const Eigen::Matrix<double, 2, 3> dx = -J.inverse() * dRdE;  // d(β, θ)/dE
+  Eigen::Matrix<double, 3, 2> dSdx;
+  dSdx.col(0) = -Qvt;
+  dSdx.col(1) = 2 * beta * Qvnt;  // −β Q v_t' with v_t' = −2 v_nt
+  out.C = Q + dSdx * dx;
+  out.state = WrinkleState::kWrinkled;
+  out.angle = best_theta;
+  out.beta = beta;
+  return out;
+}
+
+}  // namespace velum

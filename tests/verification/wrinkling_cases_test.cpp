@@ -1,0 +1,237 @@
+// Verification E1 and E2 (VERIFICATION.md section E): wrinkling membranes with a tension-field
+// law, solved by dynamic relaxation from the flat sheet (E1) and by load stepping (E2).
+// Suite `Solver`: the fast variants; suite `Verification`: the refinements.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include "model_builders.hpp"
+#include "velum/time/relaxation.hpp"
+
+namespace velum::test {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// E1 Square airbag (Jarasjarungkiat et al.; mem4py; Zhang & Kiendl): two square sheets sewn at
+// their edges, diagonal 1.2 m, t 0.6 mm, E 588 MPa, ν 0.4, 5 kPa. By symmetry the seam stays
+// in the mid-plane: a quarter of one sheet with symmetry on the inner edges and the seams held
+// only out of plane. It starts flat, so it is solved by dynamic relaxation (analysis type
+// `relaxation`), with no tuning.
+struct AirbagResult {
+  double w0 = 0;         ///< centre deflection
+  double min_ratio = 0;  ///< smallest principal stress / largest, over the element centres
+  int dofs = 0, wrinkled = 0, slack = 0, elements = 0;
+  long iterations = 0;
+  std::vector<double> newton_residuals;
+  double seconds = 0;
+  bool converged = false;
+};
+
+AirbagResult square_airbag(int n, std::string_view type) {
+  const double side = 1.2 / std::numbers::sqrt2, half = 0.5 * side;
+  const double E = 588e6, nu = 0.4, t = 0.6e-3, p = 5e3;
+  Model m;
+  NodeCache nodes(m, 1e-9);
+  auto conn = square(nodes, half, n, type);
+  const SheetLaw law = SheetLaw(PlaneStressLaw::isotropic("fabric", E, nu)).with_wrinkling();
+  const int b = add_membrane(m, type, std::move(conn), law, 1000.0, t);
+  add_pressure(m, b, p);
+  const double tol = 1e-9;
+  m.symmetry.push_back(
+      {nodes_where(m, [&](const Vec3& X) { return std::abs(X.x()) < tol; }), Vec3::UnitX()});
+  m.symmetry.push_back(
+      {nodes_where(m, [&](const Vec3& X) { return std::abs(X.y()) < tol; }), Vec3::UnitY()});
+  m.fixed.push_back({nodes_where(m,
+                                 [&](const Vec3& X) {
+                                   return std::abs(X.x() - half) < tol ||
+                                          std::abs(X.y() - half) < tol;
+                                 }),
+                     {false, false, true}});
+  MechanicalSystem sys(m);
+  DynamicRelaxation dr;
+  auto solver = make_linear_solver(SolverKind::kAuto);
+  TimeLoopSettings loop;
+  loop.t_end = 1;
+  loop.step = 1;
+  State s;
+  s.u = s.v = s.a = VecX::Zero(sys.size());
+  AirbagResult r;
+  const auto t0 = std::chrono::steady_clock::now();
+  const TimeLoopResult res =
+      run_time_loop(sys, dr, *solver, loop, s, [&](const AcceptedStep& st, const State&) {
+        r.newton_residuals = st.report->residuals;
+        return true;
+      });
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.converged = res.completed;
+  EXPECT_TRUE(res.completed) << res.reason;
+  r.iterations = res.iterations;
+  r.dofs = sys.size();
+  const NodePositions U = sys.displacements(1.0, s.u);
+  r.w0 = U(2, nearest_node(m, Vec3::Zero()));
+  const NodePositions x = m.X + U;
+  double smax = 0, smin = 0;
+  const auto& blk = *m.blocks[b];
+  r.elements = blk.size();
+  for (int e = 0; e < blk.size(); ++e) {
+    const auto o = blk.output(e, x).stress;
+    smax = std::max(smax, o.max);
+    smin = std::min(smin, o.min);
+    r.wrinkled += o.wrinkle_state == 1;
+    r.slack += o.wrinkle_state == 2;
+  }
+  r.min_ratio = smin / smax;
+  fmt::print(
+      "E1 square airbag {} {}x{} ({} dofs): w0 = {:.5f} m ({:+.2f}% from 0.2166), min/max "
+      "principal stress {:.2e}, {} of {} elements wrinkled, {} slack; {} iterations, {:.2f} s\n",
+      type, n, n, r.dofs, r.w0, 100 * (r.w0 - 0.2166) / 0.2166, r.min_ratio, r.wrinkled,
+      r.elements, r.slack, r.iterations, r.seconds);
+  std::string seq;
+  for (double v : r.newton_residuals) seq += fmt::format(" {:.2e}", v);
+  fmt::print("E1 Newton residuals after relaxation:{}\n", seq);
+  return r;
+}
+
+TEST(Solver, E1SquareAirbagWrinkling) {
+  const AirbagResult r = square_airbag(16, "quad4");
+  ASSERT_TRUE(r.converged);
+  EXPECT_LT(percent(r.w0, 0.2166), 3.0);
+  EXPECT_GE(r.min_ratio, -1e-3);
+  EXPECT_GT(r.wrinkled, r.elements / 10);  // the corners and seams wrinkle
+}
+
+TEST(Verification, E1SquareAirbagRefinement) {
+  std::vector<double> w;
+  for (int n : {16, 24, 32}) {
+    const AirbagResult r = square_airbag(n, "quad4");
+    ASSERT_TRUE(r.converged);
+    EXPECT_LT(percent(r.w0, 0.2166), 3.0) << n;
+    EXPECT_GE(r.min_ratio, -1e-3) << n;
+    w.push_back(r.w0);
+  }
+  // Converging under refinement: the changes shrink.
+  EXPECT_LT(std::abs(w[2] - w[1]), std::abs(w[1] - w[0]) + 1e-4 * w[2]);
+  const AirbagResult r9 = square_airbag(12, "quad9");
+  EXPECT_LT(percent(r9.w0, 0.2166), 3.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// E2 Inflated tube in bending (tension-field theory): a tube of radius R under internal
+// pressure p carries the axial force N = p π R² of its end caps. Under a moment M the axial
+// force per length is N/(2πR) + M cos φ/(π R²) while the section is taut, so wrinkling starts
+// at M = π p R³ / 2; the largest moment a section without compression can carry, with the
+// whole force N at one fibre at distance R, is M = π p R³ (collapse). Both follow from
+// equilibrium and no compression alone, so they hold for an orthotropic tube too.
+// Half tube (symmetry plane y = 0) of length L = 2R: the root section stays plane (u_x = 0)
+// and free to expand; the tip ring is held circular and plane by stiff trusses to two hub
+// nodes on the axis, which carry the cap force and a couple of transverse forces that grows
+// in time (force control). The moment is read from the root reactions.
+struct TubeResult {
+  double onset_before = 0, onset_after = 0;  ///< root moment at the last taut / first wrinkled step
+  double largest = 0;                        ///< largest root moment in equilibrium
+  bool completed = false;
+};
+
+TubeResult tube_in_bending(const SheetLaw& law, double overload, int around, int along) {
+  const double R = 0.1, L = 2 * R, p = 1e4, t = 2e-4;
+  const double Mc = std::numbers::pi * p * R * R * R;  // full tube
+  Model m;
+  NodeCache nodes(m, 1e-9);
+  std::vector<int> conn;
+  // Normal g1 x g2 points outwards with u along the axis and v around (φ from the top, z = R).
+  mesh_patch(
+      nodes,
+      [&](double u, double v) {
+        return Vec3(L * u, R * std::sin(std::numbers::pi * v), R * std::cos(std::numbers::pi * v));
+      },
+      along, around, "quad4", conn);
+  const int tube = add_membrane(m, "quad4", std::move(conn), law, 1000.0, t);
+  add_pressure(m, tube, p);
+  const double tol = 1e-9;
+  const auto root = nodes_where(m, [&](const Vec3& X) { return std::abs(X.x()) < tol; });
+  const auto tip = nodes_where(m, [&](const Vec3& X) { return std::abs(X.x() - L) < tol; });
+  const int hubA = nodes.add(Vec3(L - R, 0, 0)), hubB = nodes.add(Vec3(L + R, 0, 0));
+  std::vector<int> trusses;
+  for (int n : tip) trusses.insert(trusses.end(), {hubA, n, hubB, n});
+  std::vector<int> ring = tip;  // in order around: sort by angle
+  std::sort(ring.begin(), ring.end(), [&](int a, int b) {
+    return std::atan2(m.X(1, a), m.X(2, a)) < std::atan2(m.X(1, b), m.X(2, b));
+  });
+  for (size_t k = 0; k + 1 < ring.size(); ++k) trusses.insert(trusses.end(), {ring[k], ring[k + 1]});
+  trusses.insert(trusses.end(), {ring.front(), ring.back()});  // across the diameter
+  add_cable(m, "cable2", std::move(trusses), CableLaw{1e13, true}, 0.0, 1e-4);
+  m.fixed.push_back({root, {true, false, false}});
+  m.fixed.push_back({{nearest_node(m, Vec3(0, R, 0))}, {false, false, true}});
+  m.symmetry.push_back(
+      {nodes_where(m, [&](const Vec3& X) { return std::abs(X.y()) < tol; }), Vec3::UnitY()});
+  // Half the cap force on the half tube, shared by the hubs; the couple 2 R F = M / 2.
+  const double F = overload * Mc / 2 / (2 * R);
+  const int ramp = add_ramp(m, 1.0);
+  m.point_loads.push_back({{hubA, hubB}, Vec3(p * std::numbers::pi * R * R / 4, 0, 0), -1});
+  m.point_loads.push_back({{hubA}, Vec3(0, 0, -F), ramp});
+  m.point_loads.push_back({{hubB}, Vec3(0, 0, F), ramp});
+  MechanicalSystem sys(m);
+
+  StaticNewton integrator;
+  auto solver = make_linear_solver(SolverKind::kAuto);
+  TimeLoopSettings loop;
+  loop.t_end = 1;
+  loop.step = 0.01;
+  loop.min_step = 1e-5;
+  State s;
+  s.u = s.v = s.a = VecX::Zero(sys.size());
+  TubeResult r;
+  bool wrinkled_before = false;
+  const auto& blk = *m.blocks[tube];
+  const TimeLoopResult res =
+      run_time_loop(sys, integrator, *solver, loop, s, [&](const AcceptedStep& st, const State& cur) {
+        const NodePositions Rf = sys.reactions(st.t, cur.u, cur.v);
+        const NodePositions x = m.X + sys.displacements(st.t, cur.u);
+        double M = 0;
+        for (int n : root) M += Rf(0, n) * x(2, n);
+        M = std::abs(2 * M);  // both halves
+        bool wrinkled = false;
+        for (int e = 0; e < blk.size() && !wrinkled; ++e) {
+          const double xc = m.X(0, blk.nodes(e)[0]);
+          if (xc > 0.3 * L && xc < 0.6 * L) wrinkled = blk.output(e, x).stress.wrinkle_state != 0;
+        }
+        if (wrinkled && !wrinkled_before) r.onset_after = M;
+        if (!wrinkled) r.onset_before = M;
+        wrinkled_before = wrinkled_before || wrinkled;
+        r.largest = std::max(r.largest, M);
+        return true;
+      });
+  r.completed = res.completed;
+  fmt::print(
+      "E2 tube: wrinkling starts between M/(πpR³) = {:.4f} and {:.4f} (theory 0.5); largest "
+      "moment in equilibrium {:.4f} (theory 1){}\n",
+      r.onset_before / Mc, r.onset_after / Mc, r.largest / Mc,
+      res.completed ? "" : fmt::format("; then {}", res.reason));
+  return r;
+}
+
+// Not met yet (docs/wrinkling.md): the isotropic tube starts wrinkling at 0.503-0.513 of
+// π p R³, the orthotropic one at 0.535-0.545 (the stiff tip ring disturbs the short tube), and
+// the force-controlled static solve stops at 0.940 / 0.955 of π p R³ short of the collapse
+// moment. Kept with the 2% tolerances in the verification suite (make verify).
+TEST(Verification, E2InflatedTubeInBending) {
+  const double Mc = std::numbers::pi * 1e4 * 1e-3;
+  for (const auto& [label, elastic] :
+       {std::pair{"isotropic", PlaneStressLaw::isotropic("iso", 1e10, 0.3)},
+        std::pair{"orthotropic", PlaneStressLaw::orthotropic("ortho", 2e10, 6e9, 0.35, 3e9, false)}}) {
+    const TubeResult r = tube_in_bending(SheetLaw(elastic).with_wrinkling(), 1.05, 24, 8);
+    EXPECT_LE(r.onset_before, 0.5 * Mc * 1.02) << label;
+    EXPECT_GE(r.onset_after, 0.5 * Mc * 0.98) << label;
+    EXPECT_GT(r.onset_after, 0) << label;
+    EXPECT_GE(r.largest, 0.98 * Mc) << label;
+    EXPECT_LE(r.largest, 1.01 * Mc) << label;
+    EXPECT_FALSE(r.completed) << label << ": no equilibrium beyond the collapse moment";
+  }
+}
+
+}  // namespace
+}  // namespace velum::test
