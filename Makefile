@@ -4,7 +4,7 @@ BUILD  := build/$(PRESET)
 JOBS   ?= $(shell nproc)
 CMAKE_FLAGS ?= $(if $(CI),-DVELUM_WERROR=ON,)
 
-.PHONY: all deps configure build check demo bench verify asan clean format install
+.PHONY: all deps configure build check demo bench verify asan fuzz clean format install
 
 all: build
 
@@ -46,6 +46,16 @@ verify: build
 
 asan:
 	@$(MAKE) check PRESET=asan
+
+# libFuzzer (clang, ASan + UBSan; preset fuzz) on the model reader and the Gmsh reader, each for
+# FUZZ_SECONDS (default 60), seeded from the examples and the test meshes; crashes, leaks and
+# slow inputs land in out/fuzz/<harness>/ (tools/run-fuzz). Not part of `make check`.
+FUZZ_SECONDS ?= 60
+fuzz:
+	@scripts/install-deps --fuzz
+	@cmake --preset fuzz > /dev/null
+	@cmake --build build/fuzz -j $(JOBS)
+	@tools/run-fuzz build/fuzz out/fuzz $(FUZZ_SECONDS)
 
 format:
 	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

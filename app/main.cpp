@@ -5,8 +5,10 @@
 
 #include "velum/config.hpp"
 #include "velum/io/commands.hpp"
+#include "velum/io/run_control.hpp"
 
 int main(int argc, char** argv) {
+  velum::io::prepare_standard_streams();
   // The sparse factorisations allocate and free large blocks at every Newton iteration: keep
   // them in the heap instead of mapping fresh (page-faulting, zeroed) memory each time
   // (an M_MMAP_THRESHOLD above 32 MiB is refused by glibc, so mapping is switched off).
@@ -41,10 +43,15 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : velum::io::kExitBadInput;
   }
-  if (run_cmd->parsed()) {
-    if (!output.empty()) run.output = output;
-    if (!restart.empty()) run.restart = restart;
-    return velum::io::run_command(run);
+  try {
+    if (run_cmd->parsed()) {
+      if (!output.empty()) run.output = output;
+      if (!restart.empty()) run.restart = restart;
+      return velum::io::run_command(run);
+    }
+    return velum::io::check_command(check_model);
+  } catch (const std::bad_alloc&) {
+    velum::io::say(stderr, "error: out of memory: the model is too large for this machine\n");
+    return velum::io::kExitBadInput;
   }
-  return velum::io::check_command(check_model);
 }

@@ -11,6 +11,7 @@
 #include "velum/assembly/dof_map.hpp"
 #include "velum/config.hpp"
 #include "velum/io/checkpoint.hpp"
+#include "velum/io/run_control.hpp"
 
 // Present when the BLAS behind SuiteSparse is OpenBLAS (Debian's alternatives), absent (null)
 // with the reference BLAS.
@@ -48,7 +49,7 @@ class Progress {
 
   void start(const std::string& what) {
     if (quiet_) return;
-    if (!tty_) fmt::print(stderr, "velum: {} from t = {:.6g} to {:.6g}\n", what, t0_, t_end_);
+    if (!tty_) say(stderr, "velum: {} from t = {:.6g} to {:.6g}\n", what, t0_, t_end_);
   }
   void update(const AcceptedStep& s) {
     if (quiet_ || !tty_) return;
@@ -60,16 +61,16 @@ class Progress {
     const double eta = frac > 0 ? elapsed * (1 - frac) / frac : -1;
     constexpr int kWidth = 30;
     const int filled = static_cast<int>(frac * kWidth);
-    fmt::print(stderr, "\r[{}{}] t = {:<10.4g} h = {:<9.3g} step {:<6d} newton {:<3d} ETA {:<8}",
-               std::string(static_cast<size_t>(filled), '#'),
-               std::string(static_cast<size_t>(kWidth - filled), '.'), s.t, s.h, s.step,
-               s.iterations, duration_text(eta));
+    say(stderr, "\r[{}{}] t = {:<10.4g} h = {:<9.3g} step {:<6d} newton {:<3d} ETA {:<8}",
+        std::string(static_cast<size_t>(filled), '#'),
+        std::string(static_cast<size_t>(kWidth - filled), '.'), s.t, s.h, s.step, s.iterations,
+        duration_text(eta));
     std::fflush(stderr);
     drawn_ = true;
   }
   /// Ends the bar's line so that a message can follow.
   void end_line() {
-    if (drawn_) fmt::print(stderr, "\n");
+    if (drawn_) say(stderr, "\n");
     drawn_ = false;
   }
   // A warning on its own line (the bar, if drawn, continues below it).
@@ -81,8 +82,7 @@ class Progress {
   void finish(const TimeLoopResult& r) {
     if (quiet_) return;
     end_line();
-    fmt::print(
-        stderr,
+    say(stderr,
         "velum: {} at t = {:.6g} after {} steps, {} Newton iterations ({} factorisations), {} "
         "cut-backs, {:.2f} s\n",
         r.completed ? "finished" : "stopped", r.t, r.steps, r.iterations, r.factorizations,
@@ -100,12 +100,12 @@ class Progress {
 std::optional<ModelInput> load(const std::filesystem::path& file) {
   try {
     ModelInput in = read_model(file);
-    for (const auto& w : in.warnings) fmt::print(stderr, "warning: {}\n", w);
+    for (const auto& w : in.warnings) say(stderr, "warning: {}\n", w);
     return in;
   } catch (const InputError& e) {
-    for (const auto& m : e.messages()) fmt::print(stderr, "error: {}\n", m);
-    fmt::print(stderr, "velum: {} error{} in {}\n", e.messages().size(),
-               e.messages().size() == 1 ? "" : "s", file.string());
+    for (const auto& m : e.messages()) say(stderr, "error: {}\n", m);
+    say(stderr, "velum: {} error{} in {}\n", e.messages().size(),
+        e.messages().size() == 1 ? "" : "s", file.string());
     return std::nullopt;
   }
 }
@@ -171,10 +171,40 @@ std::map<std::string, int> elements_per_type(const Model& m) {
   return out;
 }
 
+std::string json_escape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '"' || c == '\\')
+      o += '\\', o += c;
+    else if (static_cast<unsigned char>(c) < 0x20)
+      o += fmt::format("\\u{:04x}", static_cast<int>(c));
+    else
+      o += c;
+  }
+  return o;
+}
+
+/// Marks DIR as holding a run in progress and removes what a previous run left that the new
+/// one might not overwrite (its frames and their index).
+void begin_results(const std::filesystem::path& dir, const std::filesystem::path& model) {
+  write_file_atomically(dir / "summary.json",
+                        fmt::format("{{\n  \"status\": \"running\",\n  \"model\": \"{}\",\n  "
+                                    "\"pid\": {}\n}}\n",
+                                    json_escape(model.string()), getpid()));
+  std::error_code ec;
+  std::filesystem::remove(dir / "results.pvd", ec);
+  if (std::filesystem::is_directory(dir / "frames", ec))
+    for (const auto& f : std::filesystem::directory_iterator(dir / "frames", ec)) {
+      const std::string name = f.path().filename().string();
+      if (name.rfind("frame_", 0) == 0 && f.path().extension() == ".vtu")
+        std::filesystem::remove(f.path(), ec);
+    }
+}
+
 }  // namespace
 
 int check_command(const std::filesystem::path& file) {
-  fmt::print("velum {} check: {}\n{}\n", VELUM_VERSION, file.string(), kUnitsNote);
+  say(stdout, "velum {} check: {}\n{}\n", VELUM_VERSION, file.string(), kUnitsNote);
   auto in = load(file);
   if (!in) return kExitBadInput;
   const Model& m = in->model;
@@ -182,41 +212,42 @@ int check_command(const std::filesystem::path& file) {
   try {
     dofs = DofMap(m).num_equations();
   } catch (const std::exception& e) {
-    fmt::print(stderr, "error: {}: {}\n", file.string(), e.what());
+    say(stderr, "error: {}: {}\n", file.string(), e.what());
     return kExitBadInput;
   }
-  if (!in->title.empty()) fmt::print("title:      {}\n", in->title);
-  fmt::print("nodes:      {}\n", m.num_nodes());
+  if (!in->title.empty()) say(stdout, "title:      {}\n", in->title);
+  say(stdout, "nodes:      {}\n", m.num_nodes());
   std::string per_type;
   for (const auto& [t, n] : elements_per_type(m)) per_type += fmt::format(" {} {}", t, n);
-  fmt::print("elements:   {} ({})\n", m.num_elements(), per_type.empty() ? "" : per_type.substr(1));
-  fmt::print("blocks:     {}\n", m.blocks.size());
-  fmt::print("dofs:       {} equations ({} fixed or prescribed components)\n", dofs,
-             3 * m.num_nodes() - dofs);
+  say(stdout, "elements:   {} ({})\n", m.num_elements(),
+      per_type.empty() ? "" : per_type.substr(1));
+  say(stdout, "blocks:     {}\n", m.blocks.size());
+  say(stdout, "dofs:       {} equations ({} fixed or prescribed components)\n", dofs,
+      3 * m.num_nodes() - dofs);
   std::string mats;
   for (const auto& mt : in->materials)
     mats += fmt::format("{}{} ({})", mats.empty() ? "" : ", ", mt.name, mt.type);
-  fmt::print("materials:  {}\n", mats);
-  fmt::print("loads:      {} point, {} edge, {} pressure, {} gravity; {} point masses\n",
-             m.point_loads.size(), m.edge_loads.size(), m.pressures.size(), m.gravity.size(),
-             m.masses.size());
+  say(stdout, "materials:  {}\n", mats);
+  say(stdout, "loads:      {} point, {} edge, {} pressure, {} gravity; {} point masses\n",
+      m.point_loads.size(), m.edge_loads.size(), m.pressures.size(), m.gravity.size(),
+      m.masses.size());
   for (size_t i = 0; i < m.gases.size(); ++i)
-    fmt::print(
+    say(stdout,
         "gas {}:      reference volume {:.6g}, initial pressure {:.6g}, ambient {:.6g}, "
         "gamma {:.6g}\n",
         i, m.gases[i].V0, m.gases[i].initial_pressure, m.gases[i].ambient, m.gases[i].gamma);
-  fmt::print("boundary:   {} fixed, {} prescribed, {} symmetry\n", m.fixed.size(),
-             m.prescribed.size(), m.symmetry.size());
+  say(stdout, "boundary:   {} fixed, {} prescribed, {} symmetry\n", m.fixed.size(),
+      m.prescribed.size(), m.symmetry.size());
   const auto& a = in->analysis;
-  fmt::print("analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n", a.type_name(),
-             a.type == AnalysisSettings::Type::kStatic       ? "load stepping"
-             : a.type == AnalysisSettings::Type::kRelaxation ? "kinetic damping, then Newton"
-                                                             : a.scheme,
-             a.time.t_end, a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
-  fmt::print("output:     {} every {:.6g}, {} history column{}{}\n", in->output.directory.string(),
-             in->output.interval, in->output.history.size(),
-             in->output.history.size() == 1 ? "" : "s", in->output.fields ? ", fields" : "");
-  fmt::print("velum: {} is valid\n", file.string());
+  say(stdout, "analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n", a.type_name(),
+      a.type == AnalysisSettings::Type::kStatic       ? "load stepping"
+      : a.type == AnalysisSettings::Type::kRelaxation ? "kinetic damping, then Newton"
+                                                      : a.scheme,
+      a.time.t_end, a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
+  say(stdout, "output:     {} every {:.6g}, {} history column{}{}\n", in->output.directory.string(),
+      in->output.interval, in->output.history.size(), in->output.history.size() == 1 ? "" : "s",
+      in->output.fields ? ", fields" : "");
+  say(stdout, "velum: {} is valid\n", file.string());
   return kExitOk;
 }
 
@@ -247,15 +278,37 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
       return out;
     }
   }
+  // One run per folder: the lock first, then "running" in summary.json before anything of a
+  // previous run is touched, so that no moment shows its "converged" beside a new history.
+  const std::filesystem::path dir = input.output.directory;
+  {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir)) {
+      out.status = kExitIo;
+      out.errors.push_back(fmt::format("cannot create the output directory {}: {}", dir.string(),
+                                       ec ? ec.message() : "not a directory"));
+      return out;
+    }
+  }
+  OutputLock lock(dir);
+  if (!lock.held()) {
+    out.status = kExitIo;
+    out.errors.push_back(
+        fmt::format("{}: {}; wait for it to end or choose another output directory", dir.string(),
+                    lock.why_not()));
+    return out;
+  }
   std::unique_ptr<ResultsWriter> writer;
   try {
     WriterPosition at;
-    if (resume)
+    if (resume)  // a restart goes on with the files as its checkpoint left them
       at = {.history_bytes = resume->history_bytes,
             .steps_bytes = resume->steps_bytes,
             .frame_times = resume->frame_times};
-    writer = std::make_unique<ResultsWriter>(input, *system, input.output.directory,
-                                             resume ? &at : nullptr);
+    else
+      begin_results(dir, input.file);
+    writer = std::make_unique<ResultsWriter>(input, *system, dir, resume ? &at : nullptr);
   } catch (const OutputError& e) {
     out.status = kExitIo;
     out.errors.push_back(e.what());
@@ -275,9 +328,9 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
   AnalysisSettings settings = input.analysis;
   settings.time.output_interval = input.output.interval;
   if (!opt.quiet)
-    fmt::print(stderr, "velum: {} nodes, {} elements, {} equations; results in {}\n",
-               input.model.num_nodes(), input.model.num_elements(), system->size(),
-               input.output.directory.string());
+    say(stderr, "velum: {} nodes, {} elements, {} equations; results in {}\n",
+        input.model.num_nodes(), input.model.num_elements(), system->size(),
+        input.output.directory.string());
 
   Progress progress(opt.quiet, settings.time.t0, settings.time.t_end);
   progress.start((settings.type == AnalysisSettings::Type::kStatic
@@ -300,7 +353,9 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
             save_checkpoint(*writer, input.file, system->size(), (*snap.checkpoint)());
           summary.final_time = snap.step.t;
           progress.update(snap.step);
-          return !opt.on_step || opt.on_step(snap.step);
+          // SIGINT, SIGTERM (under run_command's InterruptGuard): stop after this step.
+          return (!opt.on_step || opt.on_step(snap.step)) &&
+                 InterruptGuard::signal_received() == 0;
         },
         [&](const std::string& w) { progress.warn(w); }, nullptr, resume ? &resume->run : nullptr);
     progress.finish(result.loop);
@@ -319,6 +374,13 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
       summary.reason = fmt::format("stopped by the caller at t = {:.6g}", summary.final_time);
     if (!result.loop.completed) out.status = kExitSolveFailed;
     summary.warnings = result.warnings;
+    if (const int sig = InterruptGuard::signal_received(); sig && !result.loop.completed) {
+      summary.status = "interrupted";
+      summary.reason =
+          fmt::format("interrupted by {} after step {} (t = {:.6g})",
+                      sig == SIGINT ? "SIGINT" : "SIGTERM", result.loop.steps, summary.final_time);
+      out.status = sig == SIGINT ? kExitInterrupted : kExitTerminated;
+    }
   } catch (const OutputError& e) {
     progress.end_line();
     out.status = kExitIo;
@@ -348,26 +410,32 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
     fmt::print(stderr, "velum: {} warning{} (in summary.json)\n", summary.warnings.size(),
                summary.warnings.size() == 1 ? "" : "s");
   if (!opt.quiet)
-    fmt::print(stderr,
-               "velum: converged; energy: kinetic {:.6g}, strain {:.6g}, external work {:.6g}, "
-               "damping {:.6g}\n",
-               summary.energy.kinetic, summary.energy.strain, summary.energy.external_work,
-               summary.energy.damping);
+    say(stderr,
+        "velum: converged; energy: kinetic {:.6g}, strain {:.6g}, external work {:.6g}, "
+        "damping {:.6g}\n",
+        summary.energy.kinetic, summary.energy.strain, summary.energy.external_work,
+        summary.energy.damping);
   return out;
 }
 
 int run_command(const RunOptions& opt) {
   RunControls controls;
   if (!opt.quiet)
-    fmt::print(stderr, "velum {} run: {}\n{}\n", VELUM_VERSION, opt.model.string(), kUnitsNote);
+    say(stderr, "velum {} run: {}\n{}\n", VELUM_VERSION, opt.model.string(), kUnitsNote);
   controls.output = opt.output;
   controls.threads = opt.threads;
   controls.quiet = opt.quiet;
   controls.restart = opt.restart;
+  InterruptGuard interrupts;  // SIGINT, SIGTERM: finish the current step, then stop
   auto in = load(opt.model);
   if (!in) return kExitBadInput;
+  if (const int sig = InterruptGuard::signal_received())  // nothing written yet
+    return sig == SIGINT ? kExitInterrupted : kExitTerminated;
   const RunOutcome out = run_model(*in, controls);
-  for (const auto& e : out.errors) fmt::print(stderr, "error: {}\n", e);
+  for (const auto& e : out.errors) say(stderr, "error: {}\n", e);
+  if (out.status == kExitInterrupted || out.status == kExitTerminated)
+    say(stderr, "velum: {}; results up to there are in {}\n", out.summary.reason,
+        out.directory.string());
   return out.status;
 }
 

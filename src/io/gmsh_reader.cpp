@@ -4,6 +4,8 @@
 
 #include <fstream>
 #include <set>
+#include <sstream>
+#include <string_view>
 
 #include "velum/io/mesh_data.hpp"
 
@@ -67,6 +69,57 @@ std::string last_gmsh_error() {
   return e;
 }
 
+// Gmsh reads as many nodes and elements as a section's header declares and skips the rest
+// silently, or stops short: an ASCII file's sections are counted here line by line against
+// their headers (2.2: the count, then one line each; 4.x: "blocks count min max", then per
+// block a header line and one line per element, or two per node: tags, then coordinates).
+// Binary files are left to Gmsh.
+void check_ascii_counts(const std::filesystem::path& file, const std::string& name) {
+  std::ifstream in(file, std::ios::binary);
+  std::string line;
+  long number = 0;
+  double version = 0;
+  int file_type = 0;
+  auto next = [&]() {
+    ++number;
+    if (!std::getline(in, line)) return false;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  };
+  while (next()) {
+    if (line == "$MeshFormat") {
+      if (!next()) return;
+      std::istringstream(line) >> version >> file_type;
+      if (file_type != 0) return;  // binary
+      continue;
+    }
+    const bool nodes = line == "$Nodes", elements = line == "$Elements";
+    if (!nodes && !elements) continue;
+    const std::string section = line, end = nodes ? "$EndNodes" : "$EndElements";
+    const long header_line = number + 1;
+    if (!next()) return;
+    long blocks = 0, count = -1;
+    std::istringstream head(line);
+    if (version >= 4)
+      head >> blocks >> count;
+    else
+      head >> count;
+    if (!head || count < 0 || blocks < 0) return;  // Gmsh reports the malformed header
+    long lines = 0;
+    while (next() && line != end) ++lines;
+    if (line != end) return;                                 // truncated: Gmsh reports it
+    const long per_item = nodes && version >= 4.05 ? 2 : 1;  // 4.0: "tag x y z" lines
+    const long expected = version >= 4 ? blocks + per_item * count : count;
+    if (lines != expected)
+      throw MeshFileError(fmt::format(
+          "{}:{}: {} declares {} {}{} but its section holds {} line{} (expected {}): the file is "
+          "inconsistent",
+          name, header_line, section, count, nodes ? "nodes" : "elements",
+          version >= 4 ? fmt::format(" in {} blocks", blocks) : "", lines, lines == 1 ? "" : "s",
+          expected));
+  }
+}
+
 MeshData read_open_model(const std::string& name) {
   MeshData mesh;
   std::vector<std::size_t> tags;
@@ -76,9 +129,13 @@ MeshData read_open_model(const std::string& name) {
   if (coord.size() != 3 * tags.size())
     throw MeshFileError(fmt::format("{}: inconsistent node data", name));
   mesh.nodes.reserve(tags.size());
-  for (size_t i = 0; i < tags.size(); ++i)
-    mesh.nodes.push_back(
-        {static_cast<long>(tags[i]), Vec3(coord[3 * i], coord[3 * i + 1], coord[3 * i + 2])});
+  for (size_t i = 0; i < tags.size(); ++i) {
+    const Vec3 x(coord[3 * i], coord[3 * i + 1], coord[3 * i + 2]);
+    if (!x.allFinite())
+      throw MeshFileError(fmt::format("{}: node {} has a non-finite coordinate ({}, {}, {})", name,
+                                      tags[i], x.x(), x.y(), x.z()));
+    mesh.nodes.push_back({static_cast<long>(tags[i]), x});
+  }
 
   std::set<std::size_t> claimed;  // an element belongs to the first element set naming it
   auto add_elements = [&](const std::string& set, int dim, int entity) {
@@ -145,14 +202,22 @@ MeshData read_open_model(const std::string& name) {
 MeshData read_gmsh(const std::filesystem::path& file) {
   const std::string name = file.string();
   {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const auto st = fs::status(file, ec);
+    if (fs::is_directory(st))
+      throw MeshFileError(fmt::format("{}: is a directory, not a mesh file", name));
+    if (fs::exists(st) && !fs::is_regular_file(st))
+      throw MeshFileError(fmt::format("{}: not a regular file (a device or a pipe?)", name));
     std::ifstream in(file, std::ios::binary);
     if (!in) throw MeshFileError(fmt::format("{}: cannot open the mesh file", name));
-    std::string first;
-    std::getline(in, first);
-    if (first.rfind("$MeshFormat", 0) != 0)
+    char first[12] = {};
+    in.read(first, sizeof first - 1);
+    if (std::string_view(first).rfind("$MeshFormat", 0) != 0)
       throw MeshFileError(
           fmt::format("{}: not a Gmsh mesh file (it must start with $MeshFormat)", name));
   }
+  check_ascii_counts(file, name);
   GmshSession session;
   try {
     gmsh::open(name);

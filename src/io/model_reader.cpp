@@ -7,8 +7,14 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <string_view>
+#include <utility>
 
 #include "model/reader.hpp"
+#include "model/yaml_structure.hpp"
+#include "velum/assembly/dof_map.hpp"
 #include "velum/io/model_reader_yaml.hpp"
 
 namespace velum::io {
@@ -31,21 +37,80 @@ int edit_distance(std::string_view a, std::string_view b) {
 }
 
 namespace model_file {
+namespace {
+
+/// The 1-based lines where the first and the second YAML document of `text` begin (0: none).
+/// YAML forbids a document marker ("---" or "..." at the start of a line, then a blank or the
+/// end of the line) inside any content, so markers are found line by line.
+std::pair<int, int> document_lines(std::string_view text) {
+  int line = 0, first = 0;
+  bool ended = false;  // "..." closed the first document
+  size_t pos = 0;
+  while (pos < text.size()) {
+    size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string_view l = text.substr(pos, end - pos);
+    pos = end + 1;
+    ++line;
+    auto marker = [&](std::string_view m) {
+      return l.substr(0, 3) == m && (l.size() == 3 || l[3] == ' ' || l[3] == '\t' || l[3] == '\r');
+    };
+    if (marker("---")) {
+      if (first > 0) return {first, line};
+      first = line;
+      continue;
+    }
+    if (marker("...")) {
+      ended = first > 0;
+      continue;
+    }
+    const size_t c = l.find_first_not_of(" \t\r");
+    if (c == std::string_view::npos || l[c] == '#') continue;
+    if (first == 0 && l[0] == '%') continue;  // a directive
+    if (ended) return {first, line};
+    if (first == 0) first = line;
+  }
+  return {first, 0};
+}
+
+}  // namespace
 
 ModelInput Reader::read_file(const std::filesystem::path& file) {
   in_.file = file;
-  Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::BadFile&) {
-    throw InputError({fmt::format("{}: cannot open the model file", name_)});
-  } catch (const YAML::ParserException& e) {
-    throw InputError({fmt::format("{}:{}: YAML syntax error: {}", name_, e.mark.line + 1, e.msg)});
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto st = fs::status(file, ec);
+  if (fs::is_directory(st))
+    throw InputError({fmt::format("{}: is a directory, not a model file", name_)});
+  if (fs::exists(st) && !fs::is_regular_file(st))
+    throw InputError(
+        {fmt::format("{}: not a regular file (a model file is a YAML text file)", name_)});
+  if (fs::is_regular_file(st)) {
+    const auto bytes = fs::file_size(file, ec);
+    if (!ec && bytes > kMaxModelFileBytes)
+      throw InputError({fmt::format(
+          "{}: the model file has {} bytes, more than the limit of {} MiB (put large meshes "
+          "in a Gmsh file: mesh.file)",
+          name_, bytes, kMaxModelFileBytes >> 20)});
   }
-  return read(root);
+  // yaml-cpp 0.7's LoadAll loops forever on some inputs (a flow mapping followed by a comma,
+  // found by fuzzing): the file is read whole, its document markers are found here (in
+  // read_text), and only the first document is parsed.
+  std::string text;
+  {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw InputError({fmt::format("{}: cannot open the model file", name_)});
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  return read_text(text);
 }
 
 ModelInput Reader::read_text(const std::string& yaml) {
+  if (auto [first, second] = document_lines(yaml); second > 0)
+    throw InputError({fmt::format(
+        "{}:{}: a second YAML document (after '---' or '...'): a model file holds one, which "
+        "began at line {}",
+        name_, second, first)});
   Node root;
   try {
     root = YAML::Load(yaml);
@@ -62,6 +127,8 @@ ModelInput Reader::read(const Node& root) {
                      "materials, sections, ...)",
                      name_, root.Mark().line + 1 > 0 ? root.Mark().line + 1 : 1)});
   }
+  if (auto problems = yaml_structure_problems(root, name_); !problems.empty())
+    throw InputError(std::move(problems));
   try {
     parse(root);
   } catch (const YAML::Exception& e) {
@@ -128,12 +195,23 @@ void Reader::final_checks(const Node& root) {
       if (!used[n]) f.nodes.push_back(static_cast<int>(n));
     in_.model.fixed.push_back(std::move(f));
   }
+  if (DofMap(in_.model).num_equations() == 0)
+    error(root["boundary"] ? root["boundary"] : root, "boundary",
+          "every degree of freedom is fixed or prescribed: there is nothing to solve (0 "
+          "equations)");
 }
 
 }  // namespace model_file
 
 ModelInput read_model(const std::filesystem::path& file) {
-  return model_file::Reader(file.string(), file.parent_path()).read_file(file);
+  try {
+    return model_file::Reader(file.string(), file.parent_path()).read_file(file);
+  } catch (const std::bad_alloc&) {
+    throw InputError({fmt::format(
+        "{}: out of memory while reading the model (or its mesh file): the model is too large "
+        "for this machine",
+        file.string())});
+  }
 }
 
 ModelInput read_model_text(const std::string& yaml, const ModelSource& source) {

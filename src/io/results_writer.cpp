@@ -379,7 +379,9 @@ void ResultsWriter::write_pvd() {
 
 void ResultsWriter::write_summary(const RunSummary& r) {
   std::string s = "{\n";
-  s += fmt::format("  \"status\": \"{}\",\n", r.converged ? "converged" : "failed");
+  s += fmt::format("  \"status\": \"{}\",\n", !r.status.empty() ? r.status
+                                              : r.converged     ? "converged"
+                                                                : "failed");
   if (!r.converged) s += fmt::format("  \"reason\": {},\n", json_string(r.reason));
   s += fmt::format("  \"steps\": {},\n  \"newton_iterations\": {},\n  \"factorizations\": {},\n",
                    r.steps, r.newton_iterations, r.factorizations);

@@ -93,6 +93,45 @@ def msh_binary_truncated():
     return data[: int(len(data) * 0.6)]
 
 
+def msh_text(name="square_quad4_v22.msh"):
+    return open(os.path.join(DATA, name)).read()
+
+
+def msh_edit(old, new, name="square_quad4_v22.msh"):
+    """A copy of a test mesh with one text replacement (which must apply)."""
+    def make():
+        text = msh_text(name)
+        assert old in text, old
+        return text.replace(old, new, 1)
+    return make
+
+
+def dup_line(after, extra):
+    """The base model with `extra` inserted after the line `after` (a duplicate key)."""
+    text = mutate()
+    assert after in text, after
+    return text.replace(after, after + extra, 1)
+
+
+def billion_laughs():
+    lines = ["a0: &a0 [x, x, x, x, x, x, x, x, x, x]"]
+    for i in range(1, 10):
+        lines.append(f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 10) + "]")
+    return "\n".join(lines) + "\n" + mutate()
+
+
+def hist(name):
+    return mutate(output__history=[{"name": name, "quantity": "kinetic_energy"}])
+
+
+def fix_all(*entries):
+    return mutate(boundary=list(entries), loads=[], functions=None)
+
+
+SEVEN = [[1, 0, 0, 0], [2, 1, 0, 0], [3, 2, 0, 0], [4, 0, 1, 0], [5, 1, 1, 0], [6, 2, 1, 0]]
+LONG = "x" * 1_000_000
+
+
 # (name, model text, extra files {name: text|bytes}, extra args, expected status, phrases)
 CASES = [
     # ---- YAML itself ----
@@ -189,6 +228,115 @@ CASES = [
     ("history_bad_unit", mutate(output__history=[{"name": "a", "quantity": "fiber_angle_change", "point": [0.5, 0.5, 0], "unit": "grad"}]), {}, [], 1, ["unknown unit 'grad'"]),
     ("history_bad_stress_component", mutate(output__history=[{"name": "a", "quantity": "stress", "point": [0.5, 0.5, 0], "component": "s33"}]), {}, [], 1, ["unknown stress component 's33'"]),
     ("interval_negative", mutate(output__interval=-1), {}, [], 1, ["output interval must be positive"]),
+    # ---- hostile YAML: duplicate keys, documents, nesting, aliases, size (issue 14) ----
+    ("dup_root_key", mutate() + "materials:\n  x: {type: cable, E: 1, density: 1}\n", {}, [], 1, ["materials: the key 'materials' is given twice (lines"]),
+    ("dup_sections", mutate() + "sections: []\n", {}, [], 1, ["the key 'sections' is given twice"]),
+    ("dup_nested_key", dup_line("    E: 1000.0\n", "    E: 2000.0\n"), {}, [], 1, ["materials.iso.E: the key 'E' is given twice"]),
+    ("dup_flow_key", mutate().replace("title: cli base", "title: cli base\nfunctions: {a: {type: step}, a: {type: step}}").replace("functions:\n  ramp1:", "functionz:\n  ramp1:"), {}, [], 1, ["the key 'a' is given twice"]),
+    ("dup_key_lines", "title: a\nmesh: {}\ntitle: b\n", {}, [], 1, ["model.yaml:3: title: the key 'title' is given twice (lines 1 and 3)"]),
+    ("dup_key_in_list_item", dup_line("  thickness: 0.1\n", "  thickness: 0.2\n"), {}, [], 1, ["sections[0].thickness: the key 'thickness' is given twice"]),
+    ("second_document", mutate() + "---\ntitle: second\n", {}, [], 1, ["a second YAML document", "which began at line 1"]),
+    ("second_document_empty_start", "---\n" + mutate() + "---\n{}\n", {}, [], 1, ["a second YAML document"]),
+    ("second_document_after_end", mutate() + "...\n---\nmesh: {}\n", {}, [], 1, ["a second YAML document"]),
+    ("nesting_too_deep", "title: " + "[" * 40 + "]" * 40 + "\n", {}, [], 1, ["nested more than 32 levels deep"]),
+    ("nesting_absurd", "title: " + "[" * 100000 + "]" * 100000 + "\n", {}, [], 1, ["YAML syntax error"]),
+    ("alias_bomb", billion_laughs(), {}, [], 1, ["a9: unknown key"]),
+    ("model_is_directory", "<dir>", {}, [], 1, ["is a directory, not a model file"]),
+    ("model_is_dev_zero", "<link:/dev/zero>", {}, [], 1, ["model.yaml: not a regular file"]),
+    ("model_is_fifo", "<fifo>", {}, [], 1, ["not a regular file"]),
+    ("model_too_large", "<sparse:300>", {}, [], 1, ["more than the limit of 256 MiB"]),
+    ("model_binary_garbage", None, {"model.yaml": lambda: bytes(range(256)) * 64}, [], 1, ["model.yaml"]),
+    ("model_nul_bytes", None, {"model.yaml": lambda: b"title: a\x00b\n"}, [], 1, ["model.yaml"]),
+    ("check_model_is_directory", "<dir>", {}, ["check"], 1, ["is a directory"]),
+    # ---- inputs the fuzzer found (fuzz/, tests/cli/data/fuzz/) ----
+    ("fuzz_loadall_hang", None, {"model.yaml": lambda: open(os.path.join(DATA, "fuzz", "loadall-hang.yaml"), "rb").read()}, [], 1, ["model.yaml:94: a second YAML document"]),
+    ("fuzz_flow_map_then_comma", "{}\n,\n", {}, [], 1, ["mesh: required key is missing"]),
+    ("fuzz_flow_map_then_comma_second_doc", "a: 1\n---\n{}\n,\n", {}, [], 1, ["model.yaml:2: a second YAML document"]),
+    # ---- integers out of range ----
+    ("max_iterations_above_int", mutate(analysis__newton={"max_iterations": 4294967297}), {}, [], 1, ["analysis.newton.max_iterations", "at most 1000 iterations (got 4294967297)"]),
+    ("max_iterations_above_long", mutate(analysis__newton={"max_iterations": 99999999999999999999999}), {}, [], 1, ["analysis.newton.max_iterations: expected an integer count"]),
+    ("max_iterations_1001", mutate(analysis__newton={"max_iterations": 1001}), {}, [], 1, ["at most 1000 iterations"]),
+    ("max_iterations_negative", mutate(analysis__newton={"max_iterations": -3}), {}, [], 1, ["at least one iteration"]),
+    ("max_iterations_fraction", mutate(analysis__newton={"max_iterations": 2.5}), {}, [], 1, ["expected an integer count"]),
+    ("max_iterations_bool", mutate(analysis__newton={"max_iterations": True}), {}, [], 1, ["expected an integer count"]),
+    ("max_iterations_exponent", mutate(analysis__newton={"max_iterations": "1e3"}), {}, [], 1, ["expected an integer count"]),
+    ("node_id_above_long", mutate(mesh__nodes=SEVEN[:5] + [[99999999999999999999, 2, 1, 0]]), {}, [], 1, ["mesh.nodes[5]: expected an integer node id"]),
+    ("node_id_fraction", mutate(mesh__nodes=SEVEN[:5] + [[6.5, 2, 1, 0]]), {}, [], 1, ["expected an integer node id"]),
+    ("element_id_above_long", mutate(mesh__elements__0={"set": "sheet", "type": "quad4", "connectivity": [[1, 2, 5, 4], [2, 3, 6, 5]], "ids": [1, 99999999999999999999]}), {}, [], 1, ["expected an integer element id"]),
+    ("connectivity_id_above_long", mutate(mesh__elements__0__connectivity=[[1, 2, 5, 4], [2, 3, 6, 99999999999999999999]]), {}, [], 1, ["expected an integer node id"]),
+    ("coordinate_not_finite", mutate(mesh__nodes=SEVEN[:5] + [[6, 2, ".inf", 0]]), {}, [], 1, ["mesh.nodes[5]: expected a finite number"]),
+    ("coordinate_nan", mutate(mesh__nodes=SEVEN[:5] + [[6, 2, ".nan", 0]]), {}, [], 1, ["expected a finite number"]),
+    ("coordinate_huge_literal", mutate(mesh__nodes=SEVEN[:5] + [[6, 2, "1e999", 0]]), {}, [], 1, ["mesh.nodes[5]"]),
+    # ---- element shapes ----
+    ("connectivity_empty", mutate(mesh__elements__0__connectivity=[]), {}, [], 1, ["mesh.elements[0].connectivity: the connectivity list is empty"]),
+    ("quad_repeated_node", mutate(mesh__elements__0__connectivity=[[1, 2, 5, 5], [2, 3, 6, 5]]), {}, [], 1, ["element 1 of set 'sheet' (quad4) is degenerate or inverted: it repeats node 5"]),
+    ("quad_self_intersecting", mutate(mesh__elements__0__connectivity=[[1, 3, 4, 5]], mesh__elements__1__connectivity=[[4, 5]]), {}, [], 1, ["(quad4) is degenerate or inverted: it crosses itself or folds over at node 4"]),
+    ("quad_bowtie_symmetric", mutate(mesh__elements__0__connectivity=[[1, 2, 4, 5], [2, 3, 6, 5]]), {}, [], 1, ["degenerate or inverted: it has no area at its centre"]),
+    ("quad_coincident_nodes", mutate(mesh__nodes=SEVEN + [[7, 1, 0, 0]], mesh__elements__0__connectivity=[[1, 2, 7, 4], [2, 3, 6, 5]]), {}, [], 1, ["element 1 of set 'sheet' (quad4) is degenerate or inverted"]),
+    ("tri3_collinear", mutate(mesh__elements__0={"set": "sheet", "type": "tri3", "connectivity": [[1, 2, 3], [1, 3, 6]]}), {}, [], 1, ["(tri3) is degenerate or inverted: it has no area"]),
+    ("tri3_repeated_node", mutate(mesh__elements__0={"set": "sheet", "type": "tri3", "connectivity": [[1, 3, 1]]}), {}, [], 1, ["(tri3) is degenerate or inverted: it repeats node 1"]),
+    ("tri6_folded_midside", mutate(mesh__nodes=SEVEN + [[7, 1, 0.5, 0], [8, 0, 0.5, 0], [9, 1.9, 0, 0]], mesh__elements__0={"set": "sheet", "type": "tri6", "connectivity": [[1, 3, 4, 9, 7, 8]]}), {}, [], 1, ["(tri6) is degenerate or inverted: it crosses itself or folds over at node 3"]),
+    ("quad8_folded_midside", mutate(mesh__nodes=SEVEN + [[7, 0.5, 0, 0], [8, 1, 0.5, 0], [9, 0.5, 1, 0], [10, 0, 0.9, 0]], mesh__elements__0={"set": "sheet", "type": "quad8", "connectivity": [[1, 2, 5, 4, 7, 8, 9, 10]]}, mesh__elements__1__connectivity=[[4, 5]], loads=[]), {}, [], 1, ["(quad8) is degenerate or inverted"]),
+    ("cable2_repeated_node", mutate(mesh__elements__1__connectivity=[[4, 4], [5, 6]]), {}, [], 1, ["(cable2) is degenerate or inverted: it repeats node 4"]),
+    ("cable3_middle_is_end", mutate(mesh__elements__1={"set": "lines", "type": "cable3", "connectivity": [[4, 6, 4]]}), {}, [], 1, ["(cable3) is degenerate or inverted: it repeats node 4"]),
+    ("cable3_middle_beyond_end", mutate(mesh__elements__1={"set": "lines", "type": "cable3", "connectivity": [[4, 5, 6]]}), {}, [], 1, ["(cable3) is degenerate or inverted: it folds back on itself"]),
+    ("cable3_ends_coincide", mutate(mesh__nodes=SEVEN + [[7, 0, 1, 0]], mesh__elements__1={"set": "lines", "type": "cable3", "connectivity": [[4, 7, 5]]}), {}, [], 1, ["it has zero length"]),
+    # ---- boundary conditions that contradict each other or leave nothing to solve ----
+    ("fixed_then_prescribed", mutate(boundary=[{"nodes": "left", "fix": ["x"]}, {"nodes": [1], "displacement": [0.1, 0, 0]}]), {}, [], 1, ["boundary[1].nodes: node 1 is given a non-zero displacement of a component here and fixed by boundary[0], line"]),
+    ("fixed_then_prescribed_zero_ok", mutate(boundary=[{"nodes": "left", "fix": ["x", "y", "z"]}, {"nodes": "sheet", "fix": ["z"]}, {"nodes": [3, 6], "displacement": [0.01, 0, 0]}]), {}, ["check"], 0, ["is valid"]),
+    ("prescribed_then_fixed", mutate(boundary=[{"nodes": [4], "displacement": [0.1, 0, 0]}, {"nodes": "left", "fix": ["x", "y", "z"]}]), {}, [], 1, ["boundary[1].nodes: node 4 is fixed here and given a non-zero displacement there by boundary[0]"]),
+    ("prescribed_twice", mutate(boundary=[{"nodes": "left", "displacement": [0, 0, 0]}, {"nodes": [4], "displacement": [0.1, 0, 0]}]), {}, [], 1, ["node 4 is given a displacement here and given a different one by boundary[0]"]),
+    ("prescribed_twice_functions", mutate(boundary=[{"nodes": "left", "displacement": [0.1, 0, 0]}, {"nodes": [4], "displacement": [0.1, 0, 0], "function": "ramp1"}]), {}, [], 1, ["given a different one by boundary[0]"]),
+    ("prescribed_and_symmetry", mutate(boundary=[{"nodes": "left", "displacement": [0, 0, 0.1]}, {"nodes": "sheet", "symmetry": {"normal": [0, 0, 1]}}]), {}, [], 1, ["is put on a symmetry plane here and given a displacement off it by boundary[0]"]),
+    ("symmetry_then_prescribed", mutate(boundary=[{"nodes": "sheet", "symmetry": {"normal": [1, 1, 1]}}, {"nodes": "left", "displacement": [0.1, 0, 0]}]), {}, [], 1, ["is given a displacement off the plane here and put on a symmetry plane by boundary[0]"]),
+    ("fixed_on_skew_plane", mutate(boundary=[{"nodes": "left", "fix": ["x", "y", "z"]}, {"nodes": [2, 3], "symmetry": {"normal": [1, 1, 0]}}, {"nodes": [2], "fix": ["z"]}]), {}, [], 1, ["node 2 is fixed here and put on a skew symmetry plane by boundary[1]"]),
+    ("skew_plane_on_fixed", mutate(boundary=[{"nodes": "left", "fix": ["x", "y", "z"]}, {"nodes": [1, 2], "symmetry": {"normal": [0, 1, 1]}}]), {}, [], 1, ["node 1 is put on a skew symmetry plane here and fixed by boundary[0]"]),
+    ("every_dof_fixed", fix_all({"nodes": "sheet", "fix": ["x", "y", "z"]}), {}, [], 1, ["every degree of freedom is fixed or prescribed", "0 equations"]),
+    ("every_dof_fixed_check", fix_all({"nodes": "sheet", "fix": ["x", "y", "z"]}), {}, ["check"], 1, ["every degree of freedom is fixed or prescribed"]),
+    ("every_dof_prescribed", fix_all({"nodes": "sheet", "displacement": [0.01, 0, 0]}), {}, [], 1, ["0 equations"]),
+    ("every_dof_fixed_by_parts", fix_all({"nodes": "sheet", "fix": ["x", "y"]}, {"nodes": "sheet", "symmetry": {"normal": [0, 0, 1]}}), {}, [], 1, ["0 equations"]),
+    ("every_dof_fixed_component_lists", fix_all({"nodes": "sheet", "fix": ["x"]}, {"nodes": "sheet", "fix": ["y"]}, {"nodes": "sheet", "fix": ["z"]}), {}, [], 1, ["0 equations"]),
+    # ---- frames and steps beyond the limits ----
+    ("interval_tiny", mutate(output__interval=1e-8), {}, [], 1, ["output.interval", "more than the limit of 1e+04 frames"]),
+    ("interval_tiny_no_fields", mutate(output__interval=1e-9, output__fields=False), {}, [], 1, ["more than the limit of 1e+06 history rows"]),
+    ("interval_default_tiny_step", mutate(analysis__time={"end": 0.02, "step": 1e-7, "min_step": 1e-8}, output=None), {}, [], 1, ["output.interval (default: time.step)", "more than the limit"]),
+    ("end_1e9", mutate(analysis__time={"end": 1e9, "step": 0.005}), {}, [], 1, ["analysis.time.step", "steps, more than the limit of 1e+07"]),
+    ("step_tiny", mutate(analysis__time={"end": 1.0, "step": 1e-8, "min_step": 1e-9}, output__interval=0.5), {}, [], 1, ["more than the limit of 1e+07"]),
+    # ---- history column names ----
+    ("history_name_time", hist("time"), {}, [], 1, ["'time' is the first column already"]),
+    ("history_name_cr", hist("a\rb"), {}, [], 1, ["must not hold control characters"]),
+    ("history_name_lf", hist("a\nb"), {}, [], 1, ["must not hold control characters"]),
+    ("history_name_tab", hist("a\tb"), {}, [], 1, ["must not hold control characters"]),
+    ("history_name_comma", hist("a,b"), {}, [], 1, ["must not hold commas or quotes"]),
+    ("history_name_double_quote", hist('a"b'), {}, [], 1, ["must not hold commas or quotes"]),
+    ("history_name_single_quote", hist("a'b"), {}, [], 1, ["must not hold commas or quotes"]),
+    ("history_name_empty", hist(""), {}, [], 1, ["must not be empty"]),
+    ("history_name_spaces", hist(" a "), {}, [], 1, ["must not begin or end with a space"]),
+    ("history_name_too_long", hist("n" * 65), {}, [], 1, ["at most 64 bytes (got 65)"]),
+    ("history_name_invalid_utf8", None, {"model.yaml": lambda: mutate(output__history=[{"name": "BADNAME", "quantity": "kinetic_energy"}]).encode().replace(b"BADNAME", b"a\xff\xfeb")}, [], 1, ["model.yaml"]),
+    ("history_name_truncated_utf8", None, {"model.yaml": lambda: mutate(output__history=[{"name": "BADNAME", "quantity": "kinetic_energy"}]).encode().replace(b"BADNAME", b"ab\xc3")}, [], 1, ["model.yaml"]),
+    # ---- "did you mean" on huge names stays fast ----
+    ("long_unknown_root_key", mutate() + "? " + LONG + "\n: 1\n", {}, [], 1, ["unknown key (did you mean"]),
+    ("long_undefined_material", mutate(**{"sections__0__material": "m" * 300_000, "materials__" + "z" * 300_000: {"type": "cable", "E": 1.0, "density": 1.0}}), {}, [], 1, ["undefined material"]),
+    ("long_set_names", mutate(sections__0__elements="s" * 400_000, mesh__elements__0__set="t" * 400_000), {}, [], 1, ["undefined element set"]),
+    ("long_function_name", mutate(loads__0__function="f" * 500_000, functions={"g" * 500_000: {"type": "step"}}), {}, [], 1, ["undefined function"]),
+    # ---- mesh files: counts, values, odd files ----
+    ("msh_elements_count_above", with_mesh_file("m.msh"), {"m.msh": msh_edit("$Elements\n7\n", "$Elements\n8\n")}, [], 1, ["m.msh:23: $Elements declares 8 elements but its section holds 7 lines"]),
+    ("msh_elements_count_below", with_mesh_file("m.msh"), {"m.msh": msh_edit("$Elements\n7\n", "$Elements\n6\n")}, [], 1, ["$Elements declares 6 elements"]),
+    ("msh_nodes_count_below", with_mesh_file("m.msh"), {"m.msh": msh_edit("$Nodes\n9\n", "$Nodes\n8\n")}, [], 1, ["m.msh:11: $Nodes declares 8 nodes"]),
+    ("msh_nodes_count_above", with_mesh_file("m.msh"), {"m.msh": msh_edit("$Nodes\n9\n", "$Nodes\n10\n")}, [], 1, ["$Nodes declares 10 nodes"]),
+    ("msh41_elements_count", with_mesh_file("m.msh"), {"m.msh": msh_edit("$Elements\n3 7 1 7\n", "$Elements\n3 6 1 7\n", "square_quad4_v41.msh")}, [], 1, ["$Elements declares 6 elements in 3 blocks"]),
+    ("msh41_nodes_count", with_mesh_file("m.msh"), {"m.msh": msh_edit("$Nodes\n9 9 1 9\n", "$Nodes\n9 8 1 9\n", "square_quad4_v41.msh")}, [], 1, ["$Nodes declares 8 nodes in 9 blocks"]),
+    ("msh_element_line_dropped", with_mesh_file("m.msh"), {"m.msh": lambda: "\n".join(l for i, l in enumerate(msh_text().split("\n")) if i != 24)}, [], 1, ["$Elements declares 7 elements but its section holds 6 lines"]),
+    ("msh_nan_coordinate", with_mesh_file("m.msh"), {"m.msh": msh_edit("\n9 0.5000000000003766 0.5000000000003766 0\n", "\n9 nan 0.5 0\n")}, [], 1, ["m.msh: node 9 has a non-finite coordinate"]),
+    ("msh_inf_coordinate", with_mesh_file("m.msh"), {"m.msh": msh_edit("\n9 0.5000000000003766 0.5000000000003766 0\n", "\n9 0.5 inf 0\n")}, [], 1, ["non-finite coordinate"]),
+    ("msh_huge_coordinate", with_mesh_file("m.msh"), {"m.msh": msh_edit("\n9 0.5000000000003766 0.5000000000003766 0\n", "\n9 0.5 1e999 0\n")}, [], 1, ["m.msh"]),
+    ("msh_is_dev_zero", with_mesh_file("/dev/zero"), {}, [], 1, ["/dev/zero: not a regular file"]),
+    ("msh_is_directory", with_mesh_file("."), {}, [], 1, ["is a directory, not a mesh file"]),
+    ("msh_empty", with_mesh_file("e.msh"), {"e.msh": lambda: ""}, [], 1, ["not a Gmsh mesh file"]),
+    ("msh_header_only", with_mesh_file("h.msh"), {"h.msh": lambda: "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"}, [], 1, ["h.msh"]),
+    ("msh_repeated_node_in_element", with_mesh_file("m.msh"), {"m.msh": msh_edit("\n4 3 2 1 1 1 5 9 8\n", "\n4 3 2 1 1 1 5 9 5\n")}, [], 1, ["element 4 of set 'sheet' (quad4) is degenerate or inverted: it repeats node 5"]),
+    ("msh_crlf_good", with_mesh_file("m.msh"), {"m.msh": lambda: msh_text().replace("\n", "\r\n")}, ["check"], 0, ["is valid"]),
     # ---- several errors reported together, with lines ----
     ("several_errors", mutate(materials__iso__E="x", analysis__time__end=-1, sections__0__material="nope"), {}, [], 1, ["materials.iso.E", "analysis.time.end", "undefined material 'nope'", "3 errors"]),
     ("line_number", "title: t\nmesh:\n  nodes: [[1, 0, 0, 0]]\n  bogus: 1\n", {}, [], 1, ["model.yaml:4: mesh.bogus: unknown key"]),
@@ -220,6 +368,19 @@ def run_case(name, text, files, args, status, phrases):
     shutil.rmtree(d, ignore_errors=True)
     os.makedirs(d)
     model = os.path.join(d, "model.yaml")
+    if text == "<dir>":
+        os.makedirs(model)
+        text = None
+    elif text is not None and text.startswith("<link:"):
+        os.symlink(text[6:-1], model)
+        text = None
+    elif text == "<fifo>":
+        os.mkfifo(model)
+        text = None
+    elif text is not None and text.startswith("<sparse:"):
+        with open(model, "wb") as f:
+            f.truncate(int(text[8:-1]) << 20)
+        text = None
     if text is not None:
         text = (text.replace("SQ22", os.path.join(DATA, "square_quad4_v22.msh"))
                     .replace("SQ41B", os.path.join(DATA, "square_quad9_v41_binary.msh"))
@@ -239,7 +400,9 @@ def run_case(name, text, files, args, status, phrases):
         cmd = [VELUM, "run", model, "--threads", "1"] + args
         if "-o" not in args:
             cmd += ["-o", os.path.join(d, "out")]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    p = subprocess.run(cmd, capture_output=True, timeout=120)
+    p.stdout = p.stdout.decode(errors="replace")
+    p.stderr = p.stderr.decode(errors="replace")
     out = p.stdout + p.stderr
     problems = []
     if p.returncode < 0 or "Sanitizer" in out or "runtime error:" in out:

@@ -1,6 +1,7 @@
 // The commands of the `velum` executable (app/main.cpp only parses arguments): `run` solves a
 // model file and writes its results, `check` validates it and prints statistics. Both return
-// the process exit status of MODEL_FORMAT.md: 0 solved, 1 bad input, 2 solve failed, 3 I/O.
+// the process exit status of MODEL_FORMAT.md: 0 solved, 1 bad input, 2 solve failed, 3 I/O
+// (including an output folder in use by another run), 130 / 143 interrupted by SIGINT / SIGTERM.
 // run_model is the run itself, shared by `velum run` and the Python module: it takes a model
 // already read and returns what happened instead of printing errors.
 #pragma once
@@ -18,6 +19,8 @@
 namespace velum::io {
 
 inline constexpr int kExitOk = 0, kExitBadInput = 1, kExitSolveFailed = 2, kExitIo = 3;
+/// Stopped by a signal after finishing a step: 128 + the signal, as a shell reports it.
+inline constexpr int kExitInterrupted = 130, kExitTerminated = 143;  // SIGINT, SIGTERM
 
 struct RunOptions {
   std::filesystem::path model;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -72,6 +73,16 @@ struct ModelInput {
   std::vector<std::vector<long>> element_ids;  ///< per block of model.blocks: the user's ids
   std::vector<std::string> warnings;           ///< "file:line: key: text", not fatal
 };
+
+// Limits beyond which a model is refused as bad input (docs/model-format.md, "Limits"): each
+// is far above what a sensible model asks and far below what would hang or exhaust a machine.
+inline constexpr std::uintmax_t kMaxModelFileBytes = 256u << 20;  ///< the YAML file itself
+inline constexpr long kMaxNewtonIterations = 1000;  ///< analysis.newton.max_iterations
+inline constexpr double kMaxSteps = 1e7;            ///< time.end / time.step
+inline constexpr double kMaxOutputTimes = 1e6;      ///< time.end / output.interval: history rows
+inline constexpr double kMaxFrames = 1e4;           ///< ... with fields on: ParaView frames
+inline constexpr size_t kMaxHistoryNameBytes = 64;  ///< a history column name
+inline constexpr size_t kMaxSuggestionChars = 64;   ///< "did you mean": characters compared
 
 /// Bad input: the list of "file:line: key: problem" messages, all of them.
 class InputError : public std::runtime_error {

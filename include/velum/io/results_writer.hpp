@@ -29,6 +29,7 @@ struct RunSummary {
   Energies energy;
   std::string reason, integrator, solver;
   std::vector<std::string> warnings;  ///< what a user must know about a normal end
+  std::string status;  ///< when set ("interrupted"), replaces "converged" or "failed"
 };
 
 /// Where the results files stood (for a checkpoint, and a restart that goes on from there).

@@ -9,6 +9,45 @@
 #include "reader.hpp"
 
 namespace velum::io::model_file {
+namespace {
+
+bool valid_utf8(std::string_view s) {
+  size_t i = 0;
+  while (i < s.size()) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    const size_t more = c < 0x80             ? 0
+                        : (c & 0xE0) == 0xC0 ? 1
+                        : (c & 0xF0) == 0xE0 ? 2
+                        : (c & 0xF8) == 0xF0 ? 3
+                                             : 4;
+    if (more == 4 || s.size() - i <= more) return false;
+    for (size_t k = 1; k <= more; ++k)
+      if ((static_cast<unsigned char>(s[i + k]) & 0xC0) != 0x80) return false;
+    i += more + 1;
+  }
+  return true;
+}
+
+/// Why `name` cannot head a history.csv column (read by spreadsheets and ParaView's CSV
+/// reader, which split on commas, honour quotes and take the first line as the header).
+std::optional<std::string> bad_column_name(const std::string& name) {
+  if (name.empty()) return "a column name must not be empty";
+  if (name.size() > kMaxHistoryNameBytes)
+    return fmt::format("a column name has at most {} bytes (got {})", kMaxHistoryNameBytes,
+                       name.size());
+  if (!valid_utf8(name)) return "a column name must be valid UTF-8";
+  for (char c : name)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      return "a column name must not hold control characters (line breaks, tabs)";
+  if (name.find_first_of(",\"'") != std::string::npos)
+    return "a column name must not hold commas or quotes";
+  if (name.front() == ' ' || name.back() == ' ')
+    return "a column name must not begin or end with a space";
+  if (name == "time") return "'time' is the first column already; choose another name";
+  return std::nullopt;
+}
+
+}  // namespace
 
 void Reader::parse_analysis(const Node& a) {
   if (!check_map(a, "analysis",
@@ -112,8 +151,11 @@ void Reader::parse_analysis(const Node& a) {
       if (step && end && *step > *end)
         error(t["step"], sub(p, "step"),
               fmt::format("the step ({}) is longer than the run (end {})", *step, *end));
-      if (step && end && *end / *step > 1e9)
-        error(t["step"], sub(p, "step"), "more than 1e9 steps: the step is too small for end");
+      if (step && end && *end / *step > kMaxSteps)
+        error(t["step"], sub(p, "step"),
+              fmt::format("end / step = {:.3g} steps, more than the limit of {:.0e}: the step is "
+                          "too small for end",
+                          *end / *step, kMaxSteps));
       if (auto ad = boolean(t, "adaptive", p)) s.time.adaptive = *ad;
     }
   }
@@ -127,6 +169,11 @@ void Reader::parse_analysis(const Node& a) {
         auto it = integer(n["max_iterations"], sub(p, "max_iterations"), "count");
         if (it && *it < 1)
           error(n["max_iterations"], sub(p, "max_iterations"), "at least one iteration is needed");
+        else if (it && *it > kMaxNewtonIterations)
+          error(n["max_iterations"], sub(p, "max_iterations"),
+                fmt::format("at most {} iterations (got {}): Newton that has not converged by "
+                            "then has stagnated; give a smaller step instead",
+                            kMaxNewtonIterations, *it));
         else if (it)
           s.newton.max_iterations = static_cast<int>(*it);
       }
@@ -236,9 +283,9 @@ void Reader::parse_output(const Node& o, const Node& root) {
   OutputSettings& out = in_.output;
   out.directory = base_dir_ / "out";
   out.interval = in_.analysis.time.step;
-  if (!o) return;
-  if (!check_map(o, "output", {"directory", "interval", "fields", "history", "checkpoint"})) return;
-  if (has(o, "checkpoint")) {
+  const bool given =
+      o && check_map(o, "output", {"directory", "interval", "fields", "history", "checkpoint"});
+  if (given && has(o, "checkpoint")) {
     const Node c = o["checkpoint"];
     const std::string p = "output.checkpoint";
     if (check_map(c, p, {"steps", "interval"})) {
@@ -256,17 +303,30 @@ void Reader::parse_output(const Node& o, const Node& root) {
         out.checkpoint_interval = *iv;
     }
   }
-  if (auto d = text(o, "directory", "output", false)) {
-    std::filesystem::path p = *d;
-    out.directory = p.is_relative() ? base_dir_ / p : p;
+  const bool given = o && check_map(o, "output", {"directory", "interval", "fields", "history"});
+  if (given) {
+    if (auto d = text(o, "directory", "output", false)) {
+      std::filesystem::path p = *d;
+      out.directory = p.is_relative() ? base_dir_ / p : p;
+    }
+    if (auto iv = positive(o, "interval", "output", false, "the output interval")) {
+      out.interval = *iv;
+      if (*iv < in_.analysis.time.min_step)
+        error(o["interval"], "output.interval", "the output interval is shorter than min_step");
+    }
+    if (auto f = boolean(o, "fields", "output")) out.fields = *f;
   }
-  if (auto iv = positive(o, "interval", "output", false, "the output interval")) {
-    out.interval = *iv;
-    if (*iv < in_.analysis.time.min_step)
-      error(o["interval"], "output.interval", "the output interval is shorter than min_step");
-  }
-  if (auto f = boolean(o, "fields", "output")) out.fields = *f;
-  (void)root;
+  // Each output time is a history row and, with fields on, a frame (and a rewrite of
+  // results.pvd): refuse counts that would fill a disk or take hours of writing alone.
+  const double outputs = out.interval > 0 ? in_.analysis.time.t_end / out.interval : 0;
+  const double most = out.fields ? kMaxFrames : kMaxOutputTimes;
+  if (outputs > most)
+    error(given && has(o, "interval") ? o["interval"] : (given ? o : root),
+          given && has(o, "interval") ? "output.interval" : "output.interval (default: time.step)",
+          fmt::format("end / interval = {:.3g} output times, more than the limit of {:.0e}{}; "
+                      "give a longer output.interval",
+                      outputs, most, out.fields ? " frames (fields: true)" : " history rows"));
+  if (!given) return;
   if (!has(o, "history")) return;
   const Node h = o["history"];
   if (!h.IsSequence()) {
@@ -287,8 +347,8 @@ void Reader::parse_output(const Node& o, const Node& root) {
     auto name = text(e, "name", p, true);
     auto q = text(e, "quantity", p, true);
     if (!name || !q) continue;
-    if (name->empty() || name->find_first_of(",\"\n") != std::string::npos) {
-      error(e["name"], sub(p, "name"), "a column name must be non-empty, without commas or quotes");
+    if (auto why = bad_column_name(*name)) {
+      error(e["name"], sub(p, "name"), *why);
       continue;
     }
     if (!names.insert(*name).second) {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <set>
 
@@ -118,9 +119,39 @@ void Reader::parse_boundary(const Node& bs) {
     error(bs, "boundary", "expected a list of {nodes, fix | displacement | symmetry}");
     return;
   }
+  // Which entries fix, prescribe or put on a plane each node. A fixed component is a
+  // prescribed zero: a displacement that is not zero there, a second displacement that
+  // differs, or one with a component along a symmetry plane's normal asks two motions of one
+  // node; a fixed component on a skew plane's node would fix a component of its local frame
+  // instead. Each is an error naming both entries.
+  struct Claims {
+    int fixed = -1, prescribed = -1, plane = -1, skew = -1;  // entry index, -1: none
+    std::array<bool, 3> fix{false, false, false};
+    Vec3 normal = Vec3::Zero();
+  };
+  struct Motion {
+    Vec3 d = Vec3::Zero();
+    int function = -1;
+  };
+  std::vector<Claims> claims(static_cast<size_t>(in_.model.num_nodes()));
+  std::vector<Motion> motions(bs.size());
+  auto entry = [&](int k) {
+    return fmt::format("boundary[{}], line {}", k,
+                       std::max(line_of(bs[static_cast<size_t>(k)]), 1));
+  };
+  auto conflict = [&](const Node& at, const std::string& p, int n, const char* here, int other,
+                      const char* there) {
+    error(at, sub(p, "nodes"),
+          fmt::format("node {} is {} here and {} by {}: give each node one motion",
+                      in_.model.node_ids[static_cast<size_t>(n)], here, there, entry(other)));
+  };
+  auto moves_fixed = [](const Claims& c, const Vec3& d) {
+    return (c.fix[0] && d[0] != 0) || (c.fix[1] && d[1] != 0) || (c.fix[2] && d[2] != 0);
+  };
   for (size_t i = 0; i < bs.size(); ++i) {
     const Node b = bs[i];
     const std::string p = item("boundary", i);
+    const int me = static_cast<int>(i);
     if (!check_map(b, p, {"nodes", "fix", "displacement", "function", "symmetry"})) continue;
     auto nodes = nodes_of(b, "nodes", p);
     const int kinds = has(b, "fix") + has(b, "displacement") + has(b, "symmetry");
@@ -147,13 +178,49 @@ void Reader::parse_boundary(const Node& bs) {
       if (has(b, "function"))
         error(b["function"], sub(p, "function"), "a fixed boundary takes no function");
       if (ok && nodes) {
+        for (int n : *nodes) {
+          auto& c = claims[static_cast<size_t>(n)];
+          for (size_t k = 0; k < 3; ++k) c.fix[k] = c.fix[k] || f.fix[k];
+          if (c.prescribed >= 0 && moves_fixed(c, motions[static_cast<size_t>(c.prescribed)].d)) {
+            conflict(b, p, n, "fixed", c.prescribed, "given a non-zero displacement there");
+            break;
+          }
+          if (c.skew >= 0) {
+            conflict(b, p, n, "fixed", c.skew, "put on a skew symmetry plane");
+            break;
+          }
+          if (c.fixed < 0) c.fixed = me;
+        }
         f.nodes = std::move(*nodes);
         in_.model.fixed.push_back(std::move(f));
       }
     } else if (has(b, "displacement")) {
       auto d = vec3(b, "displacement", p, true);
       const int fn = function_ref(b, p);
-      if (d && nodes) in_.model.prescribed.push_back({std::move(*nodes), *d, fn});
+      if (d && nodes) {
+        motions[i] = {*d, fn};
+        for (int n : *nodes) {
+          auto& c = claims[static_cast<size_t>(n)];
+          if (c.fixed >= 0 && moves_fixed(c, *d)) {
+            conflict(b, p, n, "given a non-zero displacement of a component", c.fixed, "fixed");
+            break;
+          }
+          if (c.prescribed >= 0) {
+            const Motion& other = motions[static_cast<size_t>(c.prescribed)];
+            if (other.d != *d || other.function != fn) {
+              conflict(b, p, n, "given a displacement", c.prescribed, "given a different one");
+              break;
+            }
+          }
+          if (c.plane >= 0 && c.normal.dot(*d) != 0) {
+            conflict(b, p, n, "given a displacement off the plane", c.plane,
+                     "put on a symmetry plane");
+            break;
+          }
+          if (c.prescribed < 0) c.prescribed = me;
+        }
+        in_.model.prescribed.push_back({std::move(*nodes), *d, fn});
+      }
     } else {
       const Node s = b["symmetry"];
       const std::string sp = sub(p, "symmetry");
@@ -163,7 +230,25 @@ void Reader::parse_boundary(const Node& bs) {
         error(s["normal"], sub(sp, "normal"), "the plane normal must not be zero");
         n.reset();
       }
-      if (n && nodes) in_.model.symmetry.push_back({std::move(*nodes), n->normalized()});
+      if (n && nodes) {
+        const Vec3 unit = n->normalized();
+        const bool skew = (unit.cwiseAbs().array() - 1.0).abs().minCoeff() >= 1e-12;
+        for (int k : *nodes) {
+          auto& c = claims[static_cast<size_t>(k)];
+          if (c.prescribed >= 0 && unit.dot(motions[static_cast<size_t>(c.prescribed)].d) != 0) {
+            conflict(b, p, k, "put on a symmetry plane", c.prescribed,
+                     "given a displacement off it");
+            break;
+          }
+          if (skew && c.fixed >= 0) {
+            conflict(b, p, k, "put on a skew symmetry plane", c.fixed, "fixed");
+            break;
+          }
+          if (c.plane < 0) c.plane = me, c.normal = unit;
+          if (skew && c.skew < 0) c.skew = me;
+        }
+        in_.model.symmetry.push_back({std::move(*nodes), unit});
+      }
     }
   }
 }

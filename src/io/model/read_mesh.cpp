@@ -129,6 +129,11 @@ void Reader::parse_inline_elements(const Node& els, long max_file_id) {
       error(conn, cp, "expected a list of node-id lists");
       continue;
     }
+    if (conn.size() == 0) {
+      error(conn, cp, "the connectivity list is empty: give at least one element");
+      mesh_ok_ = false;
+      continue;
+    }
     ElementGroup g{*set, *type, {}, {}, line_of(e)};
     std::vector<long> ids;
     if (has(e, "ids")) {

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "reader.hpp"
+#include "shape_checks.hpp"
 
 namespace velum::io::model_file {
 
@@ -20,8 +21,8 @@ void Reader::parse_sections(const Node& ss) {
     const Node s = ss[i];
     const std::string p = item("sections", i);
     if (!check_map(s, p,
-                   {"elements", "material", "thickness", "area", "axes", "integration",
-                    "wrinkling", "prestress"}))
+                   {"elements", "material", "thickness", "area", "axes", "integration", "wrinkling",
+                    "prestress"}))
       continue;
     auto set = text(s, "elements", p, true);
     auto mat = text(s, "material", p, true);
@@ -112,8 +113,9 @@ void Reader::parse_sections(const Node& ss) {
         const auto v = ps.IsSequence() && ps.size() == 3 ? vec3(ps, pp) : std::nullopt;
         if (!v) {
           if (!(ps.IsSequence() && ps.size() == 3))
-            error(ps, pp, "expected [s11, s22, s12]: a 2nd Piola-Kirchhoff stress in the sheet "
-                          "axes (force/area)");
+            error(ps, pp,
+                  "expected [s11, s22, s12]: a 2nd Piola-Kirchhoff stress in the sheet "
+                  "axes (force/area)");
           law_ok = false;
         } else {
           law.prestress = *v;
@@ -123,8 +125,9 @@ void Reader::parse_sections(const Node& ss) {
         if (!n) {
           law_ok = false;
         } else if (*n < 0 && !md.cable_law.compression) {
-          error(ps, pp, "a cable's prestress is a tension (an axial force >= 0); only a truss "
-                        "(compression: true) takes a negative one");
+          error(ps, pp,
+                "a cable's prestress is a tension (an axial force >= 0); only a truss "
+                "(compression: true) takes a negative one");
           law_ok = false;
         } else {
           law.cable_prestress = *n;
@@ -186,14 +189,25 @@ void Reader::build_blocks(const std::string& set, const ElementSet& es, const Ma
       conn.push_back(it->second);
     }
     if (!ok) continue;
+    if (const ShapeProblem bad = check_shapes(g.type, conn, in_.model.X, in_.model.node_ids);
+        bad.element >= 0) {
+      const std::string where = g.line > 0 ? fmt::format("{}:{}", name_, g.line)
+                                           : fmt::format("{}:{}", name_, line_of(at));
+      errors_.push_back(
+          fmt::format("{}: {}: element {} of set '{}' ({}) is degenerate or "
+                      "inverted: it {}",
+                      where, g.line > 0 ? "mesh.elements" : p,
+                      g.ids[static_cast<size_t>(bad.element)], set, g.type, bad.what));
+      continue;
+    }
     BlockSetupReport report;
     std::unique_ptr<ElementBlock> block;
     try {
       if (md.cable)
-        block = make_cable_block(g.type, set, std::move(conn), in_.model.X,
-                                 CableLaw{md.cable_law.E, md.cable_law.compression,
-                                          md.cable_prestress / size},
-                                 md.density, size, integration, report);
+        block = make_cable_block(
+            g.type, set, std::move(conn), in_.model.X,
+            CableLaw{md.cable_law.E, md.cable_law.compression, md.cable_prestress / size},
+            md.density, size, integration, report);
       else
         block = make_membrane_block(g.type, set, std::move(conn), in_.model.X, md.sheet_law(),
                                     md.density, size, axes, integration, report);

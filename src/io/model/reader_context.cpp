@@ -9,11 +9,14 @@ namespace velum::io::model_file {
 
 namespace {
 
+// The edit distance costs the product of the lengths: only the first kMaxSuggestionChars
+// characters are compared, so a megabyte-long name costs no more than a short one.
 std::string nearest(std::string_view word, const std::vector<std::string>& candidates) {
   std::string best;
   int best_d = 1 << 30;
+  word = word.substr(0, kMaxSuggestionChars);
   for (const auto& c : candidates) {
-    const int d = edit_distance(word, c);
+    const int d = edit_distance(word, std::string_view(c).substr(0, kMaxSuggestionChars));
     if (d < best_d) best_d = d, best = c;
   }
   return best;
