@@ -303,7 +303,6 @@ void Reader::parse_output(const Node& o, const Node& root) {
         out.checkpoint_interval = *iv;
     }
   }
-  const bool given = o && check_map(o, "output", {"directory", "interval", "fields", "history"});
   if (given) {
     if (auto d = text(o, "directory", "output", false)) {
       std::filesystem::path p = *d;

@@ -81,7 +81,7 @@ void Reader::set_up_gas_chambers() {
   for (size_t i = 0; i < in_.model.gases.size(); ++i) {
     try {
       set_up_gas_chamber(in_.model, in_.model.gases[i], [&](int block, int element) {
-        const auto& ids = block_ids_[static_cast<size_t>(block)];
+        const auto& ids = in_.element_ids[static_cast<size_t>(block)];
         return static_cast<size_t>(element) < ids.size() ? ids[static_cast<size_t>(element)]
                                                          : static_cast<long>(element) + 1;
       });
