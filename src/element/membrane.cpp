@@ -216,14 +216,14 @@ template struct Membrane<shape::Quad4>;
 template struct Membrane<shape::Quad8>;
 template struct Membrane<shape::Quad9>;
 
-#define VELUM_MEMBRANE_LAW(Shape, Law)                                                       \
+#define VELUM_MEMBRANE_LAW(Shape, Law)                                                         \
   template void Membrane<Shape>::force<Law>(const Points&, const Law&, const Nodes&, Vector&); \
-  template void Membrane<Shape>::force_tangent<Law>(const Points&, const Law&, const Nodes&,  \
-                                                    Vector&, Matrix&);                        \
+  template void Membrane<Shape>::force_tangent<Law>(const Points&, const Law&, const Nodes&,   \
+                                                    Vector&, Matrix&);                         \
   template double Membrane<Shape>::strain_energy<Law>(const Points&, const Law&, const Nodes&);
-#define VELUM_MEMBRANE_LAWS(Shape)                  \
-  VELUM_MEMBRANE_LAW(Shape, ElasticPoints)          \
-  VELUM_MEMBRANE_LAW(Shape, PrestressedPoints)      \
+#define VELUM_MEMBRANE_LAWS(Shape)             \
+  VELUM_MEMBRANE_LAW(Shape, ElasticPoints)     \
+  VELUM_MEMBRANE_LAW(Shape, PrestressedPoints) \
   VELUM_MEMBRANE_LAW(Shape, LawPoints)
 VELUM_MEMBRANE_LAWS(shape::Tri3)
 VELUM_MEMBRANE_LAWS(shape::Tri6)

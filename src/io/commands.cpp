@@ -354,8 +354,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
           summary.final_time = snap.step.t;
           progress.update(snap.step);
           // SIGINT, SIGTERM (under run_command's InterruptGuard): stop after this step.
-          return (!opt.on_step || opt.on_step(snap.step)) &&
-                 InterruptGuard::signal_received() == 0;
+          return (!opt.on_step || opt.on_step(snap.step)) && InterruptGuard::signal_received() == 0;
         },
         [&](const std::string& w) { progress.warn(w); }, nullptr, resume ? &resume->run : nullptr);
     progress.finish(result.loop);

@@ -85,7 +85,7 @@ void SheetLaw::fiber_tension_field(const Vec3& E, SheetResponse& out) const {
     }
   }
   const int n = static_cast<int>(elastic_.families().size());
-  out.state = taut == n ? WrinkleState::kTaut
+  out.state = taut == n   ? WrinkleState::kTaut
               : taut == 0 ? WrinkleState::kSlack
                           : WrinkleState::kWrinkled;
   if (out.state != WrinkleState::kWrinkled) out.angle = 0;

@@ -24,7 +24,9 @@ constexpr int kSamples = 36;  // 5° apart: at most six roots in [0, π)
 struct WrinkleFrame {
   Vec3 vt, vnt, vn;  ///< t⊗t, sym(n⊗t), n⊗n in engineering Voigt (shear doubled)
   WrinkleFrame(double c, double s)
-      : vt(s * s, c * c, -2 * s * c), vnt(-c * s, s * c, c * c - s * s), vn(c * c, s * s, 2 * c * s) {}
+      : vt(s * s, c * c, -2 * s * c),
+        vnt(-c * s, s * c, c * c - s * s),
+        vn(c * c, s * s, 2 * c * s) {}
 };
 
 class AngleEquation {

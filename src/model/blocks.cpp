@@ -37,9 +37,9 @@ class MembraneBlock final : public ElementBlock {
   static constexpr int kN = Shape::kNodes;
 
  public:
-  MembraneBlock(std::string set, std::vector<int> conn, const NodePositions& X,
-                const SheetLaw& law, double density, double t0, const SheetAxes* axes,
-                shape::Integration integration, BlockSetupReport& report)
+  MembraneBlock(std::string set, std::vector<int> conn, const NodePositions& X, const SheetLaw& law,
+                double density, double t0, const SheetAxes* axes, shape::Integration integration,
+                BlockSetupReport& report)
       : ElementBlock(std::move(set), std::move(conn), density),
         t0_(t0),
         rule_(shape::rule_of<Shape>(integration)),
@@ -316,8 +316,8 @@ bool is_membrane_type(std::string_view t) {
 
 std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::string set,
                                                   std::vector<int> conn, const NodePositions& X,
-                                                  const SheetLaw& law, double density,
-                                                  double t0, const SheetAxes* axes,
+                                                  const SheetLaw& law, double density, double t0,
+                                                  const SheetAxes* axes,
                                                   shape::Integration integration,
                                                   BlockSetupReport& report) {
   auto build = [&]<class S>(S) -> std::unique_ptr<ElementBlock> {

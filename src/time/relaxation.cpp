@@ -40,8 +40,7 @@ bool DynamicRelaxation::relax(SecondOrderSystem& sys, double t, VecX& u, double 
     sys.evaluate(t, u, zero_, zero_, 1.0, 0.0, 0.0, r_, nullptr);
     const double rn = r_.norm();
     if (!std::isfinite(rn)) {
-      why = fmt::format("dynamic relaxation: non-finite residual after {} iterations",
-                        iterations_);
+      why = fmt::format("dynamic relaxation: non-finite residual after {} iterations", iterations_);
       return false;
     }
     ++iterations_;
@@ -52,8 +51,7 @@ bool DynamicRelaxation::relax(SecondOrderSystem& sys, double t, VecX& u, double 
     if (ref_ == 0) ref_ = std::max(rn, sys.force_scale());
     if (it == 0) r_peak = rn;
     const double scale = std::max(ref_, sys.force_scale());
-    const double target =
-        std::max({rel_target * scale, newton.abs_residual, sys.residual_noise()});
+    const double target = std::max({rel_target * scale, newton.abs_residual, sys.residual_noise()});
     if (rn <= target) return true;
     // A residual far above the one at the last peak: the masses are too light for the
     // stiffness reached (it grows as the sheet tightens). Back to the peak, heavier masses.
@@ -102,8 +100,8 @@ bool DynamicRelaxation::relax(SecondOrderSystem& sys, double t, VecX& u, double 
   return false;
 }
 
-StepReport DynamicRelaxation::step(SecondOrderSystem& sys, LinearSolver& solver, double t,
-                                   double h, State& s) {
+StepReport DynamicRelaxation::step(SecondOrderSystem& sys, LinearSolver& solver, double t, double h,
+                                   State& s) {
   StepReport rep;
   zero_.setZero(sys.size());
   iterations_ = 0;

@@ -161,8 +161,8 @@ inline int nearest_node(const Model& m, const Vec3& P) {
   return best;
 }
 
-inline int add_membrane(Model& m, std::string_view type, std::vector<int> conn,
-                        const SheetLaw& law, double density, double thickness,
+inline int add_membrane(Model& m, std::string_view type, std::vector<int> conn, const SheetLaw& law,
+                        double density, double thickness,
                         shape::Integration integration = shape::Integration::kGauss) {
   BlockSetupReport report;
   m.blocks.push_back(make_membrane_block(type, "sheet", std::move(conn), m.X, law, density,

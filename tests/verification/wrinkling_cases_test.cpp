@@ -88,8 +88,8 @@ AirbagResult square_airbag(int n, std::string_view type) {
   fmt::print(
       "E1 square airbag {} {}x{} ({} dofs): w0 = {:.5f} m ({:+.2f}% from 0.2166), min/max "
       "principal stress {:.2e}, {} of {} elements wrinkled, {} slack; {} iterations, {:.2f} s\n",
-      type, n, n, r.dofs, r.w0, 100 * (r.w0 - 0.2166) / 0.2166, r.min_ratio, r.wrinkled,
-      r.elements, r.slack, r.iterations, r.seconds);
+      type, n, n, r.dofs, r.w0, 100 * (r.w0 - 0.2166) / 0.2166, r.min_ratio, r.wrinkled, r.elements,
+      r.slack, r.iterations, r.seconds);
   std::string seq;
   for (double v : r.newton_residuals) seq += fmt::format(" {:.2e}", v);
   fmt::print("E1 Newton residuals after relaxation:{}\n", seq);
@@ -163,7 +163,8 @@ TubeResult tube_in_bending(const SheetLaw& law, double overload, int around, int
   std::sort(ring.begin(), ring.end(), [&](int a, int b) {
     return std::atan2(m.X(1, a), m.X(2, a)) < std::atan2(m.X(1, b), m.X(2, b));
   });
-  for (size_t k = 0; k + 1 < ring.size(); ++k) trusses.insert(trusses.end(), {ring[k], ring[k + 1]});
+  for (size_t k = 0; k + 1 < ring.size(); ++k)
+    trusses.insert(trusses.end(), {ring[k], ring[k + 1]});
   trusses.insert(trusses.end(), {ring.front(), ring.back()});  // across the diameter
   add_cable(m, "cable2", std::move(trusses), CableLaw{1e13, true}, 0.0, 1e-4);
   m.fixed.push_back({root, {true, false, false}});
@@ -189,8 +190,8 @@ TubeResult tube_in_bending(const SheetLaw& law, double overload, int around, int
   TubeResult r;
   bool wrinkled_before = false;
   const auto& blk = *m.blocks[tube];
-  const TimeLoopResult res =
-      run_time_loop(sys, integrator, *solver, loop, s, [&](const AcceptedStep& st, const State& cur) {
+  const TimeLoopResult res = run_time_loop(
+      sys, integrator, *solver, loop, s, [&](const AcceptedStep& st, const State& cur) {
         const NodePositions Rf = sys.reactions(st.t, cur.u, cur.v);
         const NodePositions x = m.X + sys.displacements(st.t, cur.u);
         double M = 0;
@@ -224,7 +225,8 @@ TEST(Verification, E2InflatedTubeInBending) {
   const double Mc = std::numbers::pi * 1e4 * 1e-3;
   for (const auto& [label, elastic] :
        {std::pair{"isotropic", PlaneStressLaw::isotropic("iso", 1e10, 0.3)},
-        std::pair{"orthotropic", PlaneStressLaw::orthotropic("ortho", 2e10, 6e9, 0.35, 3e9, false)}}) {
+        std::pair{"orthotropic",
+                  PlaneStressLaw::orthotropic("ortho", 2e10, 6e9, 0.35, 3e9, false)}}) {
     const TubeResult r = tube_in_bending(SheetLaw(elastic).with_wrinkling(), 1.05, 24, 8);
     EXPECT_LE(r.onset_before, 0.5 * Mc * 1.02) << label;
     EXPECT_GE(r.onset_after, 0.5 * Mc * 0.98) << label;

@@ -10,8 +10,8 @@
 
 #include "velum/analysis/mechanical_system.hpp"
 #include "velum/solve/linear_solver.hpp"
-#include "velum/time/relaxation.hpp"
 #include "velum/time/path_following.hpp"
+#include "velum/time/relaxation.hpp"
 #include "velum/time/time_loop.hpp"
 
 namespace velum {

@@ -32,9 +32,9 @@ struct RunOptions {
 
 /// How run_model runs: where it writes, its threads, its console and the caller's observer.
 struct RunControls {
-  std::optional<std::filesystem::path> output;  ///< overrides output.directory
-  int threads = 0;                              ///< 0: OpenMP's default
-  bool quiet = false;                           ///< no progress or statistics on stderr
+  std::optional<std::filesystem::path> output;   ///< overrides output.directory
+  int threads = 0;                               ///< 0: OpenMP's default
+  bool quiet = false;                            ///< no progress or statistics on stderr
   std::optional<std::filesystem::path> restart;  ///< a run's folder: go on from its checkpoint
   /// Called after each accepted step (and once at t0 with step 0), after its results are
   /// written; returning false stops the run (it then ends as "failed", `stopped` set). It must

@@ -51,7 +51,8 @@ class SheetLaw {
   static constexpr double kDefaultSlackStiffness = 1e-6;
 
   /// The elastic law alone (implicit: every plane-stress law is a sheet law).
-  SheetLaw(const PlaneStressLaw& elastic) : elastic_(elastic) {}  // NOLINT(google-explicit-constructor)
+  SheetLaw(const PlaneStressLaw& elastic)
+      : elastic_(elastic) {}  // NOLINT(google-explicit-constructor)
 
   /// Prestress S0 = [S11, S22, S12] (2nd PK, sheet axes, force/area).
   SheetLaw& with_prestress(const Vec3& S0);

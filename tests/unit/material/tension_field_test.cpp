@@ -24,7 +24,9 @@ std::vector<std::pair<std::string, PlaneStressLaw>> all_laws() {
 }
 
 /// Engineering-Voigt vectors of t⊗t and the stress-Voigt uniaxial stress s n⊗n at angle θ.
-Vec3 vt_of(double th) { return {std::sin(th) * std::sin(th), std::cos(th) * std::cos(th), -std::sin(2 * th)}; }
+Vec3 vt_of(double th) {
+  return {std::sin(th) * std::sin(th), std::cos(th) * std::cos(th), -std::sin(2 * th)};
+}
 Vec3 uniaxial(double s, double th) {
   const double c = std::cos(th), n = std::sin(th);
   return s * Vec3(c * c, n * n, c * n);
@@ -112,7 +114,8 @@ TEST(TensionField, TangentMatchesFiniteDifferencesWhenWrinkledAndSlack) {
         law.evaluate(E, r);
         ASSERT_NE(r.state, WrinkleState::kTaut) << label;
         const Mat3 Cfd = fd_tangent(law, E, 1e-7 * E.norm());
-        const double scale = std::max(r.C.cwiseAbs().maxCoeff(), law.slack_stiffness() * Q.cwiseAbs().maxCoeff());
+        const double scale =
+            std::max(r.C.cwiseAbs().maxCoeff(), law.slack_stiffness() * Q.cwiseAbs().maxCoeff());
         EXPECT_LT((r.C - Cfd).cwiseAbs().maxCoeff() / scale, 1e-6)
             << label << " state " << int(r.state) << " E " << E.transpose();
         EXPECT_LT((r.C - r.C.transpose()).cwiseAbs().maxCoeff(), 1e-9 * scale) << label;
