@@ -149,6 +149,8 @@ CASES = [
     ("wrong_type_nodes", mutate(mesh__nodes="many"), {}, [], 1, ["mesh.nodes: expected a list"]),
     ("wrong_type_adaptive", mutate(analysis__time__adaptive="maybe"), {}, [], 1, ["expected true or false"]),
     ("wrong_type_materials", mutate(materials=[1, 2]), {}, [], 1, ["materials: expected a mapping"]),
+    ("wrinkling_stiffness_without_wrinkling", mutate(sections__0__wrinkling_stiffness=1e-4), {}, [], 1, ["sections[0].wrinkling_stiffness: applies with wrinkling: true only"]),
+    ("wrinkling_stiffness_out_of_range", mutate(sections__0__wrinkling=True, sections__0__wrinkling_stiffness=0.5), {}, [], 1, ["sections[0].wrinkling_stiffness: 0.5 is not in (0, 0.1]"]),
     # ---- missing keys ----
     ("missing_mesh", mutate(mesh=None), {}, [], 1, ["mesh: required key is missing"]),
     ("missing_materials", mutate(materials=None), {}, [], 1, ["materials: required key is missing"]),

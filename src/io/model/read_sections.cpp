@@ -22,7 +22,7 @@ void Reader::parse_sections(const Node& ss) {
     const std::string p = item("sections", i);
     if (!check_map(s, p,
                    {"elements", "material", "thickness", "area", "axes", "integration", "wrinkling",
-                    "prestress"}))
+                    "wrinkling_stiffness", "prestress"}))
       continue;
     auto set = text(s, "elements", p, true);
     auto mat = text(s, "material", p, true);
@@ -105,6 +105,24 @@ void Reader::parse_sections(const Node& ss) {
       }
       law.wrinkling = w.value_or(false);
       law_ok = law_ok && w.has_value();
+    }
+    if (has(s, "wrinkling_stiffness")) {
+      const std::string kp = sub(p, "wrinkling_stiffness");
+      const auto k = number(s["wrinkling_stiffness"], kp);
+      if (!k) {
+        law_ok = false;
+      } else if (!law.wrinkling) {
+        error(s["wrinkling_stiffness"], kp, "applies with wrinkling: true only");
+        law_ok = false;
+      } else if (!(*k > 0 && *k <= 0.1)) {
+        error(s["wrinkling_stiffness"], kp,
+              fmt::format("{} is not in (0, 0.1]: the share of the sheet's stiffness kept "
+                          "where it wrinkles or goes slack",
+                          *k));
+        law_ok = false;
+      } else {
+        law.wrinkling_stiffness = *k;
+      }
     }
     if (has(s, "prestress")) {
       const Node ps = s["prestress"];

@@ -26,12 +26,13 @@ struct MaterialDef {
   bool ok = false;
   // What a section adds to the material (read_sections.cpp).
   bool wrinkling = false;
+  double wrinkling_stiffness = SheetLaw::kDefaultSlackStiffness;  ///< κ of wrinkled/slack points
   Vec3 prestress = Vec3::Zero();  ///< membranes: 2nd PK [s11, s22, s12], sheet axes
   double cable_prestress = 0;     ///< cables: axial force
   SheetLaw sheet_law() const {
     SheetLaw s(*law);
     if (prestress.squaredNorm() > 0) s.with_prestress(prestress);
-    if (wrinkling) s.with_wrinkling();
+    if (wrinkling) s.with_wrinkling(wrinkling_stiffness);
     return s;
   }
 };
