@@ -28,7 +28,10 @@ except ImportError as missing:
           "python3-matplotlib python3-meshio)", file=sys.stderr)
     sys.exit(3)
 
-CORNERS = {"triangle": 3, "triangle6": 3, "quad": 4, "quad8": 4, "quad9": 4}
+# The boundary of each membrane cell, through its mid-side nodes (VTK/Gmsh order: corners,
+# then mid-sides), so that curved quadratic elements are drawn curved.
+OUTLINE = {"triangle": [0, 1, 2], "triangle6": [0, 3, 1, 4, 2, 5], "quad": [0, 1, 2, 3],
+           "quad8": [0, 4, 1, 5, 2, 6, 3, 7], "quad9": [0, 4, 1, 5, 2, 6, 3, 7]}
 VIEWS = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
 DEFAULT_FIELDS = ["force_per_length_max", "true_stress_max", "force", "displacement"]
 
@@ -103,10 +106,10 @@ def plot_shape(mesh, time, field, nodal, scale, view, path, dpi):
     k = 0
     for block in mesh.cells:
         for conn in block.data:
-            if block.type in CORNERS:
-                corners = conn[:CORNERS[block.type]]
-                polys.append(x[corners])
-                poly_vals.append(values[corners].mean() if where == "point" else values[k])
+            if block.type in OUTLINE:
+                outline = conn[OUTLINE[block.type]]
+                polys.append(x[outline])
+                poly_vals.append(values[outline].mean() if where == "point" else values[k])
             elif block.type in ("line", "line3"):
                 ends = conn[[0, 2, 1]] if block.type == "line3" else conn[:2]
                 lines.append(x[ends])

@@ -200,7 +200,7 @@ void ResultsWriter::write(const StepSnapshot& snap) {
   const NodePositions U = system_.displacements(t, snap.state.u);
   const NodePositions x = input_.model.X + U;
   const FrameFields f = evaluate_cells(input_.model, x);
-  update_extremes(t, U, f);
+  if (snap.step.step > 0) update_extremes(t, U, f);  // not the initial state (often unloaded)
   if (input_.output.fields)
     write_frame(t, U, system_.velocities(snap.state.v), reactions(snap, x), f);
 }
