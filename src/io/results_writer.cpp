@@ -387,10 +387,12 @@ void ResultsWriter::write_frame(double t, const NodePositions& U, const NodePosi
       xml += app.add(fmt::format("type=\"Float64\" Name=\"{}\"", a.name),
                      average_.to_nodes(model, a.values));
   xml += "</PointData>\n<CellData>\n";
-  for (const CellArray& a : f.cells)
-    xml += app.add(
-        fmt::format("type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"", a.name, a.components),
-        a.values);
+  for (const CellArray& a : f.cells)  // scalars without NumberOfComponents: (n,) in meshio
+    xml += app.add(a.components == 1
+                       ? fmt::format("type=\"Float64\" Name=\"{}\"", a.name)
+                       : fmt::format("type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"",
+                                     a.name, a.components),
+                   a.values);
   if (!f.wrinkle_state.empty())
     xml += app.add("type=\"Int32\" Name=\"wrinkle_state\"", f.wrinkle_state);
   xml += app.add("type=\"Int32\" Name=\"element_set\"", set_index);

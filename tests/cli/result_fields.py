@@ -129,6 +129,10 @@ for k, d in enumerate(frames):
     assert abs(row[0] - t) < 1e-12
     types = [c.type for c in mesh.cells for _ in c.data]  # meshio joins blocks of one type
     assert types == ["quad"] * (NX * NY) + ["line"] * 2, types
+    for name, blocks in mesh.cell_data.items():  # scalars (n,) as before issue 20; vectors (n, 3)
+        assert all(b.ndim == 1 or b.shape[1] == 3 for b in blocks), (name, blocks[0].shape)
+    for name, arr in mesh.point_data.items():
+        assert arr.ndim == 1 or arr.shape[1] == 3, (name, arr.shape)
     cd = {name: np.concatenate([np.asarray(b, dtype=float) for b in blocks])
           for name, blocks in mesh.cell_data.items()}
     pd = mesh.point_data
