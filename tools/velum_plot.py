@@ -33,6 +33,7 @@ except ImportError as missing:
 OUTLINE = {"triangle": [0, 1, 2], "triangle6": [0, 3, 1, 4, 2, 5], "quad": [0, 1, 2, 3],
            "quad8": [0, 4, 1, 5, 2, 6, 3, 7], "quad9": [0, 4, 1, 5, 2, 6, 3, 7]}
 VIEWS = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
+MAX_DEFAULT_COLUMNS = 8
 DEFAULT_FIELDS = ["force_per_length_max", "true_stress_max", "force", "displacement"]
 
 
@@ -54,8 +55,8 @@ def parse_args(argv):
                    help="displacement magnification of the drawn shape (default 1)")
     p.add_argument("--view", choices=["iso", "xy", "xz", "yz"], default="iso",
                    help="3-D view or a projection onto a coordinate plane (default iso)")
-    p.add_argument("--history", help="comma-separated history.csv columns (default: all; "
-                   "'none' for no history figure)")
+    p.add_argument("--history", help="comma-separated history.csv columns (default: the "
+                   "first 8; 'none' for no history figure)")
     p.add_argument("--no-shape", action="store_true", help="no deformed-shape figure")
     p.add_argument("-o", "--output", help="folder for the PNGs (default DIR/plots)")
     p.add_argument("--dpi", type=int, default=110, help="resolution (default 110)")
@@ -172,7 +173,10 @@ def plot_history(folder, columns, path, dpi):
     head, data = rows[0], np.array([[float(v) for v in r] for r in rows[1:]], dtype=float)
     available = head[1:]
     if columns is None:
-        columns = available
+        columns = available[:MAX_DEFAULT_COLUMNS]
+        if len(available) > MAX_DEFAULT_COLUMNS:
+            print(f"velum plot: history.csv has {len(available)} columns: the first "
+                  f"{MAX_DEFAULT_COLUMNS} drawn (--history to choose)", file=sys.stderr)
     for c in columns:
         if c not in available:
             raise BadInput(f"no column '{c}' in history.csv; columns: {', '.join(available)}")

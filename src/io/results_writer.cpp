@@ -194,15 +194,19 @@ void ResultsWriter::write_step(const AcceptedStep& step) {
 }
 
 void ResultsWriter::write(const StepSnapshot& snap) {
-  write_history(snap);
-  // The cells are evaluated once per output time: for the frame and the summary's extremes.
+  // Positions, reactions and cells once per output time: for the history row, the frame and
+  // the summary's extremes.
   const double t = snap.step.t;
   const NodePositions U = system_.displacements(t, snap.state.u);
+  const NodePositions V = system_.velocities(snap.state.v);
   const NodePositions x = input_.model.X + U;
+  NodePositions R;
+  bool have_R = false;
+  if (input_.output.fields) R = reactions(snap, x), have_R = true;
+  write_history_row(snap, U, V, x, R, have_R);
   const FrameFields f = evaluate_cells(input_.model, x);
   if (snap.step.step > 0) update_extremes(t, U, f);  // not the initial state (often unloaded)
-  if (input_.output.fields)
-    write_frame(t, U, system_.velocities(snap.state.v), reactions(snap, x), f);
+  if (input_.output.fields) write_frame(t, U, V, R, f);
 }
 
 NodePositions ResultsWriter::reactions(const StepSnapshot& snap, const NodePositions& x) const {
@@ -305,15 +309,20 @@ double ResultsWriter::gas_pressure(int i, double t, const NodePositions& x) cons
 }
 
 void ResultsWriter::write_history(const StepSnapshot& snap) {
-  const double t = snap.step.t;
   NodePositions U, V, x, R;
   if (!input_.output.history.empty()) {
-    U = system_.displacements(t, snap.state.u);
+    U = system_.displacements(snap.step.t, snap.state.u);
     V = system_.velocities(snap.state.v);
     x = input_.model.X + U;
   }
   bool have_R = false;
-  std::string row = fmt::format("{:.12g}", t);
+  write_history_row(snap, U, V, x, R, have_R);
+}
+
+void ResultsWriter::write_history_row(const StepSnapshot& snap, const NodePositions& U,
+                                      const NodePositions& V, const NodePositions& x,
+                                      NodePositions& R, bool& have_R) {
+  std::string row = fmt::format("{:.12g}", snap.step.t);
   for (const auto& h : input_.output.history)
     row += fmt::format(",{:.12g}", history_value(h, snap, U, V, x, R, have_R));
   row += "\n";

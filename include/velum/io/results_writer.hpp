@@ -85,6 +85,9 @@ class ResultsWriter {
   double history_value(const HistoryEntry& h, const StepSnapshot& snap, const NodePositions& U,
                        const NodePositions& V, const NodePositions& x, NodePositions& R,
                        bool& have_R);
+  /// The history row at positions U, V, x; reactions R computed on first need (have_R).
+  void write_history_row(const StepSnapshot& snap, const NodePositions& U, const NodePositions& V,
+                         const NodePositions& x, NodePositions& R, bool& have_R);
   /// Internal minus external force at the supported components (zero elsewhere), 3 x nodes.
   NodePositions reactions(const StepSnapshot& snap, const NodePositions& x) const;
   void write_frame(double t, const NodePositions& U, const NodePositions& V, const NodePositions& R,
