@@ -5,6 +5,7 @@
 
 #include "velum/config.hpp"
 #include "velum/io/commands.hpp"
+#include "velum/io/plot_command.hpp"
 #include "velum/io/run_control.hpp"
 
 int main(int argc, char** argv) {
@@ -37,6 +38,14 @@ int main(int argc, char** argv) {
   auto* check_cmd = app.add_subcommand("check", "Validate a model file and print its statistics");
   check_cmd->add_option("MODEL", check_model, "model file (YAML)")->required();
 
+  // Everything after `plot` goes to the plotting script, which documents its own options.
+  auto* plot_cmd = app.add_subcommand(
+      "plot",
+      "Draw PNGs of a results folder: the deformed shape coloured by a field, and history "
+      "columns (velum plot --help for the options)");
+  plot_cmd->prefix_command();
+  plot_cmd->set_help_flag();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -49,6 +58,7 @@ int main(int argc, char** argv) {
       if (!restart.empty()) run.restart = restart;
       return velum::io::run_command(run);
     }
+    if (plot_cmd->parsed()) return velum::io::plot_command(plot_cmd->remaining());
     return velum::io::check_command(check_model);
   } catch (const std::bad_alloc&) {
     velum::io::say(stderr, "error: out of memory: the model is too large for this machine\n");

@@ -108,17 +108,18 @@ class Frame:
     ``velocity`` (N, 3), ``position`` = points + displacement; the cell fields
     (``true_stress_max``, ``true_stress_min``, ``stress_dir_max``, ``stress_dir_min``,
     ``fiber_angle_change``, ``force`` and any others the run wrote) in ``cell_data`` and as
-    attributes; ``connectivity`` as a list of point-index arrays, one per cell."""
+    attributes; the point fields (``reaction``, ``node_id`` and the cell fields averaged to
+    the nodes, docs/model-format.md) in ``point_data``; ``connectivity`` as a list of
+    point-index arrays, one per cell."""
 
     def __init__(self, path, time, node_ids=None, blocks=()):
         self.path = Path(path)
         self.time = float(time)
         self.node_ids = node_ids
         self.blocks = blocks
-        arrays, self.point_names, self.cell_names = read_vtu(self.path)
+        arrays, self.point_data, self.cell_data = read_vtu(self.path)
+        self.point_names, self.cell_names = list(self.point_data), list(self.cell_data)
         self.points = arrays["Points"].reshape(-1, 3)
-        self.point_data = {k: arrays[k] for k in self.point_names}
-        self.cell_data = {k: arrays[k] for k in self.cell_names}
         offsets = arrays["offsets"]
         conn = arrays["connectivity"]
         self.connectivity = np.split(conn, offsets[:-1])
@@ -180,8 +181,9 @@ _ATTR = re.compile(rb'(\w+)="([^"]*)"')
 
 def read_vtu(path):
     """The arrays of a VTK XML unstructured grid with raw appended data (as Velum writes
-    them): ({name: array}, point array names, cell array names). Multi-component arrays are
-    (n, components)."""
+    them): ({name: array} of the points and cells, {name: point array}, {name: cell array});
+    a point and a cell array may share a name (the cell values averaged to the nodes).
+    Multi-component arrays are (n, components)."""
     raw = Path(path).read_bytes()
     marker = raw.find(b'<AppendedData encoding="raw">')
     if marker < 0:
@@ -190,7 +192,7 @@ def read_vtu(path):
     header = raw[:marker]
     point_start, cell_start = header.find(b"<PointData"), header.find(b"<CellData")
     point_end, cell_end = header.find(b"</PointData>"), header.find(b"</CellData>")
-    arrays, point_names, cell_names = {}, [], []
+    arrays, point_data, cell_data = {}, {}, {}
     for m in _ARRAY.finditer(header):
         attrs = {k.decode(): v.decode() for k, v in _ATTR.findall(m.group(1))}
         at = base + int(attrs["offset"])
@@ -201,9 +203,10 @@ def read_vtu(path):
         if comps > 1:
             data = data.reshape(-1, comps)
         name = attrs["Name"]
-        arrays[name] = data
         if point_start <= m.start() < point_end:
-            point_names.append(name)
+            point_data[name] = data
         elif cell_start <= m.start() < cell_end:
-            cell_names.append(name)
-    return arrays, point_names, cell_names
+            cell_data[name] = data
+        else:
+            arrays[name] = data
+    return arrays, point_data, cell_data

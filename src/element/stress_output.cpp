@@ -1,6 +1,7 @@
 #include "velum/element/stress_output.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -31,6 +32,20 @@ MembraneStress membrane_stress(const Eigen::Matrix<double, 3, 2>& g, const Vec3&
   out.dir_max = (eig.eigenvectors()(0, 1) * a1 + eig.eigenvectors()(1, 1) * a2).normalized();
   const double c = std::clamp(f1.dot(f2) / (f1.norm() * f2.norm()), -1.0, 1.0);
   out.fiber_angle_change = std::acos(c) - std::numbers::pi / 2;  // m1 ⟂ m2 in the reference
+  out.axis1 = a1;
+  out.axis2 = a2;
+  out.normal = n;
+  out.fiber2 = f2.normalized();
+
+  // E_ab = T(a,α) E_αβ T(b,β) with E_αβ = ½ (g_α·g_β − G_αβ); m1, m2 are orthonormal in the
+  // reference, so C = I + 2 E in those axes and its eigenvalues are the squared stretches.
+  Mat2 Gcov;
+  Gcov << Gm[0], Gm[2], Gm[2], Gm[1];
+  const Mat2 E = T * (0.5 * (gcov - Gcov)) * T.transpose();
+  out.strain = Vec3(E(0, 0), E(1, 1), 0.5 * (E(0, 1) + E(1, 0)));
+  Eigen::SelfAdjointEigenSolver<Mat2> stretch(Mat2::Identity() + 2 * E, Eigen::EigenvaluesOnly);
+  out.stretch_min = std::sqrt(std::max(stretch.eigenvalues()(0), 0.0));
+  out.stretch_max = std::sqrt(std::max(stretch.eigenvalues()(1), 0.0));
   return out;
 }
 

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <omp.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -251,8 +252,17 @@ int check_command(const std::filesystem::path& file) {
   return kExitOk;
 }
 
+/// CPU time of this process so far (user + system, all threads), seconds.
+static double cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
 RunOutcome run_model(ModelInput& input, const RunControls& opt) {
   RunOutcome out;
+  const double cpu_at_start = cpu_seconds();
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   // OpenBLAS (behind CHOLMOD and UMFPACK) keeps its own busy-waiting threads: with more threads
   // than cores they spin against ours (a 2,000-DOF run spent 14 s in the kernel, 0.1 s with
@@ -391,6 +401,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
     out.status = kExitSolveFailed;
   }
   summary.wall_seconds = seconds_since(opt.started);
+  summary.cpu_seconds = cpu_seconds() - cpu_at_start;
+  summary.threads = omp_get_max_threads();
   try {
     writer->write_summary(summary);
   } catch (const OutputError& e) {

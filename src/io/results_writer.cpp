@@ -8,6 +8,8 @@
 #include <numbers>
 #include <system_error>
 
+#include <sys/resource.h>
+
 namespace velum::io {
 
 void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
@@ -43,22 +45,49 @@ int vtk_type(std::string_view t) {
   return 21;  // cable3: VTK_QUADRATIC_EDGE (ends, then middle: Gmsh order)
 }
 
-// Appended raw binary: each array is a UInt64 byte count followed by the values.
+// Appended raw binary: each array is a UInt64 byte count followed by the values. The arrays
+// are laid out last first: meshio (5.0) reads raw appended data by finding each array's tag
+// by its offset while rewriting the offsets of those it has read, and with ascending offsets
+// it can find a rewritten tag instead (a CorruptionError on frames with many arrays); in
+// reverse order the tag it looks for always precedes the rewritten ones.
 class Appended {
  public:
   template <class T>
   std::string add(const std::string& attrs, const std::vector<T>& v) {
-    const std::string tag =
-        fmt::format("<DataArray {} format=\"appended\" offset=\"{}\"/>\n", attrs, data_.size());
+    const std::string tag = fmt::format("<DataArray {} format=\"appended\" offset=\"{}{}\"/>\n",
+                                        attrs, kMark, chunks_.size());
     const std::uint64_t bytes = v.size() * sizeof(T);
-    data_.append(reinterpret_cast<const char*>(&bytes), sizeof bytes);
-    data_.append(reinterpret_cast<const char*>(v.data()), bytes);
+    std::string& c = chunks_.emplace_back();
+    c.reserve(sizeof bytes + bytes);
+    c.append(reinterpret_cast<const char*>(&bytes), sizeof bytes);
+    c.append(reinterpret_cast<const char*>(v.data()), bytes);
     return tag;
   }
-  const std::string& data() const { return data_; }
+  /// `xml` with its offsets filled in, then the appended data section and the end of the file.
+  std::string finish(const std::string& xml) const {
+    std::vector<size_t> offset(chunks_.size());
+    size_t at = 0;
+    for (size_t k = chunks_.size(); k-- > 0;) offset[k] = at, at += chunks_[k].size();
+    std::string out;
+    out.reserve(xml.size() + at + 64);
+    size_t from = 0;
+    for (size_t k = 0; k < chunks_.size(); ++k) {
+      const std::string mark = fmt::format("{}{}\"", kMark, k);
+      const size_t pos = xml.find(mark, from);
+      out.append(xml, from, pos - from);
+      out += fmt::format("{}\"", offset[k]);
+      from = pos + mark.size();
+    }
+    out.append(xml, from);
+    out += "<AppendedData encoding=\"raw\">\n_";
+    for (size_t k = chunks_.size(); k-- > 0;) out += chunks_[k];
+    out += "\n</AppendedData>\n</VTKFile>\n";
+    return out;
+  }
 
  private:
-  std::string data_;
+  static constexpr const char* kMark = "@";
+  std::vector<std::string> chunks_;
 };
 
 std::string json_number(double v) {
@@ -84,7 +113,11 @@ std::string json_string(const std::string& s) {
 
 ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
                              std::filesystem::path directory, const WriterPosition* resume)
-    : input_(input), system_(system), dir_(std::move(directory)) {
+    : input_(input),
+      system_(system),
+      dir_(std::move(directory)),
+      labels_(cell_labels(input.model, input.block_materials)),
+      average_(input.model) {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec || !std::filesystem::is_directory(dir_))
@@ -114,8 +147,10 @@ ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
     std::fseek(history_, 0, SEEK_END);
     std::fseek(steps_, 0, SEEK_END);
     frame_times_ = resume->frame_times;
+    if (input_.output.fields) write_legend();
     return;
   }
+  if (input_.output.fields) write_legend();
   history_ = std::fopen(h.c_str(), "w");
   if (!history_)
     throw OutputError(fmt::format("cannot write {}: {}", h.string(), std::strerror(errno)));
@@ -159,8 +194,62 @@ void ResultsWriter::write_step(const AcceptedStep& step) {
 }
 
 void ResultsWriter::write(const StepSnapshot& snap) {
-  write_history(snap);
-  if (input_.output.fields) write_frame(snap);
+  // Positions, reactions and cells once per output time: for the history row, the frame and
+  // the summary's extremes.
+  const double t = snap.step.t;
+  const NodePositions U = system_.displacements(t, snap.state.u);
+  const NodePositions V = system_.velocities(snap.state.v);
+  const NodePositions x = input_.model.X + U;
+  NodePositions R;
+  bool have_R = false;
+  if (input_.output.fields) R = reactions(snap, x), have_R = true;
+  write_history_row(snap, U, V, x, R, have_R);
+  const FrameFields f = evaluate_cells(input_.model, x);
+  if (snap.step.step > 0) update_extremes(t, U, f);  // not the initial state (often unloaded)
+  if (input_.output.fields) write_frame(t, U, V, R, f);
+}
+
+NodePositions ResultsWriter::reactions(const StepSnapshot& snap, const NodePositions& x) const {
+  NodePositions Fint;
+  system_.assembler().internal(x, Fint, nullptr);
+  NodePositions R = Fint - system_.external_forces(snap.step.t, snap.state.u, snap.state.v);
+  const DofMap& d = system_.dofs();
+  for (int n = 0; n < input_.model.num_nodes(); ++n) {
+    Vec3 local = d.to_local(n, R.col(n));
+    for (int c = 0; c < 3; ++c)
+      if (d.equation(n, c) >= 0) local[c] = 0;
+    R.col(n) = d.to_global(n, local);
+  }
+  return R;
+}
+
+void ResultsWriter::update_extremes(double t, const NodePositions& U, const FrameFields& f) {
+  const Model& model = input_.model;
+  size_t k = 0;
+  for (size_t b = 0; b < model.blocks.size(); ++b) {
+    const auto& ids = input_.element_ids[b];
+    for (int e = 0; e < model.blocks[b]->size(); ++e, ++k) {
+      const long id = ids[static_cast<size_t>(e)];
+      max_stress_.offer(f.cells[kTrueStressMax].values[k], id, t, true);
+      max_force_per_length_.offer(f.cells[kForcePerLengthMax].values[k], id, t, true);
+      min_cable_force_.offer(f.cells[kCableForce].values[k], id, t, false);
+      max_cable_force_.offer(f.cells[kCableForce].values[k], id, t, true);
+    }
+  }
+  for (int n = 0; n < model.num_nodes(); ++n)
+    max_displacement_.offer(U.col(n).norm(), model.node_ids[static_cast<size_t>(n)], t, true);
+}
+
+void ResultsWriter::write_legend() const {
+  auto list = [](const std::vector<std::string>& names) {
+    std::string s;
+    for (size_t i = 0; i < names.size(); ++i)
+      s += fmt::format("{}{}", i ? ", " : "", json_string(names[i]));
+    return "[" + s + "]";
+  };
+  write_file_atomically(dir_ / "legend.json",
+                        fmt::format("{{\n  \"element_set\": {},\n  \"material\": {}\n}}\n",
+                                    list(labels_.sets), list(labels_.materials)));
 }
 
 double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& snap,
@@ -177,16 +266,7 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
       return model.X(h.component, h.node) + U(h.component, h.node);
     case Q::kReaction: {
       if (!have_R) {
-        NodePositions Fint;
-        system_.assembler().internal(x, Fint, nullptr);
-        R = Fint - system_.external_forces(snap.step.t, snap.state.u, snap.state.v);
-        const DofMap& d = system_.dofs();
-        for (int n = 0; n < model.num_nodes(); ++n) {
-          Vec3 local = d.to_local(n, R.col(n));
-          for (int c = 0; c < 3; ++c)
-            if (d.equation(n, c) >= 0) local[c] = 0;
-          R.col(n) = d.to_global(n, local);
-        }
+        R = reactions(snap, x);
         have_R = true;
       }
       double sum = 0;
@@ -229,15 +309,20 @@ double ResultsWriter::gas_pressure(int i, double t, const NodePositions& x) cons
 }
 
 void ResultsWriter::write_history(const StepSnapshot& snap) {
-  const double t = snap.step.t;
   NodePositions U, V, x, R;
   if (!input_.output.history.empty()) {
-    U = system_.displacements(t, snap.state.u);
+    U = system_.displacements(snap.step.t, snap.state.u);
     V = system_.velocities(snap.state.v);
     x = input_.model.X + U;
   }
   bool have_R = false;
-  std::string row = fmt::format("{:.12g}", t);
+  write_history_row(snap, U, V, x, R, have_R);
+}
+
+void ResultsWriter::write_history_row(const StepSnapshot& snap, const NodePositions& U,
+                                      const NodePositions& V, const NodePositions& x,
+                                      NodePositions& R, bool& have_R) {
+  std::string row = fmt::format("{:.12g}", snap.step.t);
   for (const auto& h : input_.output.history)
     row += fmt::format(",{:.12g}", history_value(h, snap, U, V, x, R, have_R));
   row += "\n";
@@ -245,65 +330,32 @@ void ResultsWriter::write_history(const StepSnapshot& snap) {
     throw OutputError(fmt::format("cannot write {}", (dir_ / "history.csv").string()));
 }
 
-void ResultsWriter::write_frame(const StepSnapshot& snap) {
+void ResultsWriter::write_frame(double t, const NodePositions& U, const NodePositions& V,
+                                const NodePositions& R, const FrameFields& f) {
   const Model& model = input_.model;
-  const double t = snap.step.t;
-  const NodePositions U = system_.displacements(t, snap.state.u);
-  const NodePositions V = system_.velocities(snap.state.v);
   const NodePositions x = model.X + U;
   const int nn = model.num_nodes();
   const int ne = model.num_elements();
-
-  std::vector<double> smax(ne), smin(ne), dmax(3 * ne), dmin(3 * ne), angle(ne), force(ne);
-  // Tension-field state, written when a section wrinkles (docs/wrinkling.md).
-  const bool wrinkling = std::any_of(model.blocks.begin(), model.blocks.end(),
-                                     [](const auto& b) { return b->tension_field(); });
-  std::vector<std::int32_t> wstate(wrinkling ? ne : 0);
-  std::vector<double> wdir(wrinkling ? 3 * ne : 0);
-  std::vector<std::int64_t> conn, offsets;
+  std::vector<std::int64_t> conn, offsets, element_id;
+  std::vector<std::int32_t> set_index, material_index;
   std::vector<std::uint8_t> types;
   conn.reserve(static_cast<size_t>(ne) * 4);
   offsets.reserve(ne);
   types.reserve(ne);
-  int base = 0;
-  for (const auto& b : model.blocks) {
+  element_id.reserve(ne);
+  for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
+    const auto& b = model.blocks[bi];
     const int n = b->size();
-    const bool membrane = b->kind() == ElementKind::kMembrane;
-    const ElementBlock& blk = *b;
-#pragma omp parallel for schedule(static)
-    for (int e = 0; e < n; ++e) {
-      const ElementOutput o = blk.output(e, x);
-      const size_t k = static_cast<size_t>(base + e);
-      if (membrane) {
-        smax[k] = o.stress.max;
-        smin[k] = o.stress.min;
-        for (int c = 0; c < 3; ++c) {
-          dmax[3 * k + c] = o.stress.dir_max[c];
-          dmin[3 * k + c] = o.stress.dir_min[c];
-        }
-        angle[k] = o.stress.fiber_angle_change * kDeg;
-        force[k] = 0;
-        if (wrinkling) {
-          wstate[k] = o.stress.wrinkle_state;
-          for (int c = 0; c < 3; ++c) wdir[3 * k + c] = o.stress.wrinkle_dir[c];
-        }
-      } else {
-        smax[k] = smin[k] = angle[k] = 0;
-        for (int c = 0; c < 3; ++c) dmax[3 * k + c] = dmin[3 * k + c] = 0;
-        force[k] = o.cable_force;
-        if (wrinkling) {
-          wstate[k] = 0;
-          for (int c = 0; c < 3; ++c) wdir[3 * k + c] = 0;
-        }
-      }
-    }
     const std::uint8_t vt = static_cast<std::uint8_t>(vtk_type(b->type_name()));
     for (int e = 0; e < n; ++e) {
       for (int node : b->nodes(e)) conn.push_back(node);
       offsets.push_back(static_cast<std::int64_t>(conn.size()));
       types.push_back(vt);
+      element_id.push_back(input_.element_ids[bi][static_cast<size_t>(e)]);
     }
-    base += n;
+    set_index.insert(set_index.end(), static_cast<size_t>(n), labels_.set_of_block[bi]);
+    material_index.insert(material_index.end(), static_cast<size_t>(n),
+                          labels_.material_of_block[bi]);
   }
 
   // The absolute pressure of the gas each element encloses (0: none).
@@ -336,17 +388,25 @@ void ResultsWriter::write_frame(const StepSnapshot& snap) {
   xml += "<PointData Vectors=\"displacement\">\n";
   xml += app.add("type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\"", flat(U));
   xml += app.add("type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\"", flat(V));
+  xml += app.add("type=\"Float64\" Name=\"reaction\" NumberOfComponents=\"3\"", flat(R));
+  xml += app.add("type=\"Int64\" Name=\"node_id\"",
+                 std::vector<std::int64_t>(model.node_ids.begin(), model.node_ids.end()));
+  for (const CellArray& a : f.cells)
+    if (a.averaged)
+      xml += app.add(fmt::format("type=\"Float64\" Name=\"{}\"", a.name),
+                     average_.to_nodes(model, a.values));
   xml += "</PointData>\n<CellData>\n";
-  xml += app.add("type=\"Float64\" Name=\"true_stress_max\"", smax);
-  xml += app.add("type=\"Float64\" Name=\"true_stress_min\"", smin);
-  xml += app.add("type=\"Float64\" Name=\"stress_dir_max\" NumberOfComponents=\"3\"", dmax);
-  xml += app.add("type=\"Float64\" Name=\"stress_dir_min\" NumberOfComponents=\"3\"", dmin);
-  xml += app.add("type=\"Float64\" Name=\"fiber_angle_change\"", angle);
-  xml += app.add("type=\"Float64\" Name=\"force\"", force);
-  if (wrinkling) {
-    xml += app.add("type=\"Int32\" Name=\"wrinkle_state\"", wstate);
-    xml += app.add("type=\"Float64\" Name=\"wrinkle_dir\" NumberOfComponents=\"3\"", wdir);
-  }
+  for (const CellArray& a : f.cells)  // scalars without NumberOfComponents: (n,) in meshio
+    xml += app.add(a.components == 1
+                       ? fmt::format("type=\"Float64\" Name=\"{}\"", a.name)
+                       : fmt::format("type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"",
+                                     a.name, a.components),
+                   a.values);
+  if (!f.wrinkle_state.empty())
+    xml += app.add("type=\"Int32\" Name=\"wrinkle_state\"", f.wrinkle_state);
+  xml += app.add("type=\"Int32\" Name=\"element_set\"", set_index);
+  xml += app.add("type=\"Int32\" Name=\"material\"", material_index);
+  xml += app.add("type=\"Int64\" Name=\"element_id\"", element_id);
   if (!model.gases.empty()) xml += app.add("type=\"Float64\" Name=\"gas_pressure\"", gas);
   xml += "</CellData>\n<Points>\n";
   xml += app.add("type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"", flat(model.X));
@@ -354,12 +414,10 @@ void ResultsWriter::write_frame(const StepSnapshot& snap) {
   xml += app.add("type=\"Int64\" Name=\"connectivity\"", conn);
   xml += app.add("type=\"Int64\" Name=\"offsets\"", offsets);
   xml += app.add("type=\"UInt8\" Name=\"types\"", types);
-  xml += "</Cells>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_";
-  xml += app.data();
-  xml += "\n</AppendedData>\n</VTKFile>\n";
+  xml += "</Cells>\n</Piece>\n</UnstructuredGrid>\n";
 
   const std::string name = fmt::format("frame_{:05d}.vtu", frame_times_.size());
-  write_file_atomically(dir_ / "frames" / name, xml);
+  write_file_atomically(dir_ / "frames" / name, app.finish(xml));
   frame_times_.push_back(t);
   write_pvd();
 }
@@ -390,6 +448,20 @@ void ResultsWriter::write_summary(const RunSummary& r) {
   s += fmt::format("  \"dofs\": {},\n  \"elements\": {},\n", r.dofs, r.elements);
   s += fmt::format("  \"integrator\": {},\n  \"linear_solver\": {},\n", json_string(r.integrator),
                    json_string(r.solver));
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);  // ru_maxrss: kibibytes on Linux
+  s += fmt::format("  \"cpu_seconds\": {},\n  \"peak_memory_mb\": {},\n  \"threads\": {},\n",
+                   json_number(r.cpu_seconds), json_number(usage.ru_maxrss / 1024.0), r.threads);
+  auto extreme = [](const char* key, const Extreme& x, const char* where) {
+    if (!x.found) return fmt::format("    \"{}\": null", key);
+    return fmt::format("    \"{}\": {{\"value\": {}, \"{}\": {}, \"time\": {}}}", key,
+                       json_number(x.value), where, x.id, json_number(x.time));
+  };
+  s += "  \"extremes\": {\n" + extreme("max_principal_stress", max_stress_, "element") + ",\n" +
+       extreme("max_force_per_length", max_force_per_length_, "element") + ",\n" +
+       extreme("max_displacement", max_displacement_, "node") + ",\n" +
+       extreme("min_cable_force", min_cable_force_, "element") + ",\n" +
+       extreme("max_cable_force", max_cable_force_, "element") + "\n  },\n";
   s += fmt::format("  \"frames\": {},\n", frame_times_.size());
   std::string warnings;
   for (const auto& w : r.warnings) warnings += (warnings.empty() ? "" : ", ") + json_string(w);

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <Eigen/Cholesky>
 
+#include <optional>
 #include <stdexcept>
 
 #include "velum/element/cable.hpp"
@@ -42,7 +43,7 @@ class MembraneBlock final : public ElementBlock {
                 BlockSetupReport& report)
       : ElementBlock(std::move(set), std::move(conn), density),
         t0_(t0),
-        rule_(shape::rule_of<Shape>(integration)),
+        axes_(axes ? std::optional<SheetAxes>(*axes) : std::nullopt),
         law_(std::make_unique<SheetLaw>(law)) {
     if constexpr (std::is_same_v<Law, LawPoints>) {
       policy_.law = law_.get();
@@ -134,12 +135,12 @@ class MembraneBlock final : public ElementBlock {
   }
 
   ElementOutput output(int e, const NodePositions& x) const override {
-    // Stresses at the element centre: evaluate at the centroid with the point data of the
-    // nearest rule point for the constitutive matrix (constant within a flat element).
+    // At the element centre: ξ = (1/3, 1/3) for triangles, (0, 0) for quadrilaterals.
     const std::array<double, 2> c = Shape::kTriangle ? std::array<double, 2>{1.0 / 3, 1.0 / 3}
                                                      : std::array<double, 2>{0.0, 0.0};
     ElementOutput out;
     out.stress = output_at(e, c, x);
+    out.thickness = t0_;
     return out;
   }
 
@@ -170,50 +171,45 @@ class MembraneBlock final : public ElementBlock {
 
   MembraneStress output_at(int e, const std::array<double, 2>& xi,
                            const NodePositions& x) const override {
-    // Reference data at xi: recompute from the nearest integration point's stiffness and the
-    // reference metric reconstructed from the reference positions cached at set-up.
+    // Everything at xi itself, as set-up does at an integration point: the reference metric
+    // from the reference positions, the sheet axes projected onto the tangent plane there, and
+    // the section's law (the same stress the kernels integrate, at any point of the element).
     typename Shape::Values N;
     typename Shape::Derivs dN;
     Shape::eval(xi[0], xi[1], N, dN);
     const auto xe = gather<kN>(x, nodes(e));
     const Eigen::Matrix<double, 3, 2> g = xe * dN;
-    // Nearest integration point supplies D/t0dA and T (exact for flat elements).
-    int best = 0;
-    double dbest = 1e300;
-    for (int q = 0; q < Shape::kPoints; ++q) {
-      const double d = std::pow(rule_.xi[q][0] - xi[0], 2) + std::pow(rule_.xi[q][1] - xi[1], 2);
-      if (d < dbest) dbest = d, best = q;
-    }
-    const auto& p = points_[e][best];
     const Eigen::Matrix<double, 3, 2> G = Xref_cols(e) * dN;
     const Mat2 Gcov = G.transpose() * G;
     const Vec3 Gm(Gcov(0, 0), Gcov(1, 1), Gcov(0, 1));
+    const SheetAxes sector = axes_ ? *axes_ : default_axes(K::centre_normal(Xref_cols(e)));
+    const SheetAxes m = project_axes(sector, G.col(0).cross(G.col(1)).normalized());
+    const Eigen::Matrix<double, 3, 2> Gcontra = G * Gcov.inverse();  // G^α
+    Mat2 T;
+    for (int al = 0; al < 2; ++al) {
+      T(0, al) = m.m1.dot(Gcontra.col(al));
+      T(1, al) = m.m2.dot(Gcontra.col(al));
+    }
     const Vec3 strain(0.5 * (g.col(0).squaredNorm() - Gm[0]),
                       0.5 * (g.col(1).squaredNorm() - Gm[1]), g.col(0).dot(g.col(1)) - Gm[2]);
-    if constexpr (std::is_same_v<Law, LawPoints>) {
-      SheetResponse r;
-      law_->evaluate(sheet_strain_map(p.T) * strain, r);
-      const Vec3 S = sheet_strain_map(p.T).transpose() * r.S;
-      MembraneStress out = membrane_stress(g, S, Gm, p.T);
-      out.wrinkle_state = static_cast<int>(r.state);
-      if (r.state == WrinkleState::kWrinkled) {
-        // The tension direction n = cos θ m1 + sin θ m2, as deformed: F n = g_α T(a,α) n_a.
-        const Vec2 n(std::cos(r.angle), std::sin(r.angle));
-        out.wrinkle_dir = (g * (p.T.transpose() * n)).normalized();
-      }
-      return out;
-    } else {
-      Vec3 S;
-      policy_.stress(p, strain, S);
-      return membrane_stress(g, S / p.t0dA, Gm, p.T);
+    const Mat3 A = sheet_strain_map(T);
+    SheetResponse r;
+    law_->evaluate(A * strain, r);
+    MembraneStress out = membrane_stress(g, A.transpose() * r.S, Gm, T);
+    out.wrinkle_state = static_cast<int>(r.state);
+    if (r.state == WrinkleState::kWrinkled) {
+      // The tension direction n = cos θ m1 + sin θ m2, as deformed: F n = g_α T(a,α) n_a.
+      const Vec2 n(std::cos(r.angle), std::sin(r.angle));
+      out.wrinkle_dir = (g * (T.transpose() * n)).normalized();
     }
+    return out;
   }
 
  private:
   const Eigen::Matrix<double, 3, kN>& Xref_cols(int e) const { return Xref_[e]; }
 
   double t0_;
-  shape::GaussRule<Shape::kPoints, 2> rule_;
+  std::optional<SheetAxes> axes_;  // the section's axes; none: the default per element
   std::unique_ptr<SheetLaw> law_;  // owned here: the policy points to it (stable address)
   Law policy_;
   std::vector<typename K::Points> points_;

@@ -71,6 +71,7 @@ struct ModelInput {
   OutputSettings output;
   std::vector<MaterialSummary> materials;
   std::vector<std::vector<long>> element_ids;  ///< per block of model.blocks: the user's ids
+  std::vector<std::string> block_materials;    ///< per block: the name of its section's material
   std::vector<std::string> warnings;           ///< "file:line: key: text", not fatal
 };
 

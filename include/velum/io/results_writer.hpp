@@ -4,6 +4,7 @@
 // renamed) and summary.json. Values are in the user's units; angles in the fields are in degrees.
 #pragma once
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "velum/analysis/analysis.hpp"
+#include "velum/io/frame_fields.hpp"
 #include "velum/io/model_reader.hpp"
 
 namespace velum::io {
@@ -29,7 +31,20 @@ struct RunSummary {
   Energies energy;
   std::string reason, integrator, solver;
   std::vector<std::string> warnings;  ///< what a user must know about a normal end
-  std::string status;  ///< when set ("interrupted"), replaces "converged" or "failed"
+  std::string status;      ///< when set ("interrupted"), replaces "converged" or "failed"
+  double cpu_seconds = 0;  ///< CPU time (user + system, all threads) of the run
+  int threads = 0;         ///< OpenMP threads the run used
+};
+
+/// The largest (or smallest) value of a result over the output times so far, where and when.
+struct Extreme {
+  bool found = false;
+  double value = 0, time = 0;
+  long id = 0;  ///< the user's element or node id
+  void offer(double v, long at, double t, bool larger) {
+    if (std::isnan(v) || (found && (larger ? v <= value : v >= value))) return;
+    found = true, value = v, id = at, time = t;
+  }
 };
 
 /// Where the results files stood (for a checkpoint, and a restart that goes on from there).
@@ -51,11 +66,11 @@ class ResultsWriter {
   ResultsWriter(const ResultsWriter&) = delete;
   ResultsWriter& operator=(const ResultsWriter&) = delete;
 
-  /// Writes the history row and, with fields on, a frame for an output time.
+  /// Writes the history row and, with fields on, a frame for an output time; updates the
+  /// extremes of summary.json.
   void write(const StepSnapshot& snap);
   /// One history row (no frame).
   void write_history(const StepSnapshot& snap);
-  void write_frame(const StepSnapshot& snap);
   /// One row of steps.csv (iterations and the residual norm before each solve, and after the
   /// last, of an accepted step; space-separated), flushed.
   void write_step(const AcceptedStep& step);
@@ -70,6 +85,15 @@ class ResultsWriter {
   double history_value(const HistoryEntry& h, const StepSnapshot& snap, const NodePositions& U,
                        const NodePositions& V, const NodePositions& x, NodePositions& R,
                        bool& have_R);
+  /// The history row at positions U, V, x; reactions R computed on first need (have_R).
+  void write_history_row(const StepSnapshot& snap, const NodePositions& U, const NodePositions& V,
+                         const NodePositions& x, NodePositions& R, bool& have_R);
+  /// Internal minus external force at the supported components (zero elsewhere), 3 x nodes.
+  NodePositions reactions(const StepSnapshot& snap, const NodePositions& x) const;
+  void write_frame(double t, const NodePositions& U, const NodePositions& V, const NodePositions& R,
+                   const FrameFields& f);
+  void update_extremes(double t, const NodePositions& U, const FrameFields& f);
+  void write_legend() const;
   void write_pvd();
 
   const ModelInput& input_;
@@ -78,6 +102,9 @@ class ResultsWriter {
   std::FILE* history_ = nullptr;
   std::FILE* steps_ = nullptr;
   std::vector<double> frame_times_;
+  CellLabels labels_;
+  NodalAverage average_;
+  Extreme max_stress_, max_force_per_length_, max_displacement_, min_cable_force_, max_cable_force_;
 };
 
 /// Writes `text` to `path` through a temporary file and a rename. Throws OutputError.

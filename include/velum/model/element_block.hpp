@@ -24,7 +24,8 @@ using NodePositions = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 enum class ElementKind { kMembrane, kCable };
 
 struct ElementOutput {
-  MembraneStress stress;   ///< membranes: at the element centre (mean of the points)
+  MembraneStress stress;   ///< membranes: at the element centre (ξ of the centroid)
+  double thickness = 0;    ///< membranes: the reference thickness t0 (σ t0 = force per length)
   double cable_force = 0;  ///< cables: true axial force, mean over the points
 };
 

@@ -154,6 +154,7 @@ void Reader::parse_sections(const Node& ss) {
     }
     if (!size || !md.ok || !axes_ok || !integration_ok || !law_ok || !mesh_ok_) continue;
     build_blocks(*set, es, law, *size, axes ? &*axes : nullptr, integration, s, p);
+    in_.block_materials.resize(in_.model.blocks.size(), *mat);
   }
 }
 

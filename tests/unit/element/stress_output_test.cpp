@@ -9,6 +9,7 @@
 #include "../support.hpp"
 #include "velum/element/membrane.hpp"
 #include "velum/element/stress_output.hpp"
+#include "velum/model/element_block.hpp"
 
 namespace velum {
 namespace {
@@ -102,6 +103,66 @@ TEST(StressOutput, FiberAngleChangeUnderSimpleShear) {
       }
     }
   }
+}
+
+// Issue 20: a block's output at any ξ is the state the element integrates there (the reference
+// metric, the sheet axes projected onto the tangent plane at ξ, the law): at every integration
+// point of a curved tri6 it equals the kernel's own point stress; strain and stretches follow
+// from the same point's metric.
+TEST(StressOutput, BlockOutputAtAPointIsThatPointsState) {
+  using T6 = Membrane<shape::Tri6>;
+  const auto law = PlaneStressLaw::orthotropic("ortho", 1000, 400, 0.3, 150, false);
+  // A curved element: six nodes on a sphere of radius 2, deformed by a non-uniform map.
+  T6::Nodes X, x;
+  const double xi[6][2] = {{0, 0}, {1, 0}, {0, 1}, {0.5, 0}, {0.5, 0.5}, {0, 0.5}};
+  for (int n = 0; n < 6; ++n) {
+    const double u = 0.6 * xi[n][0], v = 0.6 * xi[n][1];
+    X.col(n) = Vec3(u, v, std::sqrt(4 - u * u - v * v));
+    const Vec3 P = X.col(n);
+    x.col(n) =
+        P + Vec3(0.08 * P.x() + 0.03 * P.y() * P.y(), -0.02 * P.x() * P.y(), 0.05 * P.x() * P.x());
+  }
+  const SheetAxes axes = test::axes_at(35.0, Mat3::Identity());
+  T6::Points pts;
+  T6::setup(X, law.Q(), axes, 0.01, pts);
+  NodePositions Xall = X, xall = x;
+  BlockSetupReport report;
+  const auto block = make_membrane_block("tri6", "s", {0, 1, 2, 3, 4, 5}, Xall, SheetLaw(law), 1.0,
+                                         0.01, &axes, shape::Integration::kGauss, report);
+  const auto rule = shape::Tri6::rule();
+  for (int q = 0; q < shape::Tri6::kPoints; ++q) {
+    Vec3 e, S;
+    Eigen::Matrix<double, 3, 2> g;
+    T6::strain_stress(pts, q, x, e, S, g);
+    const MembraneStress ref = membrane_stress(g, S, pts[q].G, pts[q].T);
+    const MembraneStress out = block->output_at(0, {rule.xi[q][0], rule.xi[q][1]}, xall);
+    const double scale = std::abs(ref.max) + std::abs(ref.min);
+    EXPECT_GT(scale, 1.0);
+    EXPECT_NEAR(out.max, ref.max, 1e-10 * scale) << q;
+    EXPECT_NEAR(out.min, ref.min, 1e-10 * scale) << q;
+    EXPECT_LT((out.sheet - ref.sheet).norm(), 1e-10 * scale) << q;
+    EXPECT_LT((out.strain - ref.strain).norm(), 1e-13) << q;
+    // E in the sheet axes from the convected strain e = [γ11, γ22, 2γ12]: E = A e.
+    const Vec3 E = sheet_strain_map(pts[q].T) * e;
+    EXPECT_LT((ref.strain - Vec3(E[0], E[1], 0.5 * E[2])).norm(), 1e-13) << q;
+    // Principal stretches: the eigenvalues of C = I + 2E are their squares.
+    Mat2 C;
+    C << 1 + 2 * E[0], E[2], E[2], 1 + 2 * E[1];
+    EXPECT_NEAR(out.stretch_max * out.stretch_max + out.stretch_min * out.stretch_min, C.trace(),
+                1e-12);
+    EXPECT_NEAR(std::pow(out.stretch_max * out.stretch_min, 2), C.determinant(), 1e-12);
+    // Deformed axes: a1 along F m1, a2 = n x a1, n the deformed normal; fibre 2 along F m2.
+    EXPECT_NEAR(out.axis1.dot(out.normal), 0, 1e-14);
+    EXPECT_NEAR(out.axis2.dot(out.axis1), 0, 1e-14);
+    EXPECT_NEAR(out.normal.dot(g.col(0)), 0, 1e-13);
+    EXPECT_NEAR(out.fiber2.norm(), 1, 1e-14);
+  }
+  // The centre of the element is not a point of the 6-point rule: there the
+  // output comes from the centre's own metric, not a neighbour's.
+  const MembraneStress centre = block->output(0, xall).stress;
+  const MembraneStress at = block->output_at(0, {1.0 / 3, 1.0 / 3}, xall);
+  EXPECT_EQ(centre.max, at.max);
+  EXPECT_EQ(block->output(0, xall).thickness, 0.01);
 }
 
 }  // namespace

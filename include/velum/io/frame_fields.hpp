@@ -1,0 +1,80 @@
+// The per-cell and per-node values of one output time (docs/model-format.md, "Frames"): what
+// the ParaView frames carry and what the summary's extremes are taken from. Cell values are
+// evaluated at each element's centre; a float field that does not apply to a cell's kind
+// (membrane or cable) is NaN there, which ParaView shows as absent. Units are the model's own;
+// angles in degrees.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "velum/model/model.hpp"
+
+namespace velum::io {
+
+/// One float cell array: `components` values per cell, cells in block order.
+struct CellArray {
+  std::string name;
+  int components = 1;
+  std::vector<double> values;
+  bool averaged = false;  ///< also written as point data, averaged from the cells around
+};
+
+/// Indices into FrameFields::cells of the arrays the summary's extremes read.
+enum CellField : int {
+  kTrueStressMax,
+  kTrueStressMin,
+  kStressDirMax,
+  kStressDirMin,
+  kFiberAngleChange,
+  kCableForce,
+  kStress11,
+  kStress22,
+  kStress12,
+  kForcePerLengthMax,
+  kForcePerLengthMin,
+  kForcePerLength11,
+  kForcePerLength22,
+  kForcePerLength12,
+  kStrain11,
+  kStrain22,
+  kStrain12,
+  kStretchMax,
+  kStretchMin,
+  kSheetAxis1,
+  kSheetAxis2,
+  kSheetNormal,
+  kFiberDir1,
+  kFiberDir2,
+  kWrinkleDir,  // present only when a section wrinkles
+  kCellFieldCount
+};
+
+struct FrameFields {
+  std::vector<CellArray> cells;             ///< indexed by CellField (kWrinkleDir may be absent)
+  std::vector<std::int32_t> wrinkle_state;  ///< when a section wrinkles: 0 taut, 1, 2; cables 0
+};
+
+/// The cell values of `model` at current positions x (threads over the elements of a block).
+FrameFields evaluate_cells(const Model& model, const NodePositions& x);
+
+/// The labels of the integer cell fields `element_set` and `material`: each block's value is
+/// an index into these names (model order of first appearance).
+struct CellLabels {
+  std::vector<std::string> sets, materials;
+  std::vector<std::int32_t> set_of_block, material_of_block;
+};
+CellLabels cell_labels(const Model& model, const std::vector<std::string>& block_materials);
+
+/// Reference-area weights of every membrane cell for averaging to nodes, and their sum at each
+/// node (0 at nodes no membrane touches).
+struct NodalAverage {
+  std::vector<double> cell_weight, node_weight;
+  explicit NodalAverage(const Model& model);
+  /// Point values of a scalar cell array: the area-weighted mean over the membrane cells
+  /// holding the node (corner and mid-side nodes alike); NaN where no membrane does.
+  std::vector<double> to_nodes(const Model& model, const std::vector<double>& cell) const;
+};
+
+}  // namespace velum::io

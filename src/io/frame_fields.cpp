@@ -1,0 +1,170 @@
+#include "velum/io/frame_fields.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numbers>
+
+namespace velum::io {
+namespace {
+
+constexpr double kDeg = 180.0 / std::numbers::pi;
+constexpr double kAbsent = std::numeric_limits<double>::quiet_NaN();
+
+struct Spec {
+  CellField field;
+  const char* name;
+  int components;
+  bool averaged;
+};
+
+// The arrays in the order they appear in a frame (the first six as before issue 20).
+constexpr Spec kSpecs[] = {
+    {kTrueStressMax, "true_stress_max", 1, true},
+    {kTrueStressMin, "true_stress_min", 1, true},
+    {kStressDirMax, "stress_dir_max", 3, false},
+    {kStressDirMin, "stress_dir_min", 3, false},
+    {kFiberAngleChange, "fiber_angle_change", 1, true},
+    {kCableForce, "force", 1, false},
+    {kStress11, "stress_11", 1, true},
+    {kStress22, "stress_22", 1, true},
+    {kStress12, "stress_12", 1, true},
+    {kForcePerLengthMax, "force_per_length_max", 1, true},
+    {kForcePerLengthMin, "force_per_length_min", 1, true},
+    {kForcePerLength11, "force_per_length_11", 1, true},
+    {kForcePerLength22, "force_per_length_22", 1, true},
+    {kForcePerLength12, "force_per_length_12", 1, true},
+    {kStrain11, "strain_11", 1, true},
+    {kStrain22, "strain_22", 1, true},
+    {kStrain12, "strain_12", 1, true},
+    {kStretchMax, "stretch_max", 1, true},
+    {kStretchMin, "stretch_min", 1, true},
+    {kSheetAxis1, "sheet_axis_1", 3, false},
+    {kSheetAxis2, "sheet_axis_2", 3, false},
+    {kSheetNormal, "sheet_normal", 3, false},
+    {kFiberDir1, "fiber_dir_1", 3, false},
+    {kFiberDir2, "fiber_dir_2", 3, false},
+    {kWrinkleDir, "wrinkle_dir", 3, false},
+};
+
+void put(CellArray& a, size_t k, double v) {
+  a.values[k] = v;
+}
+void put(CellArray& a, size_t k, const Vec3& v) {
+  for (int c = 0; c < 3; ++c) a.values[3 * k + c] = v[c];
+}
+
+}  // namespace
+
+FrameFields evaluate_cells(const Model& model, const NodePositions& x) {
+  const size_t ne = static_cast<size_t>(model.num_elements());
+  const bool wrinkling = std::any_of(model.blocks.begin(), model.blocks.end(),
+                                     [](const auto& b) { return b->tension_field(); });
+  FrameFields f;
+  f.cells.reserve(kCellFieldCount);
+  for (const Spec& s : kSpecs) {
+    if (s.field == kWrinkleDir && !wrinkling) continue;
+    f.cells.push_back({s.name, s.components,
+                       std::vector<double>(ne * static_cast<size_t>(s.components), kAbsent),
+                       s.averaged});
+  }
+  if (wrinkling) f.wrinkle_state.assign(ne, 0);
+  auto& c = f.cells;
+  size_t base = 0;
+  for (const auto& b : model.blocks) {
+    const int n = b->size();
+    const ElementBlock& blk = *b;
+    if (blk.kind() == ElementKind::kCable) {
+#pragma omp parallel for schedule(static)
+      for (int e = 0; e < n; ++e)
+        put(c[kCableForce], base + static_cast<size_t>(e), blk.output(e, x).cable_force);
+      base += static_cast<size_t>(n);
+      continue;
+    }
+#pragma omp parallel for schedule(static)
+    for (int e = 0; e < n; ++e) {
+      const ElementOutput o = blk.output(e, x);
+      const MembraneStress& s = o.stress;
+      const size_t k = base + static_cast<size_t>(e);
+      const double t = o.thickness;
+      put(c[kTrueStressMax], k, s.max);
+      put(c[kTrueStressMin], k, s.min);
+      put(c[kStressDirMax], k, s.dir_max);
+      put(c[kStressDirMin], k, s.dir_min);
+      put(c[kFiberAngleChange], k, s.fiber_angle_change * kDeg);
+      put(c[kStress11], k, s.sheet[0]);
+      put(c[kStress22], k, s.sheet[1]);
+      put(c[kStress12], k, s.sheet[2]);
+      put(c[kForcePerLengthMax], k, t * s.max);
+      put(c[kForcePerLengthMin], k, t * s.min);
+      put(c[kForcePerLength11], k, t * s.sheet[0]);
+      put(c[kForcePerLength22], k, t * s.sheet[1]);
+      put(c[kForcePerLength12], k, t * s.sheet[2]);
+      put(c[kStrain11], k, s.strain[0]);
+      put(c[kStrain22], k, s.strain[1]);
+      put(c[kStrain12], k, s.strain[2]);
+      put(c[kStretchMax], k, s.stretch_max);
+      put(c[kStretchMin], k, s.stretch_min);
+      put(c[kSheetAxis1], k, s.axis1);
+      put(c[kSheetAxis2], k, s.axis2);
+      put(c[kSheetNormal], k, s.normal);
+      put(c[kFiberDir1], k, s.axis1);
+      put(c[kFiberDir2], k, s.fiber2);
+      if (wrinkling) {
+        put(c[kWrinkleDir], k, s.wrinkle_dir);
+        f.wrinkle_state[k] = s.wrinkle_state;
+      }
+    }
+    base += static_cast<size_t>(n);
+  }
+  return f;
+}
+
+CellLabels cell_labels(const Model& model, const std::vector<std::string>& block_materials) {
+  CellLabels l;
+  auto index = [](std::vector<std::string>& names, const std::string& name) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it != names.end()) return static_cast<std::int32_t>(it - names.begin());
+    names.push_back(name);
+    return static_cast<std::int32_t>(names.size() - 1);
+  };
+  for (size_t b = 0; b < model.blocks.size(); ++b) {
+    l.set_of_block.push_back(index(l.sets, model.blocks[b]->set_name()));
+    l.material_of_block.push_back(
+        index(l.materials, b < block_materials.size() ? block_materials[b] : std::string()));
+  }
+  return l;
+}
+
+NodalAverage::NodalAverage(const Model& model)
+    : cell_weight(static_cast<size_t>(model.num_elements()), 0.0),
+      node_weight(static_cast<size_t>(model.num_nodes()), 0.0) {
+  size_t k = 0;
+  for (const auto& b : model.blocks) {
+    const bool membrane = b->kind() == ElementKind::kMembrane;
+    for (int e = 0; e < b->size(); ++e, ++k) {
+      if (!membrane) continue;
+      cell_weight[k] = b->measure(e);
+      for (int node : b->nodes(e)) node_weight[static_cast<size_t>(node)] += cell_weight[k];
+    }
+  }
+}
+
+std::vector<double> NodalAverage::to_nodes(const Model& model,
+                                           const std::vector<double>& cell) const {
+  std::vector<double> sum(node_weight.size(), 0.0);
+  size_t k = 0;
+  for (const auto& b : model.blocks) {
+    for (int e = 0; e < b->size(); ++e, ++k) {
+      if (cell_weight[k] == 0) continue;
+      const double wv = cell_weight[k] * cell[k];
+      for (int node : b->nodes(e)) sum[static_cast<size_t>(node)] += wv;
+    }
+  }
+  for (size_t n = 0; n < sum.size(); ++n)
+    sum[n] = node_weight[n] > 0 ? sum[n] / node_weight[n] : kAbsent;
+  return sum;
+}
+
+}  // namespace velum::io

@@ -1,0 +1,239 @@
+#!/usr/bin/python3
+"""Pictures of a Velum results folder without ParaView (`velum plot DIR`, docs/model-format.md).
+
+Writes PNGs into OUT (default DIR/plots):
+  shape_<field>_<frame>.png  the deformed shape coloured by a cell or point field of a frame;
+                             cells where the field does not apply (NaN) are drawn grey;
+  history.png                chosen history.csv columns against time, one panel each.
+Runs with Debian's /usr/bin/python3 (matplotlib, meshio, numpy). Exit status 0, or 1 with a
+message on bad input (no such folder, field, frame or column).
+"""
+import argparse
+import csv
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+try:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import meshio
+    import numpy as np
+    from matplotlib.collections import LineCollection, PolyCollection
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
+except ImportError as missing:
+    print(f"velum plot: error: {missing.name} is missing (Debian: apt-get install "
+          "python3-matplotlib python3-meshio)", file=sys.stderr)
+    sys.exit(3)
+
+# The boundary of each membrane cell, through its mid-side nodes (VTK/Gmsh order: corners,
+# then mid-sides), so that curved quadratic elements are drawn curved.
+OUTLINE = {"triangle": [0, 1, 2], "triangle6": [0, 3, 1, 4, 2, 5], "quad": [0, 1, 2, 3],
+           "quad8": [0, 4, 1, 5, 2, 6, 3, 7], "quad9": [0, 4, 1, 5, 2, 6, 3, 7]}
+VIEWS = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
+MAX_DEFAULT_COLUMNS = 8
+DEFAULT_FIELDS = ["force_per_length_max", "true_stress_max", "force", "displacement"]
+
+
+class BadInput(Exception):
+    pass
+
+
+def parse_args(argv):
+    p = argparse.ArgumentParser(prog="velum plot", description=__doc__.split("\n")[0])
+    p.add_argument("dir", metavar="DIR", help="results folder of `velum run`")
+    p.add_argument("--field", help="cell or point field to colour by (default: "
+                   "force_per_length_max, else true_stress_max, force, displacement); a vector "
+                   "field is shown by its magnitude, or one component with NAME:x|y|z")
+    p.add_argument("--nodal", action="store_true",
+                   help="use the point (node-averaged) values of the field where a frame has both")
+    p.add_argument("--frame", type=int, default=-1,
+                   help="frame index, from 0; negative counts from the last (default -1)")
+    p.add_argument("--scale", type=float, default=1.0,
+                   help="displacement magnification of the drawn shape (default 1)")
+    p.add_argument("--view", choices=["iso", "xy", "xz", "yz"], default="iso",
+                   help="3-D view or a projection onto a coordinate plane (default iso)")
+    p.add_argument("--history", help="comma-separated history.csv columns (default: the "
+                   "first 8; 'none' for no history figure)")
+    p.add_argument("--no-shape", action="store_true", help="no deformed-shape figure")
+    p.add_argument("-o", "--output", help="folder for the PNGs (default DIR/plots)")
+    p.add_argument("--dpi", type=int, default=110, help="resolution (default 110)")
+    return p.parse_args(argv)
+
+
+def frames_of(folder):
+    pvd = os.path.join(folder, "results.pvd")
+    if not os.path.exists(pvd):
+        return []
+    root = ET.parse(pvd).getroot()
+    return [(float(d.get("timestep")), os.path.join(folder, d.get("file")))
+            for d in root.findall("./Collection/DataSet")]
+
+
+def field_values(mesh, name, nodal):
+    """(values, where): values per cell (concatenated over blocks) or per point."""
+    comp = None
+    if ":" in name:
+        name, c = name.rsplit(":", 1)
+        if c not in ("x", "y", "z", "0", "1", "2"):
+            raise BadInput(f"component '{c}' of field {name}: expected x, y or z")
+        comp = "xyz".index(c) if c in "xyz" else int(c)
+    in_cells, in_points = name in mesh.cell_data, name in mesh.point_data
+    if not in_cells and not in_points:
+        names = sorted(set(mesh.cell_data) | set(mesh.point_data))
+        raise BadInput(f"no field '{name}' in the frame; fields: {', '.join(names)}")
+    where = "point" if in_points and (nodal or not in_cells) else "cell"
+    v = (np.asarray(mesh.point_data[name], dtype=float) if where == "point"
+         else np.concatenate([np.asarray(b, dtype=float) for b in mesh.cell_data[name]]))
+    if v.ndim == 2 and v.shape[1] > 1:
+        if comp is not None:
+            if comp >= v.shape[1]:
+                raise BadInput(f"field {name} has {v.shape[1]} components")
+            v = v[:, comp]
+        else:
+            v = np.linalg.norm(v, axis=1)
+    elif comp is not None:
+        raise BadInput(f"field {name} is a scalar: no component")
+    return v.reshape(-1), where
+
+
+def plot_shape(mesh, time, field, nodal, scale, view, path, dpi):
+    U = mesh.point_data.get("displacement", np.zeros_like(mesh.points))
+    x = mesh.points + scale * U
+    values, where = field_values(mesh, field, nodal)
+    polys, poly_vals, lines, line_vals = [], [], [], []
+    k = 0
+    for block in mesh.cells:
+        for conn in block.data:
+            if block.type in OUTLINE:
+                outline = conn[OUTLINE[block.type]]
+                polys.append(x[outline])
+                poly_vals.append(values[outline].mean() if where == "point" else values[k])
+            elif block.type in ("line", "line3"):
+                ends = conn[[0, 2, 1]] if block.type == "line3" else conn[:2]
+                lines.append(x[ends])
+                lines_v = values[ends].mean() if where == "point" else values[k]
+                line_vals.append(lines_v)
+            k += 1
+    shown = np.array([v for v in poly_vals + line_vals if np.isfinite(v)])
+    lo, hi = (shown.min(), shown.max()) if shown.size else (0.0, 1.0)
+    if hi <= lo:
+        lo, hi = lo - 0.5 * max(abs(lo), 1e-30), hi + 0.5 * max(abs(hi), 1e-30)
+    norm = matplotlib.colors.Normalize(lo, hi)
+    cmap = matplotlib.colormaps["viridis"]
+
+    def colours(vals):
+        return [cmap(norm(v)) if np.isfinite(v) else (0.8, 0.8, 0.8, 1.0) for v in vals]
+
+    fig = plt.figure(figsize=(7.5, 6))
+    if view == "iso":
+        ax = fig.add_subplot(projection="3d")
+        if polys:
+            ax.add_collection3d(Poly3DCollection(polys, facecolors=colours(poly_vals),
+                                                 edgecolors=(0, 0, 0, 0.15), linewidths=0.2))
+        if lines:
+            ax.add_collection3d(Line3DCollection(lines, colors=colours(line_vals),
+                                                 linewidths=1.2))
+        # Equal scales on the three axes; a flat direction gets a little room (not a sliver).
+        lo_x, hi_x = x.min(axis=0), x.max(axis=0)
+        span = max((hi_x - lo_x).max(), 1e-30)
+        half = np.maximum(0.5 * (hi_x - lo_x), 0.1 * span)
+        mid = 0.5 * (lo_x + hi_x)
+        for set_lim, m, h in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid, half):
+            set_lim(m - h, m + h)
+        ax.set_box_aspect(half)
+        ax.set_xlabel("x"), ax.set_ylabel("y"), ax.set_zlabel("z")
+    else:
+        i, j = VIEWS[view]
+        ax = fig.add_subplot()
+        if polys:
+            ax.add_collection(PolyCollection([p[:, [i, j]] for p in polys],
+                                             facecolors=colours(poly_vals),
+                                             edgecolors=(0, 0, 0, 0.15), linewidths=0.2))
+        if lines:
+            ax.add_collection(LineCollection([ln[:, [i, j]] for ln in lines],
+                                             colors=colours(line_vals), linewidths=1.2))
+        ax.autoscale_view()
+        ax.set_aspect("equal")
+        ax.set_xlabel("xyz"[i]), ax.set_ylabel("xyz"[j])
+    sm = matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap)
+    fig.colorbar(sm, ax=ax, shrink=0.7,
+                 label=f"{field} ({where} values, the model's units)")
+    ax.set_title(f"t = {time:.6g}" + (f", displacements x {scale:g}" if scale != 1 else ""))
+    fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+
+
+def plot_history(folder, columns, path, dpi):
+    with open(os.path.join(folder, "history.csv")) as f:
+        rows = [r for r in csv.reader(f) if r]
+    head, data = rows[0], np.array([[float(v) for v in r] for r in rows[1:]], dtype=float)
+    available = head[1:]
+    if columns is None:
+        columns = available[:MAX_DEFAULT_COLUMNS]
+        if len(available) > MAX_DEFAULT_COLUMNS:
+            print(f"velum plot: history.csv has {len(available)} columns: the first "
+                  f"{MAX_DEFAULT_COLUMNS} drawn (--history to choose)", file=sys.stderr)
+    for c in columns:
+        if c not in available:
+            raise BadInput(f"no column '{c}' in history.csv; columns: {', '.join(available)}")
+    if not columns or data.size == 0:
+        return False
+    fig, axes = plt.subplots(len(columns), 1, sharex=True, squeeze=False,
+                             figsize=(7, 1.2 + 1.8 * len(columns)))
+    for ax, c in zip(axes[:, 0], columns):
+        ax.plot(data[:, 0], data[:, head.index(c)], marker="." if len(data) < 40 else None)
+        ax.set_ylabel(c)
+        ax.grid(alpha=0.3)
+    axes[-1, 0].set_xlabel("time")
+    fig.suptitle(os.path.basename(os.path.normpath(folder)) + ": history")
+    fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+    return True
+
+
+def main(argv):
+    a = parse_args(argv)
+    if not os.path.isdir(a.dir):
+        raise BadInput(f"{a.dir}: no such results folder")
+    out = a.output or os.path.join(a.dir, "plots")
+    written = []
+    frames = frames_of(a.dir)
+    if not a.no_shape and (frames or a.field):
+        if not frames:
+            raise BadInput(f"{a.dir}: no frames (results.pvd; output.fields is off?)")
+        if not -len(frames) <= a.frame < len(frames):
+            raise BadInput(f"frame {a.frame}: the run wrote {len(frames)} frames (0 to "
+                           f"{len(frames) - 1}, or negative from the last)")
+        index = a.frame % len(frames)
+        time, path = frames[index]
+        mesh = meshio.read(path)
+        field = a.field or next(f for f in DEFAULT_FIELDS
+                                if f in mesh.cell_data or f in mesh.point_data)
+        os.makedirs(out, exist_ok=True)
+        png = os.path.join(out, f"shape_{field.replace(':', '_')}_{index:05d}.png")
+        plot_shape(mesh, time, field, a.nodal, a.scale, a.view, png, a.dpi)
+        written.append(png)
+    if a.history != "none" and os.path.exists(os.path.join(a.dir, "history.csv")):
+        columns = None if a.history is None else [c.strip() for c in a.history.split(",")]
+        os.makedirs(out, exist_ok=True)
+        png = os.path.join(out, "history.png")
+        if plot_history(a.dir, columns, png, a.dpi):
+            written.append(png)
+    if not written:
+        raise BadInput(f"{a.dir}: nothing to plot (no frames, no history columns)")
+    for w in written:
+        print(w)
+    return 0
+
+
+if __name__ == "__main__":
+    try:
+        sys.exit(main(sys.argv[1:]))
+    except BadInput as e:
+        print(f"velum plot: error: {e}", file=sys.stderr)
+        sys.exit(1)
