@@ -37,6 +37,12 @@ int main(int argc, char** argv) {
   auto* check_cmd = app.add_subcommand("check", "Validate a model file and print its statistics");
   check_cmd->add_option("MODEL", check_model, "model file (YAML)")->required();
 
+  std::filesystem::path import_deck, import_output;
+  auto* import_cmd = app.add_subcommand(
+      "import", "Write an Abaqus/CalculiX input deck (.inp) as a Velum model file");
+  import_cmd->add_option("DECK", import_deck, "input deck (.inp)")->required();
+  import_cmd->add_option("-o,--output", import_output, "model file to write (YAML)")->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -49,6 +55,7 @@ int main(int argc, char** argv) {
       if (!restart.empty()) run.restart = restart;
       return velum::io::run_command(run);
     }
+    if (import_cmd->parsed()) return velum::io::import_command(import_deck, import_output);
     return velum::io::check_command(check_model);
   } catch (const std::bad_alloc&) {
     velum::io::say(stderr, "error: out of memory: the model is too large for this machine\n");
