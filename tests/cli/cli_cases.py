@@ -401,9 +401,9 @@ CASES = [
     ("inp_mesh_undefined_node", with_mesh_file("m.inp"), {"m.inp": inp_edit("4, 5, 6, 9, 8", "4, 5, 6, 99, 8")}, [], 1, ["model.yaml:2: mesh.file:", "m.inp:16: *ELEMENT: element 4 refers to undefined node 99"]),
     ("inp_mesh_element_type", with_mesh_file("m.inp"), {"m.inp": inp_edit("TYPE=M3D4", "TYPE=S4R")}, [], 1, ["m.inp:12: *ELEMENT: element type S4R is not supported"]),
     ("inp_mesh_bad_number", with_mesh_file("m.inp"), {"m.inp": inp_edit("5, 0.5, 0.5, 0.", "5, 0.5, inf, 0.")}, [], 1, ["m.inp:7: *NODE: field 3: 'inf' is not a finite number"]),
-    ("inp_mesh_generate", with_mesh_file("m.inp"), {"m.inp": inp_edit("*NSET, NSET=corner\n9", "*NSET, NSET=corner, GENERATE\n9, 1, 1")}, [], 1, ["m.inp:19: *NSET: GENERATE needs first <= last"]),
+    ("inp_mesh_generate", with_mesh_file("m.inp"), {"m.inp": inp_edit("*NSET, NSET=corner\n9", "*NSET, NSET=corner, GENERATE\n9, 1, 1")}, [], 1, ["m.inp:20: *NSET: GENERATE needs first <= last"]),
     ("inp_mesh_nul", with_mesh_file("m.inp"), {"m.inp": inp_edit("*NSET, NSET=left", "*NSET, NS\0ET=left")}, [], 1, ["m.inp:17: a NUL byte"]),
-    ("inp_mesh_truncated", with_mesh_file("m.inp"), {"m.inp": inp_edit("4, 5, 6, 9, 8\n", "4, 5, 6,")}, [], 1, ["m.inp:16: *ELEMENT: a M3D4 needs an element id and 4 node ids"]),
+    ("inp_mesh_truncated", with_mesh_file("m.inp"), {"m.inp": inp_edit("4, 5, 6, 9, 8\n", "4, 5, 6,\n")}, [], 1, ["m.inp:16: *ELEMENT: a M3D4 needs an element id and 4 node ids, got 3 fields"]),
 ]
 
 

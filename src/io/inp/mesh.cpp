@@ -59,6 +59,7 @@ void add_ids(Set& s, const std::vector<long>& ids) {
 /// The ids of a *NSET or *ELSET block: GENERATE triples, or ids and set names.
 std::vector<long> set_members(const Keyword& k, bool nodes, const Mesh& mesh, Diagnostics& diag) {
   std::vector<long> ids;
+  std::set<const Set*> merged;  // a set named twice in one block is merged once
   const char* what = nodes ? "node" : "element";
   const auto& known = nodes ? mesh.node_at : mesh.element_at;
   constexpr long kMaxGenerated = 100'000'000;
@@ -95,7 +96,7 @@ std::vector<long> set_members(const Keyword& k, bool nodes, const Mesh& mesh, Di
         }
         ids.push_back(*id);
       } else if (const Set* s = nodes ? mesh.nset(f) : mesh.elset(f)) {
-        ids.insert(ids.end(), s->ids.begin(), s->ids.end());
+        if (merged.insert(s).second) ids.insert(ids.end(), s->ids.begin(), s->ids.end());
       } else {
         diag.error(k, d, fmt::format("undefined {} set '{}'", what, f));
       }

@@ -45,9 +45,10 @@ std::string id_list(const std::vector<long>& ids, size_t indent) {
   std::string s = "[";
   size_t col = indent + 1;
   for (size_t i = 0; i < ids.size(); ++i) {
-    const std::string t = std::to_string(ids[i]) + (i + 1 < ids.size() ? ", " : "");
+    const std::string t = fmt::format("{}{}", ids[i], i + 1 < ids.size() ? ", " : "");
     if (col + t.size() > 98) {
-      s += "\n" + std::string(indent + 1, ' ');
+      s += '\n';
+      s.append(indent + 1, ' ');
       col = indent + 1;
     }
     s += t;
@@ -251,6 +252,23 @@ std::string write_yaml(const std::string& title, const Mesh& mesh, const Propert
     } else if (sec.membrane && props.materials[props.material_at.at(sec.material)].law !=
                                    Material::Law::kIsotropic) {
       axes = ", axes: {points: [[0, 0, 0], [1, 0, 0], [0, 1, 0]]}";  // Abaqus: global x projected
+      // Where global x is within 0.1° of a sheet's normal, Abaqus projects global z instead
+      // and Velum global y: refused rather than mapped differently.
+      for (size_t e : p.elements) {
+        const Element& el = mesh.elements[e];
+        auto X = [&](size_t k) { return mesh.nodes[mesh.node_at.at(el.nodes[k])].x; };
+        const bool tri = el.type.rfind("tri", 0) == 0;
+        const Vec3 n =
+            tri ? Vec3((X(1) - X(0)).cross(X(2) - X(0))) : Vec3((X(2) - X(0)).cross(X(3) - X(1)));
+        if (n.norm() > 0 && std::abs(n.normalized().x()) > std::cos(0.1 * std::numbers::pi / 180)) {
+          diag.errors.push_back(fmt::format(
+              "{}: section: element {} lies normal to global x, where Abaqus's default material "
+              "axes (global z projected) differ from Velum's (global y projected): give the "
+              "section an *ORIENTATION",
+              at(sec.file, sec.line), el.id));
+          break;
+        }
+      }
     }
     sections_yaml += fmt::format(
         "  - {{elements: {}, material: {}, {}: {}{}}}   # {}\n", yaml_name(p.name), yaml_name(*mat),
