@@ -72,7 +72,8 @@ Mat3 rotated(const Mat3& Q, double deg) {
   const double a = deg * std::numbers::pi / 180, c = std::cos(a), s = std::sin(a);
   Mat3 T;
   T << c * c, s * s, c * s, s * s, c * c, -c * s, -2 * c * s, 2 * c * s, c * c - s * s;
-  return T.transpose() * Q * T;
+  const Mat3 R = T.transpose() * Q * T;
+  return 0.5 * (R + R.transpose());  // symmetric to the last digit
 }
 
 }  // namespace
