@@ -47,7 +47,7 @@ verify: build
 asan:
 	@$(MAKE) check PRESET=asan
 
-# libFuzzer (clang, ASan + UBSan; preset fuzz) on the model reader and the Gmsh reader, each for
+# libFuzzer (clang, ASan + UBSan; preset fuzz) on the model, Gmsh and .inp readers, each for
 # FUZZ_SECONDS (default 60), seeded from the examples and the test meshes; crashes, leaks and
 # slow inputs land in out/fuzz/<harness>/ (tools/run-fuzz). Not part of `make check`.
 FUZZ_SECONDS ?= 60

@@ -45,6 +45,11 @@ int main(int argc, char** argv) {
       "columns (velum plot --help for the options)");
   plot_cmd->prefix_command();
   plot_cmd->set_help_flag();
+  std::filesystem::path import_deck, import_output;
+  auto* import_cmd = app.add_subcommand(
+      "import", "Write an Abaqus/CalculiX input deck (.inp) as a Velum model file");
+  import_cmd->add_option("DECK", import_deck, "input deck (.inp)")->required();
+  import_cmd->add_option("-o,--output", import_output, "model file to write (YAML)")->required();
 
   try {
     app.parse(argc, argv);
@@ -59,6 +64,7 @@ int main(int argc, char** argv) {
       return velum::io::run_command(run);
     }
     if (plot_cmd->parsed()) return velum::io::plot_command(plot_cmd->remaining());
+    if (import_cmd->parsed()) return velum::io::import_command(import_deck, import_output);
     return velum::io::check_command(check_model);
   } catch (const std::bad_alloc&) {
     velum::io::say(stderr, "error: out of memory: the model is too large for this machine\n");

@@ -132,6 +132,40 @@ SEVEN = [[1, 0, 0, 0], [2, 1, 0, 0], [3, 2, 0, 0], [4, 0, 1, 0], [5, 1, 1, 0], [
 LONG = "x" * 1_000_000
 
 
+
+# A 2x2 quad4 square as an Abaqus/CalculiX deck (mesh.file: m.inp; docs/inp-import.md).
+INP_SQUARE = """** 2x2 square
+*NODE, NSET=ALL
+1, 0., 0., 0.
+2, 0.5, 0., 0.
+3, 1., 0., 0.
+4, 0., 0.5, 0.
+5, 0.5, 0.5, 0.
+6, 1., 0.5, 0.
+7, 0., 1., 0.
+8, 0.5, 1., 0.
+9, 1., 1., 0.
+*ELEMENT, TYPE=M3D4, ELSET=sheet
+1, 1, 2, 5, 4
+2, 2, 3, 6, 5
+3, 4, 5, 8, 7
+4, 5, 6, 9, 8
+*NSET, NSET=left
+1, 4, 7
+*NSET, NSET=corner
+9
+*MATERIAL, NAME=M
+"""
+
+
+def inp_edit(old, new):
+    """The square deck with one text replacement (which must apply)."""
+    def make():
+        assert old in INP_SQUARE, old
+        return INP_SQUARE.replace(old, new, 1)
+    return make
+
+
 # (name, model text, extra files {name: text|bytes}, extra args, expected status, phrases)
 CASES = [
     # ---- YAML itself ----
@@ -362,6 +396,14 @@ CASES = [
     ("good_msh41", with_mesh_file("SQ41"), {}, [], 0, ["converged"]),
     ("good_msh41_binary_quad9", with_mesh_file("SQ41B"), {}, [], 0, ["converged"]),
     ("good_symmetry", mutate(boundary=[{"nodes": "left", "fix": ["x", "y", "z"]}, {"nodes": [2, 3, 5, 6], "symmetry": {"normal": [0, 0, 1]}}]), {}, [], 0, ["converged"]),
+    # ---- Abaqus/CalculiX decks as mesh files (tests/cli/inp_cases.py has the importer's) ----
+    ("inp_mesh_ok", with_mesh_file("m.inp"), {"m.inp": inp_edit("", "")}, [], 0, ["m.inp:21: *MATERIAL: not read"]),
+    ("inp_mesh_undefined_node", with_mesh_file("m.inp"), {"m.inp": inp_edit("4, 5, 6, 9, 8", "4, 5, 6, 99, 8")}, [], 1, ["model.yaml:2: mesh.file:", "m.inp:16: *ELEMENT: element 4 refers to undefined node 99"]),
+    ("inp_mesh_element_type", with_mesh_file("m.inp"), {"m.inp": inp_edit("TYPE=M3D4", "TYPE=S4R")}, [], 1, ["m.inp:12: *ELEMENT: element type S4R is not supported"]),
+    ("inp_mesh_bad_number", with_mesh_file("m.inp"), {"m.inp": inp_edit("5, 0.5, 0.5, 0.", "5, 0.5, inf, 0.")}, [], 1, ["m.inp:7: *NODE: field 3: 'inf' is not a finite number"]),
+    ("inp_mesh_generate", with_mesh_file("m.inp"), {"m.inp": inp_edit("*NSET, NSET=corner\n9", "*NSET, NSET=corner, GENERATE\n9, 1, 1")}, [], 1, ["m.inp:20: *NSET: GENERATE needs first <= last"]),
+    ("inp_mesh_nul", with_mesh_file("m.inp"), {"m.inp": inp_edit("*NSET, NSET=left", "*NSET, NS\0ET=left")}, [], 1, ["m.inp:17: a NUL byte"]),
+    ("inp_mesh_truncated", with_mesh_file("m.inp"), {"m.inp": inp_edit("4, 5, 6, 9, 8\n", "4, 5, 6,\n")}, [], 1, ["m.inp:16: *ELEMENT: a M3D4 needs an element id and 4 node ids, got 3 fields"]),
 ]
 
 

@@ -62,5 +62,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls);
 
 int run_command(const RunOptions& options);
 int check_command(const std::filesystem::path& model);
+/// `velum import DECK.inp -o MODEL.yaml` (src/io/import_command.cpp).
+int import_command(const std::filesystem::path& deck, const std::filesystem::path& output);
 
 }  // namespace velum::io

@@ -1,4 +1,5 @@
-// Reads mesh: (nodes and elements from a Gmsh file or inline, node sets).
+// Reads mesh: (nodes and elements from a Gmsh or Abaqus/CalculiX .inp file or inline, node
+// sets).
 
 #include <fmt/format.h>
 
@@ -7,6 +8,7 @@
 #include <set>
 
 #include "reader.hpp"
+#include "velum/io/inp_reader.hpp"
 
 namespace velum::io::model_file {
 
@@ -31,7 +33,12 @@ void Reader::parse_mesh(const Node& mesh) {
     std::filesystem::path p = *f;
     if (p.is_relative()) p = base_dir_ / p;
     try {
-      MeshData m = read_gmsh(p);
+      std::string ext = p.extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(),
+                     [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+      std::vector<std::string> notes;
+      MeshData m = ext == ".inp" ? read_inp_mesh(p, notes) : read_gmsh(p);
+      for (const auto& w : notes) warn(mesh["file"], "mesh.file", w);
       for (const auto& n : m.nodes) add_node(n.id, n.x, mesh["file"], "mesh.file");
       for (auto& g : m.groups) {
         for (long id : g.ids) max_element_id = std::max(max_element_id, id);
@@ -43,6 +50,9 @@ void Reader::parse_mesh(const Node& mesh) {
       for (auto& [name, ids] : m.node_sets) file_node_sets_[name] = std::move(ids);
     } catch (const MeshFileError& e) {
       error(mesh["file"], "mesh.file", e.what());
+      mesh_ok_ = false;
+    } catch (const InpError& e) {
+      for (const auto& m : e.messages()) error(mesh["file"], "mesh.file", m);
       mesh_ok_ = false;
     }
   }
