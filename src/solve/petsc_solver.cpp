@@ -42,7 +42,7 @@ class PetscSolver final : public LinearSolver {
     // PETSc's options database is global: cleared, so that one solver's options never leak
     // into the next; then the defaults, then the model's options over them (the last wins).
     PetscOptionsClear(nullptr);
-    PetscOptionsInsertString(nullptr, "-mat_mumps_icntl_14 50");
+    PetscOptionsInsertString(nullptr, "-mat_mumps_icntl_14 50 -mat_mumps_icntl_13 1");
     if (!s.options.empty() && PetscOptionsInsertString(nullptr, s.options.c_str()) != 0)
       throw std::invalid_argument("analysis.petsc_options: PETSc cannot read '" + s.options + "'");
     PetscBool set = PETSC_FALSE;
@@ -159,7 +159,11 @@ class PetscSolver final : public LinearSolver {
         factor_kind_ = want;
       }
     }
-    if (!ok(KSPSetUp(ksp_), "KSPSetUp")) return false;
+    // New values on the same pattern: KSPSetOperators again, or KSPSetUp returns at once and
+    // the factorisation happens only inside KSPSolve (its status and inertia read here would
+    // be those of the previous matrix).
+    if (!ok(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators") || !ok(KSPSetUp(ksp_), "KSPSetUp"))
+      return false;
     PCFailedReason failed = PC_NOERROR;
     PCGetFailedReasonRank(pc_, &failed);
     int bad = failed != PC_NOERROR ? 1 : 0, any = 0;
@@ -176,7 +180,11 @@ class PetscSolver final : public LinearSolver {
             status_ = fmt::format("MUMPS (through PETSc): INFOG(1) = {}", info1);
             return false;
           }
-          if (factor_kind_ == PCCHOLESKY) MatMumpsGetInfog(F, 12, &neg);
+          // The inertia of LDLᵀ (Sylvester); MUMPS counts the root's negative pivots too only
+          // with ICNTL(13) = 1 (no ScaLAPACK on the root), set below for Cholesky.
+          if (factor_kind_ == PCCHOLESKY) {
+            if (MatGetInertia(F, &neg, nullptr, nullptr) != 0) neg = -1;
+          }
           negative_ = static_cast<int>(neg);
         }
         MatFactorError err = MAT_FACTOR_NOERROR;
