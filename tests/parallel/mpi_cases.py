@@ -111,6 +111,28 @@ output:
 """
 
 
+def owners(case, n):
+    """Process owning each node's equations under the PETSc solver's row split (equations in
+    node order; whole rows, blocks of 1 here since symmetry nodes have two equations), for the
+    partition checks; the nodes come from the model text."""
+    text = model(case, "petsc")
+    import re
+    nodes = json.loads(re.search(r"nodes: (\[\[.*?\]\])\n", text).group(1))
+    outer = set(json.loads(re.search(r"outer: (\[.*?\])\n", text).group(1)))
+    px = set(json.loads(re.search(r"plane_x: (\[.*?\])\n", text).group(1)))
+    py = set(json.loads(re.search(r"plane_y: (\[.*?\])\n", text).group(1)))
+    first, count = {}, 0
+    for nid, *_ in nodes:
+        first[nid] = count
+        count += 0 if nid in outer else 3 - (nid in px) - (nid in py)
+    base, extra = divmod(count, n)
+    starts = [r * base + min(r, extra) for r in range(n)]
+    owner = {nid: max(r for r in range(n) if starts[r] <= e) for nid, e in first.items()
+             if nid not in outer}
+    cables = re.search(r"set: lines, type: cable2, connectivity: (\[\[.*?\]\])", text)
+    return owner, json.loads(cables.group(1)), px, py
+
+
 def history(path):
     with open(path) as f:
         rows = list(csv.reader(f))
@@ -155,6 +177,16 @@ def main():
             env)
         refs[solver] = history(os.path.join(d, "history.csv"))
     errors = compare(refs["auto"], refs["petsc"], "petsc vs auto, one process")
+    for n in counts:
+        if n < 2:
+            continue
+        owner, cables, px, py = owners(case, n)
+        cut = [c for c in cables if owner.get(c[0]) is not None and owner.get(c[1]) is not None
+               and owner[c[0]] != owner[c[1]]]
+        planes = {owner[v] for v in px | py if v in owner}
+        if not cut or len(planes) < 2:
+            errors.append(f"{n} processes: the row split should cut a cable ({cut}) and a "
+                          f"symmetry plane (its nodes on processes {sorted(planes)})")
     for n in counts:
         d = os.path.join(out, f"np{n}")
         p = run(["mpirun", "-np", str(n), "--oversubscribe", "--bind-to", "none", velum, "run",
