@@ -202,17 +202,6 @@ void Reader::parse_analysis(const Node& a) {
             fmt::format("unknown predictor '{}'{}", *pr, suggestion(*pr, {"extrapolate", "none"})));
   }
   if (has(a, "path")) parse_path(a["path"]);
-  if (auto po = text(a, "petsc_options", "analysis", false)) {
-    s.petsc_options = *po;
-    if (!po->empty() && po->front() != '-')
-      error(a["petsc_options"], "analysis.petsc_options",
-            fmt::format("PETSc options begin with '-' (as \"-ksp_type gmres -pc_type gamg\"); "
-                        "got '{}'",
-                        *po));
-    else if (s.solver != SolverKind::kPetsc)
-      error(a["petsc_options"], "analysis.petsc_options",
-            "petsc_options apply to linear_solver: petsc only");
-  }
   if (auto ls = text(a, "linear_solver", "analysis", false)) {
     if (*ls == "petsc" && !processes::have_petsc()) {
       error(a["linear_solver"], "analysis.linear_solver",
@@ -232,6 +221,17 @@ void Reader::parse_analysis(const Node& a) {
                         suggestion(*ls, {"auto", "cholmod", "umfpack", "klu", "mumps", "petsc"})));
       }
     }
+  }
+  if (auto po = text(a, "petsc_options", "analysis", false)) {
+    s.petsc_options = *po;
+    if (!po->empty() && po->front() != '-')
+      error(a["petsc_options"], "analysis.petsc_options",
+            fmt::format("PETSc options begin with '-' (as \"-ksp_type gmres -pc_type gamg\"); "
+                        "got '{}'",
+                        *po));
+    else if (s.solver != SolverKind::kPetsc && text(a, "linear_solver", "analysis", false) != "petsc")
+      error(a["petsc_options"], "analysis.petsc_options",
+            "petsc_options apply to linear_solver: petsc only");
   }
 }
 
