@@ -65,6 +65,8 @@ def model(case, solver):
         analysis = """  type: static
   time: {end: 1.0, step: 0.25, min_step: 1.0e-4, adaptive: true}"""
         drag = ""
+    # analysis.petsc_options through the command line: PORD ordering in the dynamic case.
+    options = '\n  petsc_options: "-mat_mumps_icntl_7 4"' if dynamic and solver == "petsc" else ""
     return f"""title: quarter membrane on two symmetry planes with a payload on three cables ({case})
 mesh:
   nodes: {json.dumps(nodes)}
@@ -94,7 +96,7 @@ functions:
 analysis:
 {analysis}
   newton: {{tolerance: 1.0e-11, max_iterations: 30}}
-  linear_solver: {solver}
+  linear_solver: {solver}{options}
 output:
   directory: out
   interval: {0.01 if dynamic else 0.25}
