@@ -229,7 +229,8 @@ void Reader::parse_analysis(const Node& a) {
             fmt::format("PETSc options begin with '-' (as \"-ksp_type gmres -pc_type gamg\"); "
                         "got '{}'",
                         *po));
-    else if (s.solver != SolverKind::kPetsc && text(a, "linear_solver", "analysis", false) != "petsc")
+    else if (s.solver != SolverKind::kPetsc &&
+             text(a, "linear_solver", "analysis", false) != "petsc")
       error(a["petsc_options"], "analysis.petsc_options",
             "petsc_options apply to linear_solver: petsc only");
   }
