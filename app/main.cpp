@@ -7,9 +7,22 @@
 #include "velum/io/commands.hpp"
 #include "velum/io/plot_command.hpp"
 #include "velum/io/run_control.hpp"
+#include "velum/solve/processes.hpp"
+
+namespace {
+
+// MPI is finalised on every way out of main once it was started (mpirun waits for it).
+struct ProcessesGuard {
+  ~ProcessesGuard() { velum::processes::finish(); }
+};
+
+}  // namespace
 
 int main(int argc, char** argv) {
   velum::io::prepare_standard_streams();
+  // Under mpirun every process runs this same program on the same model (docs/parallel.md).
+  if (!velum::processes::start(&argc, &argv)) return velum::io::kExitBadInput;
+  ProcessesGuard processes;
   // The sparse factorisations allocate and free large blocks at every Newton iteration: keep
   // them in the heap instead of mapping fresh (page-faulting, zeroed) memory each time
   // (an M_MMAP_THRESHOLD above 32 MiB is refused by glibc, so mapping is switched off).

@@ -154,7 +154,7 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
   };
   StabilityWatch stability(warn);
   auto integrator = make_integrator(settings);
-  auto solver = make_linear_solver(settings.solver);
+  auto solver = make_solver(sys, settings);
   result.integrator = integrator->name();
   result.solver = std::string(solver->name());
   result.dofs = sys.size();

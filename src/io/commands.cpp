@@ -13,6 +13,7 @@
 #include "velum/config.hpp"
 #include "velum/io/checkpoint.hpp"
 #include "velum/io/run_control.hpp"
+#include "velum/solve/processes.hpp"
 
 // Present when the BLAS behind SuiteSparse is OpenBLAS (Debian's alternatives), absent (null)
 // with the reference BLAS.
@@ -204,6 +205,48 @@ void begin_results(const std::filesystem::path& dir, const std::filesystem::path
 
 }  // namespace
 
+// The output folder, its lock and the results writer (the first process's, under mpirun).
+// One run per folder: the lock first, then "running" in summary.json before anything of a
+// previous run is touched, so that no moment shows its "converged" beside a new history.
+bool open_results(const ModelInput& input, MechanicalSystem& system,
+                  const std::filesystem::path& dir, const std::optional<CheckpointFile>& resume,
+                  RunOutcome& out, std::optional<OutputLock>& lock,
+                  std::unique_ptr<ResultsWriter>& writer) {
+  {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir)) {
+      out.status = kExitIo;
+      out.errors.push_back(fmt::format("cannot create the output directory {}: {}", dir.string(),
+                                       ec ? ec.message() : "not a directory"));
+      return false;
+    }
+  }
+  lock.emplace(dir);
+  if (!lock->held()) {
+    out.status = kExitIo;
+    out.errors.push_back(
+        fmt::format("{}: {}; wait for it to end or choose another output directory", dir.string(),
+                    lock->why_not()));
+    return false;
+  }
+  try {
+    WriterPosition at;
+    if (resume)  // a restart goes on with the files as its checkpoint left them
+      at = {.history_bytes = resume->history_bytes,
+            .steps_bytes = resume->steps_bytes,
+            .frame_times = resume->frame_times};
+    else
+      begin_results(dir, input.file);
+    writer = std::make_unique<ResultsWriter>(input, system, dir, resume ? &at : nullptr);
+  } catch (const OutputError& e) {
+    out.status = kExitIo;
+    out.errors.push_back(e.what());
+    return false;
+  }
+  return true;
+}
+
 int check_command(const std::filesystem::path& file) {
   say(stdout, "velum {} check: {}\n{}\n", VELUM_VERSION, file.string(), kUnitsNote);
   auto in = load(file);
@@ -260,9 +303,14 @@ static double cpu_seconds() {
          1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
-RunOutcome run_model(ModelInput& input, const RunControls& opt) {
+RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   RunOutcome out;
   const double cpu_at_start = cpu_seconds();
+  // Several processes (docs/parallel.md): each holds the model and the state and runs the same
+  // loop; the first alone writes (folder, lock, results) and speaks on the console.
+  const bool writes = processes::rank() == 0, several = processes::count() > 1;
+  RunControls opt = controls;
+  if (!writes) opt.quiet = true;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   // OpenBLAS (behind CHOLMOD and UMFPACK) keeps its own busy-waiting threads: with more threads
   // than cores they spin against ours (a 2,000-DOF run spent 14 s in the kernel, 0.1 s with
@@ -279,6 +327,13 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
     out.errors.push_back(fmt::format("{}: {}", input.file.string(), e.what()));
     return out;
   }
+  if (several && input.analysis.solver != SolverKind::kPetsc) {
+    out.status = kExitBadInput;
+    out.errors.push_back(
+        fmt::format("{}: analysis.linear_solver: a run on {} processes needs linear_solver: petsc",
+                    input.file.string(), processes::count()));
+    return out;
+  }
   std::optional<CheckpointFile> resume;
   if (opt.restart) {
     input.output.directory = *opt.restart;
@@ -288,40 +343,15 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
       return out;
     }
   }
-  // One run per folder: the lock first, then "running" in summary.json before anything of a
-  // previous run is touched, so that no moment shows its "converged" beside a new history.
   const std::filesystem::path dir = input.output.directory;
-  {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec || !std::filesystem::is_directory(dir)) {
-      out.status = kExitIo;
-      out.errors.push_back(fmt::format("cannot create the output directory {}: {}", dir.string(),
-                                       ec ? ec.message() : "not a directory"));
-      return out;
-    }
-  }
-  OutputLock lock(dir);
-  if (!lock.held()) {
-    out.status = kExitIo;
-    out.errors.push_back(
-        fmt::format("{}: {}; wait for it to end or choose another output directory", dir.string(),
-                    lock.why_not()));
+  std::optional<OutputLock> lock;
+  std::unique_ptr<ResultsWriter> writer;
+  if (writes && !open_results(input, *system, dir, resume, out, lock, writer)) {
+    processes::all(false);
     return out;
   }
-  std::unique_ptr<ResultsWriter> writer;
-  try {
-    WriterPosition at;
-    if (resume)  // a restart goes on with the files as its checkpoint left them
-      at = {.history_bytes = resume->history_bytes,
-            .steps_bytes = resume->steps_bytes,
-            .frame_times = resume->frame_times};
-    else
-      begin_results(dir, input.file);
-    writer = std::make_unique<ResultsWriter>(input, *system, dir, resume ? &at : nullptr);
-  } catch (const OutputError& e) {
+  if (!processes::all(true)) {  // the first process could not open its results
     out.status = kExitIo;
-    out.errors.push_back(e.what());
     return out;
   }
   CheckpointSchedule checkpoints(input.output, input.analysis.time);
@@ -350,6 +380,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
                       : "dynamic run (" + settings.scheme + ")") +
                  (resume ? fmt::format(", restarted at t = {:.6g}", resume->run.loop.t) : ""));
   AnalysisResult result;
+  std::exception_ptr output_failure;
   RunSummary& summary = out.summary;
   summary.elements = input.model.num_elements();
   summary.dofs = system->size();
@@ -357,16 +388,27 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
     result = run_analysis(
         *system, settings,
         [&](const StepSnapshot& snap) {
-          writer->write_step(snap.step);
-          if (snap.step.output_time) writer->write(snap);
-          if (snap.checkpoint && checkpoints.due(snap.step))
-            save_checkpoint(*writer, input.file, system->size(), (*snap.checkpoint)());
+          bool written = true;
+          if (writer) try {
+              writer->write_step(snap.step);
+              if (snap.step.output_time) writer->write(snap);
+              if (snap.checkpoint && checkpoints.due(snap.step))
+                save_checkpoint(*writer, input.file, system->size(), (*snap.checkpoint)());
+            } catch (const OutputError&) {
+              if (!several) throw;
+              output_failure = std::current_exception();  // the others stop with this one
+              written = false;
+            }
           summary.final_time = snap.step.t;
           progress.update(snap.step);
-          // SIGINT, SIGTERM (under run_command's InterruptGuard): stop after this step.
-          return (!opt.on_step || opt.on_step(snap.step)) && InterruptGuard::signal_received() == 0;
+          // SIGINT, SIGTERM (under run_command's InterruptGuard): stop after this step; under
+          // mpirun, every process stops after the same step.
+          const bool go = written && (!opt.on_step || opt.on_step(snap.step)) &&
+                          InterruptGuard::signal_received() == 0;
+          return several ? processes::all(go) : go;
         },
         [&](const std::string& w) { progress.warn(w); }, nullptr, resume ? &resume->run : nullptr);
+    if (output_failure) std::rethrow_exception(output_failure);
     progress.finish(result.loop);
     summary.converged = result.loop.completed;
     summary.reason = result.loop.reason;
@@ -403,6 +445,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
   summary.wall_seconds = seconds_since(opt.started);
   summary.cpu_seconds = cpu_seconds() - cpu_at_start;
   summary.threads = omp_get_max_threads();
+  if (!writes) return out;
   try {
     writer->write_summary(summary);
   } catch (const OutputError& e) {
@@ -431,7 +474,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& opt) {
 
 int run_command(const RunOptions& opt) {
   RunControls controls;
-  if (!opt.quiet)
+  const bool speaks = processes::rank() == 0;  // under mpirun, the first process only
+  if (!opt.quiet && speaks)
     say(stderr, "velum {} run: {}\n{}\n", VELUM_VERSION, opt.model.string(), kUnitsNote);
   controls.output = opt.output;
   controls.threads = opt.threads;
@@ -443,6 +487,7 @@ int run_command(const RunOptions& opt) {
   if (const int sig = InterruptGuard::signal_received())  // nothing written yet
     return sig == SIGINT ? kExitInterrupted : kExitTerminated;
   const RunOutcome out = run_model(*in, controls);
+  if (!speaks) return out.status;
   for (const auto& e : out.errors) say(stderr, "error: {}\n", e);
   if (out.status == kExitInterrupted || out.status == kExitTerminated)
     say(stderr, "velum: {}; results up to there are in {}\n", out.summary.reason,

@@ -10,6 +10,7 @@
 
 #include "mumps_solver.hpp"
 #include "symmetry.hpp"
+#include "velum/solve/petsc_solver.hpp"
 
 namespace velum {
 namespace {
@@ -180,6 +181,8 @@ std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind) {
       return std::make_unique<UmfPack>();
     case SolverKind::kMumps:
       return make_mumps_solver();
+    case SolverKind::kPetsc:
+      return make_petsc_solver({});
   }
   return nullptr;
 }
@@ -190,6 +193,7 @@ SolverKind solver_kind_from_name(std::string_view n) {
   if (n == "umfpack") return SolverKind::kUmfpack;
   if (n == "klu") return SolverKind::kKlu;
   if (n == "mumps") return SolverKind::kMumps;
+  if (n == "petsc") return SolverKind::kPetsc;
   throw std::invalid_argument("unknown linear solver '" + std::string(n) + "'");
 }
 

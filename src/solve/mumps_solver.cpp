@@ -2,6 +2,12 @@
 
 #ifdef VELUM_HAVE_MUMPS
 #include <dmumps_c.h>
+#ifdef VELUM_DMUMPS_C
+// Built beside PETSc: the sequential MUMPS's entry point under a private name, apart from
+// PETSc's parallel MUMPS (CMakeLists.txt).
+extern "C" void VELUM_DMUMPS_C(DMUMPS_STRUC_C* id);
+#define dmumps_c VELUM_DMUMPS_C
+#endif
 
 #include <algorithm>
 #include <string>

@@ -14,6 +14,8 @@ import sys
 import yaml
 
 VELUM, DATA, WORK = sys.argv[1], sys.argv[2], sys.argv[3]
+# A build with PETSc (issue 18) links it: `linear_solver: petsc` is then valid.
+HAVE_PETSC = b"libpetsc" in subprocess.run(["ldd", VELUM], capture_output=True).stdout
 ONLY = sys.argv[4] if len(sys.argv) > 4 else ""
 
 # A valid base model: a 2x1 quad4 sheet with a cable along its top edge.
@@ -251,7 +253,9 @@ CASES = [
     ("rho_inf_out_of_range", mutate(analysis__integrator__rho_inf=1.5), {}, [], 1, ["rho_inf must lie in [0, 1]"]),
     ("central_difference_static", mutate(analysis__type="static", analysis__integrator__scheme="central-difference"), {}, [], 1, ["needs type: dynamic"]),
     ("unknown_analysis_type", mutate(analysis__type="quasistatic"), {}, [], 1, ["unknown analysis type"]),
-    ("petsc_not_built", mutate(analysis__linear_solver="petsc"), {}, [], 1, ["not available in this build"]),
+    ("petsc_not_built", mutate(analysis__linear_solver="petsc"), {}, [], 1, ["not available in this build"]) if not HAVE_PETSC else
+    ("petsc_options_without_dash", mutate(analysis__linear_solver="petsc", analysis__petsc_options="ksp_type gmres"), {}, [], 1, ["analysis.petsc_options", "begin with '-'"]),
+    ("petsc_options_other_solver", mutate(analysis__petsc_options="-ksp_type gmres"), {}, [], 1, ["petsc_options apply to linear_solver: petsc only"]),
     ("unknown_linear_solver", mutate(analysis__linear_solver="superlu"), {}, [], 1, ["unknown linear solver 'superlu'"]),
     ("misspelt_linear_solver", mutate(analysis__linear_solver="mumsp"), {}, [], 1, ["unknown linear solver 'mumsp'", "did you mean 'mumps'"]),
     ("newton_zero_iterations", mutate(analysis__newton={"max_iterations": 0}), {}, [], 1, ["at least one iteration"]),

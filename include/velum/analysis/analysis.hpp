@@ -43,6 +43,8 @@ struct AnalysisSettings {
   RelaxationSettings relaxation;
   SolverKind solver =
       SolverKind::kAuto;  ///< auto: CHOLMOD while symmetric and definite, else UMFPACK
+  /// linear_solver petsc: PETSc options over the defaults (analysis.petsc_options).
+  std::string petsc_options;
 };
 
 struct Energies {
@@ -84,6 +86,10 @@ struct AnalysisResult {
 };
 
 std::unique_ptr<TimeIntegrator> make_integrator(const AnalysisSettings& s);
+/// The linear solver of the settings; for PETSc, with the system's rigid-body modes and block
+/// size (solver_setup.cpp).
+std::unique_ptr<LinearSolver> make_solver(const MechanicalSystem& system,
+                                          const AnalysisSettings& s);
 
 /// Runs the analysis from `resume` (a checkpoint of the same model, not in path following),
 /// from `start` at t0, or from rest at the reference configuration. The

@@ -16,7 +16,8 @@ using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 /// kAuto: while the matrix is numerically symmetric (|A - Aᵀ| <= 1e-10 |A|, checked at every
 /// factorisation) MUMPS's LDLᵀ (without MUMPS in the build: CHOLMOD while it is positive
 /// definite), UMFPACK otherwise. kMumps: LDLᵀ when symmetric, LU otherwise.
-enum class SolverKind { kAuto, kCholmod, kUmfpack, kKlu, kMumps };
+/// kPetsc: PETSc (MUMPS by default) on one or several MPI processes (petsc_solver.hpp).
+enum class SolverKind { kAuto, kCholmod, kUmfpack, kKlu, kMumps, kPetsc };
 
 /// Whether this build has MUMPS (Debian libmumps-seq-dev, found at configure time).
 bool have_mumps();

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "reader.hpp"
+#include "velum/solve/processes.hpp"
 
 namespace velum::io::model_file {
 namespace {
@@ -52,7 +53,7 @@ std::optional<std::string> bad_column_name(const std::string& name) {
 void Reader::parse_analysis(const Node& a) {
   if (!check_map(a, "analysis",
                  {"type", "integrator", "time", "newton", "damping", "linear_solver", "relaxation",
-                  "predictor", "path"}))
+                  "predictor", "path", "petsc_options"}))
     return;
   AnalysisSettings& s = in_.analysis;
   if (auto t = text(a, "type", "analysis", false)) {
@@ -202,10 +203,10 @@ void Reader::parse_analysis(const Node& a) {
   }
   if (has(a, "path")) parse_path(a["path"]);
   if (auto ls = text(a, "linear_solver", "analysis", false)) {
-    if (*ls == "petsc") {
+    if (*ls == "petsc" && !processes::have_petsc()) {
       error(a["linear_solver"], "analysis.linear_solver",
-            "the PETSc back-end is not available in this build (use auto, cholmod, umfpack, "
-            "klu or mumps)");
+            "the PETSc back-end is not available in this build (install petsc-dev and rebuild "
+            "with VELUM_WITH_PETSC=ON, or use auto, cholmod, umfpack, klu or mumps)");
     } else {
       try {
         s.solver = solver_kind_from_name(*ls);
@@ -220,6 +221,18 @@ void Reader::parse_analysis(const Node& a) {
                         suggestion(*ls, {"auto", "cholmod", "umfpack", "klu", "mumps", "petsc"})));
       }
     }
+  }
+  if (auto po = text(a, "petsc_options", "analysis", false)) {
+    s.petsc_options = *po;
+    if (!po->empty() && po->front() != '-')
+      error(a["petsc_options"], "analysis.petsc_options",
+            fmt::format("PETSc options begin with '-' (as \"-ksp_type gmres -pc_type gamg\"); "
+                        "got '{}'",
+                        *po));
+    else if (s.solver != SolverKind::kPetsc &&
+             text(a, "linear_solver", "analysis", false) != "petsc")
+      error(a["petsc_options"], "analysis.petsc_options",
+            "petsc_options apply to linear_solver: petsc only");
   }
 }
 

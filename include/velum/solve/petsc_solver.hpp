@@ -1,0 +1,36 @@
+// `linear_solver: petsc`: the distributed linear solve of a run on one or several MPI
+// processes (docs/parallel.md). Every process passes the same assembled matrix; each inserts
+// the rows it owns into a PETSc MPIAIJ matrix (block size 3 where every node has three
+// equations), preallocated from the pattern at the analysis and refilled at every
+// factorisation, and the solution is gathered back to every process.
+//
+// Direct by default: MUMPS through PETSc, LDLᵀ (PCCHOLESKY) while the matrix is numerically
+// symmetric (|A − Aᵀ| <= 1e-10 |A|, as `auto`), LU otherwise; its symbolic analysis is kept
+// while the pattern holds. Iterative on request (analysis.petsc_options, e.g.
+// "-ksp_type gmres -pc_type gamg"): right preconditioning, the rigid-body near-null space for
+// GAMG, and the true residual checked after PETSc says it converged.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "velum/math/types.hpp"
+#include "velum/solve/linear_solver.hpp"
+
+namespace velum {
+
+struct PetscSolverSettings {
+  /// PETSc options in its own syntax ("-ksp_type gmres -pc_type gamg"), applied over the
+  /// defaults (MUMPS, direct).
+  std::string options;
+  /// Rigid-body modes over the equations (columns; any number, orthonormalised here): the
+  /// near-null space an algebraic multigrid preconditioner builds its coarse spaces from.
+  MatX near_null_space;
+  /// 3 when equations 3k, 3k+1, 3k+2 are one node's for every k; otherwise 1.
+  int block_size = 1;
+};
+
+/// Throws std::runtime_error when this build has no PETSc.
+std::unique_ptr<LinearSolver> make_petsc_solver(const PetscSolverSettings& settings);
+
+}  // namespace velum

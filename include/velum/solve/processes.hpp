@@ -1,0 +1,29 @@
+// The MPI processes of a run (docs/parallel.md). Every process holds the whole model and the
+// whole state and runs the same Newton loop, step control and integrator; what the processes
+// share is the distributed linear solve (PETSc) and the few decisions that must agree (stop
+// after this step). Without PETSc in the build, or when not launched by mpirun, there is one
+// process and every call here is trivial.
+#pragma once
+
+namespace velum::processes {
+
+/// Whether this build has PETSc and MPI (VELUM_WITH_PETSC).
+bool have_petsc();
+/// The size mpirun (OpenMPI, MPICH/Hydra, PMIx) announced in the environment; 1 otherwise.
+int launched_size();
+/// Initialises MPI and PETSc when launched by mpirun (several processes), before anything is
+/// read: every process must reach every collective call. Returns false (with a message on
+/// stderr) when several processes were launched but this build has no PETSc.
+bool start(int* argc, char*** argv);
+/// Initialises MPI and PETSc on first use in a one-process run (a model with
+/// `linear_solver: petsc`): MPI's singleton start costs about a second, paid only then.
+void ensure_started();
+/// PetscFinalize (and MPI_Finalize) when started; call once, at the end of main.
+void finish();
+
+int rank();   ///< this process, 0 .. count() − 1
+int count();  ///< processes in the run
+/// True on every process when `local` is true on every process (a collective call).
+bool all(bool local);
+
+}  // namespace velum::processes

@@ -1,0 +1,110 @@
+#include "velum/solve/processes.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#ifdef VELUM_HAVE_PETSC
+#include <petscsys.h>
+#endif
+
+namespace velum::processes {
+namespace {
+
+bool started = false;
+int my_rank = 0, my_count = 1;
+
+int env_int(const char* name) {
+  const char* v = std::getenv(name);
+  return v ? std::atoi(v) : 0;
+}
+
+#ifdef VELUM_HAVE_PETSC
+void initialize(int* argc, char*** argv) {
+  if (started) return;
+  // PETSc reads no command line of ours (velum's options are not PETSc's): options come from
+  // analysis.petsc_options only.
+  int no_argc = 0;
+  char** no_argv = nullptr;
+  (void)argc, (void)argv;
+  if (PetscInitialize(&no_argc, &no_argv, nullptr, nullptr) != 0) {
+    std::fputs("error: PETSc failed to initialise\n", stderr);
+    std::exit(4);
+  }
+  // Errors come back as codes (the solver reports them and a step is cut), never as PETSc's
+  // own message and abort.
+  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  MPI_Comm_rank(PETSC_COMM_WORLD, &my_rank);
+  MPI_Comm_size(PETSC_COMM_WORLD, &my_count);
+  started = true;
+}
+#endif
+
+}  // namespace
+
+bool have_petsc() {
+#ifdef VELUM_HAVE_PETSC
+  return true;
+#else
+  return false;
+#endif
+}
+
+int launched_size() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS"})
+    if (const int n = env_int(name); n > 0) return n;
+  return 1;
+}
+
+bool start(int* argc, char*** argv) {
+  const int n = launched_size();
+  if (n <= 1) return true;
+#ifdef VELUM_HAVE_PETSC
+  initialize(argc, argv);
+  return true;
+#else
+  (void)argc, (void)argv;
+  if (env_int("OMPI_COMM_WORLD_RANK") == 0 && env_int("PMI_RANK") == 0)
+    std::fprintf(stderr,
+                 "error: launched on %d processes, but this build of velum has no PETSc and MPI "
+                 "(install petsc-dev and rebuild with VELUM_WITH_PETSC=ON), or run on one "
+                 "process\n",
+                 n);
+  return false;
+#endif
+}
+
+void ensure_started() {
+#ifdef VELUM_HAVE_PETSC
+  if (started) return;
+  initialize(nullptr, nullptr);
+  std::atexit(finish);  // a program that never calls finish() (tests) still ends MPI cleanly
+#endif
+}
+
+void finish() {
+#ifdef VELUM_HAVE_PETSC
+  if (started) PetscFinalize();
+  started = false;
+#endif
+}
+
+int rank() {
+  return my_rank;
+}
+int count() {
+  return my_count;
+}
+
+bool all(bool local) {
+#ifdef VELUM_HAVE_PETSC
+  if (my_count > 1) {
+    int in = local ? 1 : 0, out = 0;
+    MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
+    return out != 0;
+  }
+#endif
+  return local;
+}
+
+}  // namespace velum::processes

@@ -1,0 +1,219 @@
+#!/usr/bin/env python3
+"""Runs on several MPI processes give the one-process history (issue 18).
+
+Usage: mpi_cases.py VELUM OUTDIR CASE [NP ...]
+
+CASE is static, dynamic or pressure: a quarter of a square membrane on two symmetry planes,
+held at its outer edges, with a payload hung under its centre by three cables (one along the
+axis, where both planes meet, and one in each plane). The payload's node is numbered just past
+the middle, so that with two or three processes the equations of a cable's two ends, and of
+nodes on the symmetry planes, fall on different processes. Each case runs once on one process
+(no mpirun) with `linear_solver: auto`, once with `petsc`, then under `mpirun -np N` for each N;
+every history column must agree with the one-process `petsc` and `auto` runs within 1e-8 of the
+column's largest magnitude, and only one set of result files may appear.
+"""
+import csv
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+N = 6  # quad4 per side
+
+
+def model(case, solver):
+    h = 1.0 / N
+    grid = [(i * h, j * h) for j in range(N + 1) for i in range(N + 1)]
+    middle = len(grid) // 2 + 1
+    nodes, ids = [], {}
+    next_id = 1
+    for k, (x, y) in enumerate(grid):
+        if k == middle:  # the payload's node in the middle of the numbering
+            nodes.append([next_id, 0.0, 0.0, -0.6])
+            payload = next_id
+            next_id += 1
+        nodes.append([next_id, x, y, 0.0])
+        ids[k] = next_id
+        next_id += 1
+    quads = []
+    for j in range(N):
+        for i in range(N):
+            k = i + (N + 1) * j
+            quads.append([ids[k], ids[k + 1], ids[k + N + 2], ids[k + N + 1]])
+    centre = ids[0]
+    rim_x = ids[N]  # (1, 0, 0): on the plane y = 0
+    rim_y = ids[N * (N + 1)]  # (0, 1, 0): on the plane x = 0
+    outer = [ids[k] for k, (x, y) in enumerate(grid) if x > 1 - 1e-9 or y > 1 - 1e-9]
+    plane_x = [ids[k] for k, (x, y) in enumerate(grid) if x < 1e-9] + [payload]
+    plane_y = [ids[k] for k, (x, y) in enumerate(grid) if y < 1e-9] + [payload]
+    dynamic = case == "dynamic"
+    pressure = 0.0 if case == "static" else (40.0 if dynamic else 60.0)
+    loads = [
+        "  - {type: gravity, acceleration: [0, 0, -9.81], function: ramp}",
+        f"  - {{type: point, nodes: {ids[N + 2]}, force: [0, 0, -0.4], function: ramp}}",
+    ]
+    if pressure:
+        loads.append(f"  - {{type: pressure, elements: sheet, value: {pressure}, function: ramp}}")
+    if dynamic:
+        analysis = """  type: dynamic
+  integrator: {scheme: generalized-alpha, rho_inf: 0.8}
+  time: {end: 0.04, step: 4.0e-3, min_step: 1.0e-7, adaptive: true}
+  damping: {mass: 5.0}"""
+        drag = ", drag: {rho: 1.2, cd_area: 0.5}"
+    else:
+        analysis = """  type: static
+  time: {end: 1.0, step: 0.25, min_step: 1.0e-4, adaptive: true}"""
+        drag = ""
+    # analysis.petsc_options through the command line: PORD ordering in the dynamic case.
+    options = '\n  petsc_options: "-mat_mumps_icntl_7 4"' if dynamic and solver == "petsc" else ""
+    return f"""title: quarter membrane on two symmetry planes with a payload on three cables ({case})
+mesh:
+  nodes: {json.dumps(nodes)}
+  elements:
+    - {{set: sheet, type: quad4, connectivity: {json.dumps(quads)}}}
+    - {{set: lines, type: cable2, connectivity: [[{centre}, {payload}], [{payload}, {rim_x}], [{payload}, {rim_y}]]}}
+  node_sets:
+    outer: {json.dumps(outer)}
+    plane_x: {json.dumps(plane_x)}
+    plane_y: {json.dumps(plane_y)}
+materials:
+  fabric: {{type: orthotropic, E1: 2.0e5, E2: 1.2e5, nu12: 0.3, G12: 4.0e4, density: 0.5}}
+  line: {{type: cable, E: 5.0e6, density: 2.0, compression: false}}
+sections:
+  - {{elements: sheet, material: fabric, thickness: 0.01, prestress: [200, 200, 0]}}
+  - {{elements: lines, material: line, area: 1.0e-4}}
+masses:
+  - {{node: {payload}, mass: 0.3{drag}}}
+boundary:
+  - {{nodes: outer, fix: [x, y, z]}}
+  - {{nodes: plane_x, symmetry: {{normal: [1, 0, 0]}}}}
+  - {{nodes: plane_y, symmetry: {{normal: [0, 1, 0]}}}}
+loads:
+{chr(10).join(loads)}
+functions:
+  ramp: {{type: ramp, duration: {0.02 if dynamic else 1.0}}}
+analysis:
+{analysis}
+  newton: {{tolerance: 1.0e-11, max_iterations: 30}}
+  linear_solver: {solver}{options}
+output:
+  directory: out
+  interval: {0.01 if dynamic else 0.25}
+  fields: true
+  history:
+    - {{name: centre_uz, quantity: displacement, node: {centre}, component: z}}
+    - {{name: payload_uz, quantity: displacement, node: {payload}, component: z}}
+    - {{name: rim_Rz, quantity: reaction, nodes: outer, component: z}}
+    - {{name: plane_Rx, quantity: reaction, nodes: plane_x, component: x}}
+    - {{name: smax, quantity: stress, point: [0.4, 0.3, 0.0], component: max_principal}}
+    - {{name: E_strain, quantity: strain_energy}}
+    - {{name: W_ext, quantity: external_work}}
+    - {{name: E_kin, quantity: kinetic_energy}}
+"""
+
+
+def owners(case, n):
+    """Process owning each node's equations under the PETSc solver's row split (equations in
+    node order; whole rows, blocks of 1 here since symmetry nodes have two equations), for the
+    partition checks; the nodes come from the model text."""
+    text = model(case, "petsc")
+    import re
+    nodes = json.loads(re.search(r"nodes: (\[\[.*?\]\])\n", text).group(1))
+    outer = set(json.loads(re.search(r"outer: (\[.*?\])\n", text).group(1)))
+    px = set(json.loads(re.search(r"plane_x: (\[.*?\])\n", text).group(1)))
+    py = set(json.loads(re.search(r"plane_y: (\[.*?\])\n", text).group(1)))
+    first, count = {}, 0
+    for nid, *_ in nodes:
+        first[nid] = count
+        count += 0 if nid in outer else 3 - (nid in px) - (nid in py)
+    base, extra = divmod(count, n)
+    starts = [r * base + min(r, extra) for r in range(n)]
+    owner = {nid: max(r for r in range(n) if starts[r] <= e) for nid, e in first.items()
+             if nid not in outer}
+    cables = re.search(r"set: lines, type: cable2, connectivity: (\[\[.*?\]\])", text)
+    return owner, json.loads(cables.group(1)), px, py
+
+
+def history(path):
+    with open(path) as f:
+        rows = list(csv.reader(f))
+    return rows[0], [[float(v) for v in r] for r in rows[1:]]
+
+
+def compare(ref, got, what):
+    head_r, rows_r = ref
+    head_g, rows_g = got
+    if head_r != head_g or len(rows_r) != len(rows_g):
+        return [f"{what}: columns or rows differ ({len(rows_r)} vs {len(rows_g)} rows)"]
+    errors = []
+    for c, name in enumerate(head_r):
+        scale = max(abs(r[c]) for r in rows_r)
+        worst = max(abs(a[c] - b[c]) for a, b in zip(rows_r, rows_g))
+        if worst > 1e-8 * max(scale, 1e-300):
+            errors.append(f"{what}: column {name} differs by {worst:.3g} (largest {scale:.3g})")
+    return errors
+
+
+def run(cmd, env):
+    p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=300)
+    if p.returncode != 0:
+        sys.exit(f"FAIL: {' '.join(cmd)} exited {p.returncode}\n{p.stdout}\n{p.stderr}")
+    return p
+
+
+def main():
+    velum, out, case = sys.argv[1], sys.argv[2], sys.argv[3]
+    counts = [int(n) for n in sys.argv[4:]] or [2, 3]
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
+               OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+    for solver in ("auto", "petsc"):
+        with open(os.path.join(out, f"{solver}.yaml"), "w") as f:
+            f.write(model(case, solver))
+    refs = {}
+    for solver in ("auto", "petsc"):
+        d = os.path.join(out, f"one-{solver}")
+        run([velum, "run", os.path.join(out, f"{solver}.yaml"), "-o", d, "-q", "--threads", "1"],
+            env)
+        refs[solver] = history(os.path.join(d, "history.csv"))
+    errors = compare(refs["auto"], refs["petsc"], "petsc vs auto, one process")
+    for n in counts:
+        if n < 2:
+            continue
+        owner, cables, px, py = owners(case, n)
+        cut = [c for c in cables if owner.get(c[0]) is not None and owner.get(c[1]) is not None
+               and owner[c[0]] != owner[c[1]]]
+        planes = {owner[v] for v in px | py if v in owner}
+        if not cut or len(planes) < 2:
+            errors.append(f"{n} processes: the row split should cut a cable ({cut}) and a "
+                          f"symmetry plane (its nodes on processes {sorted(planes)})")
+    for n in counts:
+        d = os.path.join(out, f"np{n}")
+        p = run(["mpirun", "-np", str(n), "--oversubscribe", "--bind-to", "none", velum, "run",
+                 os.path.join(out, "petsc.yaml"), "-o", d, "--threads", "1"], env)
+        got = history(os.path.join(d, "history.csv"))
+        for solver, ref in refs.items():
+            errors += compare(ref, got, f"{n} processes vs one ({solver})")
+        summary = json.load(open(os.path.join(d, "summary.json")))
+        if summary.get("status") != "converged":
+            errors.append(f"{n} processes: summary status {summary.get('status')}")
+        if p.stderr.count("velum: converged") != 1:
+            errors.append(f"{n} processes: the console should hear one process, got:\n{p.stderr}")
+        one = os.path.join(out, "one-petsc")
+        for sub in ("", "frames"):
+            mine, theirs = sorted(os.listdir(os.path.join(d, sub))), sorted(
+                os.listdir(os.path.join(one, sub)))
+            if mine != theirs:
+                errors.append(f"{n} processes: {sub or 'the folder'} holds {mine}, one process "
+                              f"wrote {theirs}")
+    if errors:
+        sys.exit("FAIL:\n" + "\n".join(errors))
+    rows = len(refs["petsc"][1])
+    print(f"ok: {case}: {rows} history rows, {len(refs['petsc'][0])} columns agree on "
+          f"1 (auto, petsc) and {', '.join(map(str, counts))} processes within 1e-8")
+
+
+if __name__ == "__main__":
+    main()
