@@ -254,7 +254,8 @@ void ResultsWriter::write_frame(const StepSnapshot& snap) {
   const int nn = model.num_nodes();
   const int ne = model.num_elements();
 
-  std::vector<double> smax(ne), smin(ne), dmax(3 * ne), dmin(3 * ne), angle(ne), force(ne);
+  std::vector<double> smax(ne), smin(ne), dmax(3 * ne), dmin(3 * ne), angle(ne), force(ne),
+      sheet(3 * ne);
   // Tension-field state, written when a section wrinkles (docs/wrinkling.md).
   const bool wrinkling = std::any_of(model.blocks.begin(), model.blocks.end(),
                                      [](const auto& b) { return b->tension_field(); });
@@ -282,6 +283,7 @@ void ResultsWriter::write_frame(const StepSnapshot& snap) {
           dmin[3 * k + c] = o.stress.dir_min[c];
         }
         angle[k] = o.stress.fiber_angle_change * kDeg;
+        for (int c = 0; c < 3; ++c) sheet[3 * k + c] = o.stress.sheet[c];
         force[k] = 0;
         if (wrinkling) {
           wstate[k] = o.stress.wrinkle_state;
@@ -289,6 +291,7 @@ void ResultsWriter::write_frame(const StepSnapshot& snap) {
         }
       } else {
         smax[k] = smin[k] = angle[k] = 0;
+        for (int c = 0; c < 3; ++c) sheet[3 * k + c] = 0;
         for (int c = 0; c < 3; ++c) dmax[3 * k + c] = dmin[3 * k + c] = 0;
         force[k] = o.cable_force;
         if (wrinkling) {
@@ -342,6 +345,7 @@ void ResultsWriter::write_frame(const StepSnapshot& snap) {
   xml += app.add("type=\"Float64\" Name=\"stress_dir_max\" NumberOfComponents=\"3\"", dmax);
   xml += app.add("type=\"Float64\" Name=\"stress_dir_min\" NumberOfComponents=\"3\"", dmin);
   xml += app.add("type=\"Float64\" Name=\"fiber_angle_change\"", angle);
+  xml += app.add("type=\"Float64\" Name=\"sheet_stress\" NumberOfComponents=\"3\"", sheet);
   xml += app.add("type=\"Float64\" Name=\"force\"", force);
   if (wrinkling) {
     xml += app.add("type=\"Int32\" Name=\"wrinkle_state\"", wstate);
@@ -391,6 +395,9 @@ void ResultsWriter::write_summary(const RunSummary& r) {
   s += fmt::format("  \"integrator\": {},\n  \"linear_solver\": {},\n", json_string(r.integrator),
                    json_string(r.solver));
   s += fmt::format("  \"frames\": {},\n", frame_times_.size());
+  if (r.form_updates >= 0)
+    s += fmt::format("  \"form_finding\": {{\"updates\": {}, \"residual\": {}}},\n", r.form_updates,
+                     json_number(r.form_residual));
   std::string warnings;
   for (const auto& w : r.warnings) warnings += (warnings.empty() ? "" : ", ") + json_string(w);
   s += fmt::format("  \"warnings\": [{}],\n", warnings);

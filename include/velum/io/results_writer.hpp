@@ -29,7 +29,9 @@ struct RunSummary {
   Energies energy;
   std::string reason, integrator, solver;
   std::vector<std::string> warnings;  ///< what a user must know about a normal end
-  std::string status;  ///< when set ("interrupted"), replaces "converged" or "failed"
+  std::string status;        ///< when set ("interrupted"), replaces "converged" or "failed"
+  int form_updates = -1;     ///< form finding: reference updates (-1: not form finding)
+  double form_residual = 0;  ///< form finding: residual / force scale on the found shape
 };
 
 /// Where the results files stood (for a checkpoint, and a restart that goes on from there).
