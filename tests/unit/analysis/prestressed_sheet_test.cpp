@@ -19,7 +19,8 @@ TEST(PrestressedSheet, FlatSheetUnderFollowerPressureSolvesStatic) {
   double series = 0;
   for (int m = 1; m < 400; m += 2)
     for (int k = 1; k < 400; k += 2)
-      series += ((((m + k) / 2 - 1) % 2) ? -1.0 : 1.0) / (m * k * (m * m + k * k));
+      series += ((((m + k) / 2 - 1) % 2) ? -1.0 : 1.0) /
+                (double(m) * k * (double(m) * m + double(k) * k));
   const double w_per_p = 16 * a * a / (std::pow(pi, 4) * N) * series;
   const double p = 0.002 * a / w_per_p;  // centre deflection a / 500: the linear range
   for (const bool wrinkling : {false, true}) {
