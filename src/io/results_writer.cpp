@@ -345,7 +345,10 @@ void ResultsWriter::write_frame(const StepSnapshot& snap) {
   xml += app.add("type=\"Float64\" Name=\"stress_dir_max\" NumberOfComponents=\"3\"", dmax);
   xml += app.add("type=\"Float64\" Name=\"stress_dir_min\" NumberOfComponents=\"3\"", dmin);
   xml += app.add("type=\"Float64\" Name=\"fiber_angle_change\"", angle);
-  xml += app.add("type=\"Float64\" Name=\"sheet_stress\" NumberOfComponents=\"3\"", sheet);
+  // Only with membranes (a cables-only frame with it did not read back in meshio: to be found).
+  if (std::any_of(model.blocks.begin(), model.blocks.end(),
+                  [](const auto& b) { return b->kind() == ElementKind::kMembrane; }))
+    xml += app.add("type=\"Float64\" Name=\"sheet_stress\" NumberOfComponents=\"3\"", sheet);
   xml += app.add("type=\"Float64\" Name=\"force\"", force);
   if (wrinkling) {
     xml += app.add("type=\"Int32\" Name=\"wrinkle_state\"", wstate);
