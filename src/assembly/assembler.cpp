@@ -143,7 +143,8 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
     std::vector<char> seen(b.size(), 0);
     int distinct = 0;
     for (int e : p.elements) distinct += seen[e] ? 0 : (seen[e] = 1);
-    covers_block_.push_back(distinct == b.size());
+    // Only follower pressures go through the blocks' internal pass.
+    covers_block_.push_back(distinct == b.size() && !p.fixed_direction);
   }
   for (const auto& g : model.gases) {
     auto& parts = gas_parts_.emplace_back();
@@ -286,7 +287,12 @@ void Assembler::pressure(int i, double p, const NodePositions& x, NodePositions&
   // Forces add to Fext; the load stiffness enters the residual r = f_int − f_ext negated.
   run(
       load.block, pressure_colors_[i],
-      [&](std::span<const int> elems, double* r, double* Ke) { b.pressure(elems, x, p, r, Ke); },
+      [&](std::span<const int> elems, double* r, double* Ke) {
+        if (load.fixed_direction)
+          b.directed_pressure(elems, x, p, load.direction, load.projected, r, Ke);
+        else
+          b.pressure(elems, x, p, r, Ke);
+      },
       kNoLoad, K != nullptr, Fext, nullptr, K, -1.0);
 }
 

@@ -209,6 +209,51 @@ void Membrane<Shape>::pressure_force_tangent(const Points& pts, const Nodes& x, 
   f = Eigen::Map<const Vector>(fn.data());
 }
 
+template <class Shape>
+void Membrane<Shape>::directed_pressure_force(const Points& pts, const Nodes& x, double pr,
+                                              const Vec3& d, bool projected, Vector& f) {
+  Eigen::Matrix<double, 1, kN> weights = Eigen::Matrix<double, 1, kN>::Zero();
+  for (int q = 0; q < kQ; ++q) {
+    const Eigen::Matrix<double, 3, 2> g = x * pts.shapes->dN[q];
+    const Vec3 a = g.col(0).cross(g.col(1));
+    const double phi = projected ? std::abs(a.dot(d)) : a.norm();
+    weights.noalias() += (pts.shapes->w[q] * phi) * pts.shapes->N[q].transpose();
+  }
+  const Eigen::Matrix<double, 3, kN> fn = (pr * d) * weights;
+  f = Eigen::Map<const Vector>(fn.data());
+}
+
+template <class Shape>
+void Membrane<Shape>::directed_pressure_force_tangent(const Points& pts, const Nodes& x, double pr,
+                                                      const Vec3& d, bool projected, Vector& f,
+                                                      Matrix& K) {
+  Eigen::Matrix<double, 1, kN> weights = Eigen::Matrix<double, 1, kN>::Zero();
+  // dphi[n]: ∂φ/∂x_n summed with the weights H_m of each row m, kept per row below.
+  K.setZero();
+  const Vec3 pd = pr * d;
+  for (int q = 0; q < kQ; ++q) {
+    const auto& dN = pts.shapes->dN[q];
+    const Eigen::Matrix<double, 3, 2> g = x * dN;
+    const Vec3 a = g.col(0).cross(g.col(1));
+    const double an = a.dot(d);
+    const double phi = projected ? std::abs(an) : a.norm();
+    const double w = pts.shapes->w[q];
+    weights.noalias() += (w * phi) * pts.shapes->N[q].transpose();
+    // φ = a·ŵ with ŵ = sign(a·d) d (projected) or a/|a|: ∂φ/∂x_n = H_n,1 (g2 x ŵ) + H_n,2 (ŵ x g1).
+    if (phi == 0) continue;  // an edge-on point: no load, and φ has no derivative there
+    const Vec3 wv = projected ? Vec3((an > 0 ? 1.0 : -1.0) * d) : Vec3(a / phi);
+    const Vec3 c1 = g.col(1).cross(wv), c2 = wv.cross(g.col(0));
+    for (int n = 0; n < kN; ++n) {
+      const Vec3 dphi = dN(n, 0) * c1 + dN(n, 1) * c2;
+      const Mat3 block = (w * pd) * dphi.transpose();
+      for (int m = 0; m < kN; ++m)
+        K.template block<3, 3>(3 * m, 3 * n) += pts.shapes->N[q][m] * block;
+    }
+  }
+  const Eigen::Matrix<double, 3, kN> fn = pd * weights;
+  f = Eigen::Map<const Vector>(fn.data());
+}
+
 template struct PointShapes<shape::Tri3>;
 template struct PointShapes<shape::Tri6>;
 template struct PointShapes<shape::Quad4>;

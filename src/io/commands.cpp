@@ -9,9 +9,11 @@
 #include <cstdio>
 #include <map>
 
+#include "velum/analysis/form_finding.hpp"
 #include "velum/assembly/dof_map.hpp"
 #include "velum/config.hpp"
 #include "velum/io/checkpoint.hpp"
+#include "velum/io/form_model.hpp"
 #include "velum/io/run_control.hpp"
 #include "velum/solve/processes.hpp"
 
@@ -284,9 +286,10 @@ int check_command(const std::filesystem::path& file) {
       m.prescribed.size(), m.symmetry.size());
   const auto& a = in->analysis;
   say(stdout, "analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n", a.type_name(),
-      a.type == AnalysisSettings::Type::kStatic       ? "load stepping"
-      : a.type == AnalysisSettings::Type::kRelaxation ? "kinetic damping, then Newton"
-                                                      : a.scheme,
+      a.type == AnalysisSettings::Type::kStatic        ? "load stepping"
+      : a.type == AnalysisSettings::Type::kRelaxation  ? "kinetic damping, then Newton"
+      : a.type == AnalysisSettings::Type::kFormFinding ? "updated reference"
+                                                       : a.scheme,
       a.time.t_end, a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
   say(stdout, "output:     {} every {:.6g}, {} history column{}{}\n", in->output.directory.string(),
       in->output.interval, in->output.history.size(), in->output.history.size() == 1 ? "" : "s",
@@ -373,41 +376,50 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
         input.output.directory.string());
 
   Progress progress(opt.quiet, settings.time.t0, settings.time.t_end);
-  progress.start((settings.type == AnalysisSettings::Type::kStatic
-                      ? std::string("static load stepping")
-                  : settings.type == AnalysisSettings::Type::kRelaxation
-                      ? std::string("dynamic relaxation")
-                      : "dynamic run (" + settings.scheme + ")") +
-                 (resume ? fmt::format(", restarted at t = {:.6g}", resume->run.loop.t) : ""));
+  progress.start(
+      (settings.type == AnalysisSettings::Type::kStatic       ? std::string("static load stepping")
+       : settings.type == AnalysisSettings::Type::kRelaxation ? std::string("dynamic relaxation")
+       : settings.type == AnalysisSettings::Type::kFormFinding
+           ? std::string("form finding (updated reference)")
+           : "dynamic run (" + settings.scheme + ")") +
+      (resume ? fmt::format(", restarted at t = {:.6g}", resume->run.loop.t) : ""));
   AnalysisResult result;
   std::exception_ptr output_failure;
   RunSummary& summary = out.summary;
   summary.elements = input.model.num_elements();
   summary.dofs = system->size();
   try {
-    result = run_analysis(
-        *system, settings,
-        [&](const StepSnapshot& snap) {
-          bool written = true;
-          if (writer) try {
-              writer->write_step(snap.step);
-              if (snap.step.output_time) writer->write(snap);
-              if (snap.checkpoint && checkpoints.due(snap.step))
-                save_checkpoint(*writer, input.file, system->size(), (*snap.checkpoint)());
-            } catch (const OutputError&) {
-              if (!several) throw;
-              output_failure = std::current_exception();  // the others stop with this one
-              written = false;
-            }
-          summary.final_time = snap.step.t;
-          progress.update(snap.step);
-          // SIGINT, SIGTERM (under run_command's InterruptGuard): stop after this step; under
-          // mpirun, every process stops after the same step.
-          const bool go = written && (!opt.on_step || opt.on_step(snap.step)) &&
-                          InterruptGuard::signal_received() == 0;
-          return several ? processes::all(go) : go;
-        },
-        [&](const std::string& w) { progress.warn(w); }, nullptr, resume ? &resume->run : nullptr);
+    const auto observe = [&](const StepSnapshot& snap) {
+      bool written = true;
+      if (writer) try {
+          writer->write_step(snap.step);
+          if (snap.step.output_time) writer->write(snap);
+          if (snap.checkpoint && checkpoints.due(snap.step))
+            save_checkpoint(*writer, input.file, system->size(), (*snap.checkpoint)());
+        } catch (const OutputError&) {
+          if (!several) throw;
+          output_failure = std::current_exception();  // the others stop with this one
+          written = false;
+        }
+      summary.final_time = snap.step.t;
+      progress.update(snap.step);
+      // SIGINT, SIGTERM (under run_command's InterruptGuard): stop after this step; under
+      // mpirun, every process stops after the same step.
+      const bool go = written && (!opt.on_step || opt.on_step(snap.step)) &&
+                      InterruptGuard::signal_received() == 0;
+      return several ? processes::all(go) : go;
+    };
+    const auto warn = [&](const std::string& w) { progress.warn(w); };
+    if (settings.type == AnalysisSettings::Type::kFormFinding) {
+      FormFindingReport found;
+      result = run_form_finding(input.model, *system, settings, observe, warn, &found);
+      summary.form_residual = found.residual;
+      summary.form_updates = found.updates;
+      if (result.loop.completed && writes) write_form_model(input, found.shape, dir / "form.yaml");
+    } else {
+      result =
+          run_analysis(*system, settings, observe, warn, nullptr, resume ? &resume->run : nullptr);
+    }
     if (output_failure) std::rethrow_exception(output_failure);
     progress.finish(result.loop);
     summary.converged = result.loop.completed;

@@ -117,7 +117,9 @@ ModelInput Reader::read_text(const std::string& yaml) {
   } catch (const YAML::ParserException& e) {
     throw InputError({fmt::format("{}:{}: YAML syntax error: {}", name_, e.mark.line + 1, e.msg)});
   }
-  return read(root);
+  ModelInput in = read(root);
+  in.yaml = yaml;
+  return in;
 }
 
 ModelInput Reader::read(const Node& root) {
@@ -135,6 +137,8 @@ ModelInput Reader::read(const Node& root) {
     error_at(e.mark.line, "", fmt::format("malformed entry: {}", e.msg));
   }
   if (!errors_.empty()) throw InputError(errors_);
+  in_.base_dir = base_dir_;
+  if (in_.analysis.type == AnalysisSettings::Type::kFormFinding) in_.yaml = YAML::Dump(root);
   return std::move(in_);
 }
 

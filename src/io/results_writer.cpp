@@ -463,6 +463,9 @@ void ResultsWriter::write_summary(const RunSummary& r) {
        extreme("min_cable_force", min_cable_force_, "element") + ",\n" +
        extreme("max_cable_force", max_cable_force_, "element") + "\n  },\n";
   s += fmt::format("  \"frames\": {},\n", frame_times_.size());
+  if (r.form_updates >= 0)
+    s += fmt::format("  \"form_finding\": {{\"updates\": {}, \"residual\": {}}},\n", r.form_updates,
+                     json_number(r.form_residual));
   std::string warnings;
   for (const auto& w : r.warnings) warnings += (warnings.empty() ? "" : ", ") + json_string(w);
   s += fmt::format("  \"warnings\": [{}],\n", warnings);

@@ -44,7 +44,8 @@ class MembraneBlock final : public ElementBlock {
       : ElementBlock(std::move(set), std::move(conn), density),
         t0_(t0),
         axes_(axes ? std::optional<SheetAxes>(*axes) : std::nullopt),
-        law_(std::make_unique<SheetLaw>(law)) {
+        law_(std::make_unique<SheetLaw>(law)),
+        integration_(integration) {
     if constexpr (std::is_same_v<Law, LawPoints>) {
       policy_.law = law_.get();
     } else {
@@ -75,6 +76,30 @@ class MembraneBlock final : public ElementBlock {
 
   std::string_view type_name() const override { return Shape::kName; }
   ElementKind kind() const override { return ElementKind::kMembrane; }
+  bool prestressed() const override { return law_->has_prestress(); }
+  std::unique_ptr<ElementBlock> on_reference(const NodePositions& X,
+                                             double stabilizer) const override {
+    BlockSetupReport report;
+    const SheetAxes* axes = axes_ ? &*axes_ : nullptr;
+    std::unique_ptr<ElementBlock> out;
+    if (stabilizer > 0 && law_->has_prestress()) {
+      const double q = law_->Q().diagonal().maxCoeff();
+      const double s0 = law_->prestress().cwiseAbs().maxCoeff();
+      const SheetLaw ff = SheetLaw(PlaneStressLaw::matrix(law_->elastic().name(),
+                                                          (stabilizer * s0 / q) * law_->Q()))
+                              .with_prestress(law_->prestress());
+      out = make_membrane_block(Shape::kName, set_name(), connectivity(), X, ff, density(), t0_,
+                                axes, integration_, report);
+    } else {
+      out = make_membrane_block(Shape::kName, set_name(), connectivity(), X, *law_, density(), t0_,
+                                axes, integration_, report);
+    }
+    if (!(report.worst_jacobian > 0))
+      throw std::invalid_argument(fmt::format(
+          "{} element {} of set '{}' degenerates (zero or negative area) on the new reference",
+          Shape::kName, report.worst_element + 1, set_name()));
+    return out;
+  }
   bool tension_field() const override { return law_->wrinkling(); }
   int nodes_per_element() const override { return kN; }
 
@@ -106,6 +131,23 @@ class MembraneBlock final : public ElementBlock {
             *reinterpret_cast<typename K::Matrix*>(Kout + i * K::kDofs * K::kDofs));
       } else {
         K::pressure_force(points_[e], xe, p, fe);
+      }
+      Eigen::Map<typename K::Vector>(f + i * K::kDofs) = fe;
+    }
+  }
+
+  void directed_pressure(std::span<const int> elements, const NodePositions& x, double p,
+                         const Vec3& d, bool projected, double* f, double* Kout) const override {
+    typename K::Vector fe;
+    for (size_t i = 0; i < elements.size(); ++i) {
+      const int e = elements[i];
+      const auto xe = gather<kN>(x, nodes(e));
+      if (Kout) {
+        K::directed_pressure_force_tangent(
+            points_[e], xe, p, d, projected, fe,
+            *reinterpret_cast<typename K::Matrix*>(Kout + i * K::kDofs * K::kDofs));
+      } else {
+        K::directed_pressure_force(points_[e], xe, p, d, projected, fe);
       }
       Eigen::Map<typename K::Vector>(f + i * K::kDofs) = fe;
     }
@@ -212,6 +254,7 @@ class MembraneBlock final : public ElementBlock {
   std::optional<SheetAxes> axes_;  // the section's axes; none: the default per element
   std::unique_ptr<SheetLaw> law_;  // owned here: the policy points to it (stable address)
   Law policy_;
+  shape::Integration integration_;  // kept for on_reference (form finding)
   std::vector<typename K::Points> points_;
   std::vector<Eigen::Matrix<double, 3, kN>, Eigen::aligned_allocator<Eigen::Matrix<double, 3, kN>>>
       Xref_;  // reference coordinates per element (locate, output_at)
@@ -225,7 +268,10 @@ class CableBlock final : public ElementBlock {
  public:
   CableBlock(std::string set, std::vector<int> conn, const NodePositions& X, const CableLaw& law,
              double density, double area, shape::Integration integration, BlockSetupReport& report)
-      : ElementBlock(std::move(set), std::move(conn), density), law_(law), area_(area) {
+      : ElementBlock(std::move(set), std::move(conn), density),
+        law_(law),
+        area_(area),
+        integration_(integration) {
     const int ne = size();
     points_.resize(ne);
     for (int e = 0; e < ne; ++e) {
@@ -239,6 +285,20 @@ class CableBlock final : public ElementBlock {
 
   std::string_view type_name() const override { return Shape::kName; }
   ElementKind kind() const override { return ElementKind::kCable; }
+  bool prestressed() const override { return law_.S0 != 0; }
+  std::unique_ptr<ElementBlock> on_reference(const NodePositions& X,
+                                             double stabilizer) const override {
+    BlockSetupReport report;
+    CableLaw law = law_;
+    if (stabilizer > 0 && law_.S0 > 0) law.E = stabilizer * law_.S0;
+    auto out = make_cable_block(Shape::kName, set_name(), connectivity(), X, law, density(), area_,
+                                integration_, report);
+    if (!(report.worst_jacobian > 0))
+      throw std::invalid_argument(
+          fmt::format("{} element {} of set '{}' has zero length on the new reference",
+                      Shape::kName, report.worst_element + 1, set_name()));
+    return out;
+  }
   int nodes_per_element() const override { return kN; }
 
   void internal(std::span<const int> elements, const NodePositions& x, double* r,
@@ -258,6 +318,10 @@ class CableBlock final : public ElementBlock {
   }
   void pressure(std::span<const int>, const NodePositions&, double, double*,
                 double*) const override {
+    throw std::logic_error("pressure on a cable block");
+  }
+  void directed_pressure(std::span<const int>, const NodePositions&, double, const Vec3&, bool,
+                         double*, double*) const override {
     throw std::logic_error("pressure on a cable block");
   }
   void mass(int e, double* M) const override {
@@ -290,6 +354,7 @@ class CableBlock final : public ElementBlock {
  private:
   CableLaw law_;
   double area_;
+  shape::Integration integration_;
   std::vector<typename K::Points> points_;
 };
 

@@ -16,15 +16,32 @@
 
 namespace velum {
 
+/// Form finding by the updated reference strategy (form_finding.hpp).
+struct FormFindingSettings {
+  /// Stiffness of the stabilizing elastic law relative to the prestress (its largest modulus
+  /// over the largest prestress component; E A over the force of a cable): small values take
+  /// long strides, large ones short and safe ones. Raised tenfold, up to four times, when a
+  /// step's Newton fails.
+  double stiffness = 1.0;
+  /// The shape is found when the residual of prestress and loads on it is below this
+  /// fraction of the force scale.
+  double tolerance = 1e-5;
+  int max_updates = 500;  ///< reference updates per load level
+};
+
 struct AnalysisSettings {
   /// static: load stepping with Newton; relaxation: each load level by dynamic relaxation,
   /// finished by Newton (relaxation.hpp); dynamic: a time integrator.
-  enum class Type { kStatic, kDynamic, kRelaxation };
+  /// form_finding: the shape in equilibrium with the prestress (form_finding.hpp).
+  enum class Type { kStatic, kDynamic, kRelaxation, kFormFinding };
   Type type = Type::kDynamic;
-  /// Equilibrium at each load level, no inertia (static and relaxation).
+  /// Equilibrium at each load level, no inertia (static, relaxation and form finding).
   bool equilibrium() const { return type != Type::kDynamic; }
   std::string type_name() const {
-    return type == Type::kStatic ? "static" : type == Type::kRelaxation ? "relaxation" : "dynamic";
+    return type == Type::kStatic       ? "static"
+           : type == Type::kRelaxation ? "relaxation"
+           : type == Type::kDynamic    ? "dynamic"
+                                       : "form_finding";
   }
   /// newmark | hht | generalized-alpha | central-difference
   std::string scheme = "generalized-alpha";
@@ -41,6 +58,7 @@ struct AnalysisSettings {
   TimeLoopSettings time;
   NewtonSettings newton;
   RelaxationSettings relaxation;
+  FormFindingSettings form_finding;
   SolverKind solver =
       SolverKind::kAuto;  ///< auto: CHOLMOD while symmetric and definite, else UMFPACK
   /// linear_solver petsc: PETSc options over the defaults (analysis.petsc_options).

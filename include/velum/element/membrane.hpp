@@ -189,6 +189,15 @@ struct Membrane {
   /// ... and its load stiffness df/dx (unsymmetric).
   static void pressure_force_tangent(const Points& pts, const Nodes& x, double p, Vector& f,
                                      Matrix& K);
+
+  /// Pressure p acting along the fixed unit direction d: f_N = p d ∫ H_N φ dξ with φ the area
+  /// projected normal to d, |(g1 x g2)·d| (`projected`: snow on a roof's plan), or the
+  /// current area |g1 x g2|.
+  static void directed_pressure_force(const Points& pts, const Nodes& x, double p, const Vec3& d,
+                                      bool projected, Vector& f);
+  /// ... and its load stiffness df/dx = p d ⊗ ∫ H_N ∂φ/∂x dξ (unsymmetric).
+  static void directed_pressure_force_tangent(const Points& pts, const Nodes& x, double p,
+                                              const Vec3& d, bool projected, Vector& f, Matrix& K);
 };
 
 }  // namespace velum

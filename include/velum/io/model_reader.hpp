@@ -73,6 +73,8 @@ struct ModelInput {
   std::vector<std::vector<long>> element_ids;  ///< per block of model.blocks: the user's ids
   std::vector<std::string> block_materials;    ///< per block: the name of its section's material
   std::vector<std::string> warnings;           ///< "file:line: key: text", not fatal
+  std::string yaml;                ///< the model's YAML text (DIR/form.yaml is written from it)
+  std::filesystem::path base_dir;  ///< what relative paths in it start from
 };
 
 // Limits beyond which a model is refused as bad input (docs/model-format.md, "Limits"): each

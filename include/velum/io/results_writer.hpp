@@ -31,9 +31,11 @@ struct RunSummary {
   Energies energy;
   std::string reason, integrator, solver;
   std::vector<std::string> warnings;  ///< what a user must know about a normal end
-  std::string status;      ///< when set ("interrupted"), replaces "converged" or "failed"
-  double cpu_seconds = 0;  ///< CPU time (user + system, all threads) of the run
-  int threads = 0;         ///< OpenMP threads the run used
+  std::string status;        ///< when set ("interrupted"), replaces "converged" or "failed"
+  double cpu_seconds = 0;    ///< CPU time (user + system, all threads) of the run
+  int threads = 0;           ///< OpenMP threads the run used
+  int form_updates = -1;     ///< form finding: reference updates (-1: not form finding)
+  double form_residual = 0;  ///< form finding: residual / force scale on the found shape
 };
 
 /// The largest (or smallest) value of a result over the output times so far, where and when.

@@ -56,6 +56,10 @@ class ElementBlock {
   /// Follower pressure forces and (when K non-null) load stiffness df/dx; membranes only.
   virtual void pressure(std::span<const int> elements, const NodePositions& x, double p, double* f,
                         double* K) const = 0;
+  /// Pressure p along the fixed unit direction d, per area projected normal to d
+  /// (`projected`) or per current area, and (when K non-null) its load stiffness; membranes.
+  virtual void directed_pressure(std::span<const int> elements, const NodePositions& x, double p,
+                                 const Vec3& d, bool projected, double* f, double* K) const = 0;
   /// Consistent mass of element e including density (scalar nodes x nodes, column-major).
   virtual void mass(int e, double* M) const = 0;
   /// Reference measure (area for membranes, length for cables) of element e.
@@ -71,6 +75,18 @@ class ElementBlock {
   /// Output at natural coordinates xi of element e (membranes).
   virtual MembraneStress output_at(int e, const std::array<double, 2>& xi,
                                    const NodePositions& x) const = 0;
+
+  /// The same block (elements, section) set up on the reference configuration X (form
+  /// finding updates the reference to the current shape). With `stabilizer` > 0, the
+  /// form-finding law instead of the section's: the prestress kept, the elastic law scaled so
+  /// that its largest stiffness is `stabilizer` times the largest prestress component
+  /// (membranes) or E A = `stabilizer` times the prestress force (cables), no wrinkling; a
+  /// section without prestress keeps its law. Throws std::invalid_argument when an element
+  /// degenerates on X.
+  virtual std::unique_ptr<ElementBlock> on_reference(const NodePositions& X,
+                                                     double stabilizer) const = 0;
+  /// Whether the section carries a prestress.
+  virtual bool prestressed() const = 0;
 
  protected:
   ElementBlock(std::string set_name, std::vector<int> connectivity, double density)

@@ -56,11 +56,17 @@ struct EdgeLoad {
   int function = -1;
 };
 
+/// A pressure on membrane elements: a follower pressure along g1 x g2 per current area, or,
+/// with `fixed_direction`, a load along the unit vector `direction` per area projected normal
+/// to it (`projected`: snow per plan area) or per current area.
 struct PressureLoad {
   int block = -1;
   std::vector<int> elements;  ///< indices into the block
   double value = 0;
   int function = -1;
+  bool fixed_direction = false;
+  Vec3 direction = Vec3::Zero();  ///< unit
+  bool projected = true;
 };
 
 /// Gas enclosed by membrane elements together with the symmetry planes through `origin`

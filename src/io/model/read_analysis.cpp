@@ -53,7 +53,7 @@ std::optional<std::string> bad_column_name(const std::string& name) {
 void Reader::parse_analysis(const Node& a) {
   if (!check_map(a, "analysis",
                  {"type", "integrator", "time", "newton", "damping", "linear_solver", "relaxation",
-                  "predictor", "path", "petsc_options"}))
+                  "predictor", "path", "petsc_options", "form_finding"}))
     return;
   AnalysisSettings& s = in_.analysis;
   if (auto t = text(a, "type", "analysis", false)) {
@@ -63,10 +63,39 @@ void Reader::parse_analysis(const Node& a) {
       s.type = AnalysisSettings::Type::kDynamic;
     else if (*t == "relaxation")
       s.type = AnalysisSettings::Type::kRelaxation;
+    else if (*t == "form_finding")
+      s.type = AnalysisSettings::Type::kFormFinding;
     else
       error(a["type"], "analysis.type",
             fmt::format("unknown analysis type '{}'{}", *t,
-                        suggestion(*t, {"static", "dynamic", "relaxation"})));
+                        suggestion(*t, {"static", "dynamic", "relaxation", "form_finding"})));
+  }
+  if (has(a, "form_finding")) {
+    const Node f = a["form_finding"];
+    const std::string p = "analysis.form_finding";
+    if (s.type != AnalysisSettings::Type::kFormFinding)
+      error(f, p, "form_finding settings need analysis.type: form_finding");
+    if (check_map(f, p, {"stiffness", "tolerance", "max_updates"})) {
+      if (auto v = positive(f, "stiffness", p, false, "the stabilizing stiffness"))
+        s.form_finding.stiffness = *v;
+      if (auto v = positive(f, "tolerance", p, false, "the tolerance")) {
+        if (*v >= 1)
+          error(f["tolerance"], sub(p, "tolerance"),
+                fmt::format("tolerance is a residual relative to the force scale, below 1 (got {})",
+                            *v));
+        else
+          s.form_finding.tolerance = *v;
+      }
+      if (has(f, "max_updates")) {
+        if (auto n = integer(f["max_updates"], sub(p, "max_updates"), "a count")) {
+          if (*n < 1 || *n > 1000000L)
+            error(f["max_updates"], sub(p, "max_updates"),
+                  fmt::format("max_updates must lie in [1, 1e6] (got {})", *n));
+          else
+            s.form_finding.max_updates = static_cast<int>(*n);
+        }
+      }
+    }
   }
   if (has(a, "relaxation")) {
     const Node r = a["relaxation"];

@@ -283,10 +283,39 @@ void Reader::parse_loads(const Node& ls) {
         edge_load_nodes_.push_back({l["nodes"], sub(p, "nodes")});
       }
     } else if (*type == "pressure") {
-      check_map(l, p, {"type", "elements", "value", "function"});
+      check_map(l, p, {"type", "elements", "value", "function", "direction", "per"});
       auto set = text(l, "elements", p, true);
       auto v = number(l, "value", p, true);
       const int fn = function_ref(l, p);
+      // A fixed direction (snow, dead weight of ponding): per area projected normal to it
+      // (`per: projected`, the default) or per current area (`per: area`).
+      std::optional<Vec3> direction;
+      bool projected = true;
+      if (has(l, "direction")) {
+        direction = vec3(l, "direction", p, true);
+        if (direction && !(direction->norm() > 0)) {
+          error(l["direction"], sub(p, "direction"), "the direction must be a non-zero vector");
+          direction.reset();
+        }
+        if (!direction) continue;
+        direction->normalize();
+      }
+      if (has(l, "per")) {
+        auto per = text(l, "per", p, true);
+        if (!per) continue;
+        if (!direction) {
+          error(l["per"], sub(p, "per"),
+                "'per' needs a 'direction': a follower pressure acts on the current area");
+          continue;
+        }
+        if (*per != "projected" && *per != "area") {
+          error(l["per"], sub(p, "per"),
+                fmt::format("expected projected or area, not '{}'{}", *per,
+                            suggestion(*per, {"projected", "area"})));
+          continue;
+        }
+        projected = *per == "projected";
+      }
       if (!set || !v) continue;
       auto sit = element_sets_.find(*set);
       if (sit == element_sets_.end()) {
@@ -306,6 +335,11 @@ void Reader::parse_loads(const Node& ls) {
         pl.block = b;
         pl.value = *v;
         pl.function = fn;
+        if (direction) {
+          pl.fixed_direction = true;
+          pl.direction = *direction;
+          pl.projected = projected;
+        }
         pl.elements.resize(static_cast<size_t>(in_.model.blocks[b]->size()));
         for (size_t e = 0; e < pl.elements.size(); ++e) pl.elements[e] = static_cast<int>(e);
         in_.model.pressures.push_back(std::move(pl));

@@ -21,7 +21,7 @@ void Reader::add_node(long id, const Vec3& x, const Node& at, const std::string&
 }
 
 void Reader::parse_mesh(const Node& mesh) {
-  if (!check_map(mesh, "mesh", {"file", "nodes", "elements", "node_sets"})) return;
+  if (!check_map(mesh, "mesh", {"file", "nodes", "elements", "node_sets", "positions"})) return;
   mesh_ok_ = true;
   if (!has(mesh, "file") && !has(mesh, "nodes")) {
     error(mesh, "mesh", "give a mesh file (mesh.file) or inline nodes (mesh.nodes)");
@@ -108,6 +108,32 @@ void Reader::parse_mesh(const Node& mesh) {
         }
         if (auto nodes = node_list(kv.second, p, false)) node_sets_[name] = std::move(*nodes);
       }
+    }
+  }
+  // Positions that replace the mesh's coordinates (a found form: DIR/form.yaml), after the
+  // node sets (boxes included) were found on the mesh's own coordinates.
+  if (has(mesh, "positions")) {
+    const Node ps = mesh["positions"];
+    if (!ps.IsSequence()) {
+      error(ps, "mesh.positions", "expected a list of [id, x, y, z]");
+      return;
+    }
+    for (size_t i = 0; i < ps.size(); ++i) {
+      const Node n = ps[i];
+      const std::string p = item("mesh.positions", i);
+      if (!n.IsSequence() || n.size() != 4) {
+        error(n, p, "expected [id, x, y, z]");
+        continue;
+      }
+      auto id = integer(n[0], p, "node id");
+      auto x = number(n[1], p), y = number(n[2], p), z = number(n[3], p);
+      if (!id || !x || !y || !z) continue;
+      auto it = in_.model.node_index.find(*id);
+      if (it == in_.model.node_index.end()) {
+        error(n, p, fmt::format("node {} is not in the mesh", *id));
+        continue;
+      }
+      in_.model.X.col(it->second) = Vec3(*x, *y, *z);
     }
   }
 }

@@ -211,6 +211,83 @@ TYPED_TEST(MembraneKernel, PressureResultantOnFlatElementIsPressureTimesArea) {
   EXPECT_LT((total - 2.5 * area * R.col(2)).norm(), 1e-13 * 2.5 * area);
 }
 
+// A pressure along a fixed direction (snow per plan area, or per current area): its load
+// stiffness against central differences, on curved, distorted elements tilted to the
+// direction, and for both measures.
+TYPED_TEST(MembraneKernel, A4DirectedPressureLoadStiffnessMatchesFiniteDifferences) {
+  using S = TypeParam;
+  using M = Membrane<S>;
+  test::Random rnd(400 + S::kNodes);
+  const auto law = PlaneStressLaw::isotropic("iso", 1000, 0.3);
+  double worst = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    const bool projected = trial % 2 == 0;
+    const Mat3 R = rnd.rotation(rnd.uniform(0, 1.2));
+    const typename M::Nodes X = test::distorted_element<S>(rnd, kH, 0.08, 0.1, R, Vec3::Zero());
+    typename M::Points pts;
+    M::setup(X, law.Q(), test::axes_at(0, R), kT0, pts);
+    typename M::Nodes x = X;
+    for (int n = 0; n < S::kNodes; ++n) x.col(n) += 0.1 * kH * rnd.vec3(-1, 1);
+    const Vec3 d = Vec3(0.2, -0.1, -1).normalized();
+    const double p = rnd.uniform(0.5, 3);
+    typename M::Vector f, f2;
+    typename M::Matrix K;
+    M::directed_pressure_force_tangent(pts, x, p, d, projected, f, K);
+    M::directed_pressure_force(pts, x, p, d, projected, f2);
+    EXPECT_LT(test::rel_max_error(f2, f), 1e-14);
+    const auto Kfd = test::fd_jacobian<typename M::Vector, typename M::Matrix>(
+        x, 1e-6 * kH, [&](const typename M::Nodes& y, typename M::Vector& g) {
+          M::directed_pressure_force(pts, y, p, d, projected, g);
+        });
+    const double e = test::rel_max_error(K, Kfd);
+    EXPECT_LT(e, 1e-6) << S::kName << (projected ? " projected" : " area");
+    worst = std::max(worst, e);
+  }
+  std::cout << "A4 worst relative error " << S::kName
+            << " directed pressure load stiffness: " << worst << "\n";
+}
+
+// Snow on a flat element tilted by 35° about x: per plan area the resultant is p times the
+// plan area (A cos 35°), per current area p A, both along the load's direction whatever the
+// side the normal faces.
+TYPED_TEST(MembraneKernel, DirectedPressureResultantIsPressureTimesProjectedArea) {
+  using S = TypeParam;
+  using M = Membrane<S>;
+  test::Random rnd(500 + S::kNodes);
+  typename M::Nodes X =
+      test::distorted_element<S>(rnd, kH, 0.1, 0.0, Mat3::Identity(), Vec3::Zero());
+  const int corners = (S::kNodes == 3 || S::kNodes == 6) ? 3 : 4;
+  for (int k = corners; k < S::kNodes; ++k) {
+    if (k - corners < corners) {
+      const int a = k - corners, b = (a + 1) % corners;
+      X.col(k) = 0.5 * (X.col(a) + X.col(b));
+    }
+  }
+  double area = 0;
+  for (int a = 0; a < corners; ++a) {
+    const int b = (a + 1) % corners;
+    area += 0.5 * (X(0, a) * X(1, b) - X(0, b) * X(1, a));
+  }
+  if (S::kNodes == 9) X.col(8) = 0.25 * (X.col(0) + X.col(1) + X.col(2) + X.col(3));
+  const double angle = 35.0 * std::acos(-1.0) / 180.0;
+  const Mat3 R = Eigen::AngleAxisd(angle, Vec3::UnitX()).toRotationMatrix();
+  const Vec3 d(0, 0, -1);
+  for (const double flip : {1.0, -1.0}) {  // normal up, then (mirrored element) down
+    typename M::Nodes Xr = R * X;
+    if (flip < 0) Xr.row(2) *= -1, Xr.row(1) *= -1;
+    typename M::Points pts;
+    M::setup(Xr, PlaneStressLaw::isotropic("iso", 1, 0).Q(), test::axes_at(0, R), 1.0, pts);
+    for (const bool projected : {true, false}) {
+      typename M::Vector f;
+      M::directed_pressure_force(pts, Xr, 2.5, d, projected, f);
+      Vec3 total = Vec3::Zero();
+      for (int n = 0; n < S::kNodes; ++n) total += f.template segment<3>(3 * n);
+      const double expected = 2.5 * area * (projected ? std::cos(angle) : 1.0);
+      EXPECT_LT((total - expected * d).norm(), 1e-13 * expected) << S::kName;
+    }
+  }
+}
+
 // ---------------------------------------------------------------------------------------- A5
 
 TYPED_TEST(MembraneKernel, A5ObjectivityUnderLargeRigidRotations) {

@@ -1,0 +1,11 @@
+#!/bin/sh
+# The hypar roof: form finding, then 0.5 kN/m² snow on the found shape (elastic, and with
+# wrinkling), then the figures. From this folder: ./run.sh [path/to/velum]
+set -e
+VELUM=${1:-../../build/release/velum}
+/usr/bin/python3 make_model.py hypar-form.yaml
+"$VELUM" run hypar-form.yaml -o out/form
+/usr/bin/python3 snow_model.py out/form/form.yaml out
+"$VELUM" run out/snow.yaml
+"$VELUM" run out/snow-wrinkling.yaml
+PYTHONPATH=../../build/release/python /usr/bin/python3 plot.py out

@@ -1,0 +1,185 @@
+#include "velum/analysis/form_finding.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace velum {
+namespace {
+
+// The model of one update: reference X = the current shape x, the sections' form-finding laws
+// (stabilizer > 0), the same supports and loads; prescribed motions as the displacement that
+// takes each node from x to where the motion puts it at t.
+Model update_model(const Model& model, const NodePositions& x, double t, double stabilizer) {
+  Model w;
+  w.X = x;
+  w.node_ids = model.node_ids;
+  w.node_index = model.node_index;
+  for (const auto& b : model.blocks) w.blocks.push_back(b->on_reference(x, stabilizer));
+  w.masses = model.masses;
+  w.fixed = model.fixed;
+  w.symmetry = model.symmetry;
+  for (const auto& p : model.prescribed) {
+    const Vec3 d = p.displacement * model.function_value(p.function, t);
+    for (int n : p.nodes)
+      w.prescribed.push_back({.nodes = {n}, .displacement = model.X.col(n) + d - x.col(n)});
+  }
+  w.point_loads = model.point_loads;
+  w.edge_loads = model.edge_loads;
+  w.pressures = model.pressures;
+  w.gases = model.gases;
+  w.gravity = model.gravity;
+  w.functions = model.functions;
+  return w;
+}
+
+}  // namespace
+
+AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
+                                const AnalysisSettings& settings,
+                                const std::function<bool(const StepSnapshot&)>& observer,
+                                const std::function<void(const std::string&)>& on_warning,
+                                FormFindingReport* report) {
+  AnalysisResult result;
+  (void)on_warning;
+  result.integrator = "form finding (updated reference)";
+  result.dofs = view.size();
+  const FormFindingSettings& ff = settings.form_finding;
+  bool any_prestress = false;
+  for (const auto& b : model.blocks) any_prestress = any_prestress || b->prestressed();
+  if (!any_prestress)
+    throw std::invalid_argument(
+        "form finding needs a prestress: give membrane or cable sections a 'prestress'");
+
+  const NodePositions X0 = model.X;
+  NodePositions x = X0;
+  Energies& E = result.energy;
+  State shown;
+  shown.u = VecX::Zero(view.size());
+  shown.v = shown.u, shown.a = shown.u;
+  const TimeLoopSettings& loop = settings.time;
+  double t = loop.t0;
+  {
+    AcceptedStep first{.t = t, .output_time = true};
+    if (observer && !observer(StepSnapshot{first, view, shown, E})) {
+      result.loop.stopped = true;
+      return result;
+    }
+  }
+  FormFindingReport rep_out;
+  if (report) *report = rep_out;
+  const bool trace = std::getenv("VELUM_FORM_FINDING_TRACE") != nullptr;
+  double stabilizer = ff.stiffness;
+  int level = 0;
+  TimeLoopResult& out = result.loop;
+  out.t = t;
+  const double h_nominal = loop.step > 0 ? loop.step : loop.t_end - loop.t0;
+  while (t < loop.t_end - 1e-12 * std::max(1.0, std::abs(loop.t_end))) {
+    const double h = std::min(h_nominal, loop.t_end - t);
+    const double t_next = (loop.t_end - (t + h) < 1e-9 * h_nominal) ? loop.t_end : t + h;
+    int level_iterations = 0, level_factorizations = 0;
+    StepReport last;
+    bool found = false;
+    for (int update = 0; update <= ff.max_updates; ++update) {
+      Model work = update_model(model, x, t_next, stabilizer);
+      MechanicalSystem sys(work);
+      const VecX zero = VecX::Zero(sys.size());
+      VecX r;
+      sys.evaluate(t_next, zero, zero, zero, 1.0, 0.0, 0.0, r, nullptr);
+      // The residual on the unmoved reference: prescribed motions still to make count as
+      // not found.
+      bool moves = false;
+      for (const auto& p : work.prescribed) moves = moves || p.displacement.norm() > 0;
+      const double res = r.norm(), scale = sys.force_scale();
+      rep_out.residual = scale > 0 ? res / scale : res;
+      if (!std::isfinite(res)) {
+        out.reason = fmt::format("form finding at t = {:.6g}: non-finite forces after {} updates",
+                                 t_next, update);
+        if (report) *report = rep_out;
+        return result;
+      }
+      if (!moves && (res <= ff.tolerance * scale || res <= settings.newton.abs_residual)) {
+        found = true;
+        break;
+      }
+      if (update == ff.max_updates) break;
+      StaticNewton newton(false);
+      newton.newton = settings.newton;
+      auto solver = make_linear_solver(settings.solver);
+      State s;
+      s.u = zero, s.v = zero, s.a = zero;
+      last = newton.step(sys, *solver, t_next - h, h, s);
+      level_iterations += last.iterations;
+      level_factorizations += last.factorizations;
+      result.solver = std::string(solver->name());
+      result.factorizations += solver->factorizations();
+      result.analyses += solver->analyses();
+      if (!last.converged) {
+        // Homotopy towards shorter strides: a stiffer stabilizer.
+        if (stabilizer >= 1e4 * ff.stiffness) {
+          out.reason = fmt::format(
+              "form finding at t = {:.6g}: the update's Newton did not converge even with the "
+              "stabilizing stiffness raised to {:.3g} ({})",
+              t_next, stabilizer, last.reason);
+          if (report) *report = rep_out;
+          return result;
+        }
+        stabilizer *= 10;
+        continue;
+      }
+      ++rep_out.updates;
+      x += sys.displacements(t_next, s.u);
+      // Back towards the nominal stabilizer once an update has gone through.
+      stabilizer = std::max(ff.stiffness, stabilizer / 10);
+      if (trace)
+        fmt::print(stderr,
+                   "form finding t = {:.6g} update {}: residual {:.3e}, stabilizer {:.3g}, "
+                   "{} Newton iterations\n",
+                   t_next, update, rep_out.residual, stabilizer, last.iterations);
+    }
+    out.iterations += level_iterations;
+    out.factorizations += level_factorizations;
+    if (!found) {
+      out.reason = fmt::format(
+          "form finding at t = {:.6g}: no equilibrium shape after {} reference updates (residual "
+          "{:.3g} of the force scale, tolerance {:.3g}); raise analysis.form_finding.max_updates "
+          "or lower its stiffness",
+          t_next, ff.max_updates, rep_out.residual, ff.tolerance);
+      rep_out.shape = x;
+      if (report) *report = rep_out;
+      return result;
+    }
+    // The sections on the found shape: the view shows it with its stresses.
+    for (auto& b : model.blocks) b = b->on_reference(x, 0.0);
+    view.dofs().gather(NodePositions(x - X0), shown.u);
+    t = t_next;
+    out.t = t;
+    ++out.steps;
+    ++level;
+    last.converged = true;
+    AcceptedStep st{.t = t,
+                    .h = h,
+                    .step = level,
+                    .iterations = level_iterations,
+                    .total_iterations = out.iterations,
+                    .factorizations = level_factorizations,
+                    .total_factorizations = out.factorizations,
+                    .output_time = true,
+                    .report = &last};
+    E.strain = view.strain_energy(t, shown.u);
+    if (observer && !observer(StepSnapshot{st, view, shown, E})) {
+      out.stopped = true;
+      return result;
+    }
+  }
+  out.completed = true;
+  rep_out.stabilizer = stabilizer;
+  rep_out.shape = x;
+  if (report) *report = rep_out;
+  return result;
+}
+
+}  // namespace velum
