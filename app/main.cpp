@@ -6,8 +6,11 @@
 #include "velum/config.hpp"
 #include "velum/io/commands.hpp"
 #include "velum/io/run_control.hpp"
+#include "velum/solve/blas_kernels.hpp"
 
 int main(int argc, char** argv) {
+  // First: it may re-execute the program with OPENBLAS_CORETYPE set (blas_kernels.hpp).
+  velum::choose_blas_kernels(argv);
   velum::io::prepare_standard_streams();
   // The sparse factorisations allocate and free large blocks at every Newton iteration: keep
   // them in the heap instead of mapping fresh (page-faulting, zeroed) memory each time
