@@ -40,11 +40,13 @@ std::string blas_coretype_to_request(const char* environment_value, std::string_
                                      const CpuFeatures& cpu) {
   if (environment_value != nullptr || active_core.empty()) return {};
   const std::string core = lower(active_core);
-  // OpenBLAS's x86-64 cores whose double-precision kernels use 512-bit or 256-bit FMA.
-  const bool has512 = one_of(core, {"skylakex", "cooperlake", "sapphirerapids"});
-  const bool has256 = has512 || one_of(core, {"haswell", "zen"});
-  if (cpu.avx512 && !has512) return "SkylakeX";
-  if (!cpu.avx512 && cpu.avx2_fma && !has256) return "Haswell";
+  // OpenBLAS's x86-64 cores whose double-precision kernels use 256-bit or 512-bit FMA. Once
+  // there, nothing is changed: with MUMPS's LDLᵀ at 152k DOFs on an AMD EPYC (Zen 5) the
+  // SkylakeX kernels gave no gain over Haswell's (dgemm 1.6x faster, its dtrsm 2.6x slower:
+  // docs/performance.md, section 10); the fallback to SSE3 kernels cost 1.4x the run.
+  if (one_of(core, {"haswell", "zen", "skylakex", "cooperlake", "sapphirerapids"})) return {};
+  if (cpu.avx512) return "SkylakeX";
+  if (cpu.avx2_fma) return "Haswell";
   return {};
 }
 

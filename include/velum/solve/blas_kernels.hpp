@@ -20,8 +20,8 @@ struct CpuFeatures {
 /// The OPENBLAS_CORETYPE to set, or "" to leave the library as it is: "" when the variable is
 /// already set (by the user or the machine's environment: some machines set it on purpose,
 /// because some OpenBLAS builds compute wrong results on some processors; never overridden),
-/// when no OpenBLAS is loaded (active_core empty) or when its kernels already use the widest
-/// vectors the CPU has; otherwise "SkylakeX" (AVX-512) or "Haswell" (AVX2 and FMA).
+/// when no OpenBLAS is loaded (active_core empty) or when its kernels already use AVX2 and FMA;
+/// otherwise "SkylakeX" (a CPU with AVX-512) or "Haswell" (AVX2 and FMA).
 std::string blas_coretype_to_request(const char* environment_value, std::string_view active_core,
                                      const CpuFeatures& cpu);
 
