@@ -33,6 +33,7 @@ bench: build
 
 # The main job's CPU per Newton iteration by stage (perf; three runs of the C9 isotropic canopy).
 profile-c9: build
+	@scripts/install-deps --profile
 	@bench/c9-profile --velum $(BUILD)/velum
 
 # Cases A and B through CTest (their log becomes the report's B section), then the paper's
