@@ -4,7 +4,7 @@ BUILD  := build/$(PRESET)
 JOBS   ?= $(shell nproc)
 CMAKE_FLAGS ?= $(if $(CI),-DVELUM_WERROR=ON,)
 
-.PHONY: all deps configure build check demo bench verify asan fuzz clean format install
+.PHONY: all deps configure build check demo bench profile-c9 verify asan fuzz clean format install
 
 all: build
 
@@ -30,6 +30,11 @@ demo: build
 
 bench: build
 	@tools/run-bench $(BUILD) out/bench
+
+# The main job's CPU per Newton iteration by stage (perf; three runs of the C9 isotropic canopy).
+profile-c9: build
+	@scripts/install-deps --profile
+	@bench/c9-profile --velum $(BUILD)/velum
 
 # Cases A and B through CTest (their log becomes the report's B section), then the paper's
 # membrane-versus-network experiments C1, C2 at every size (tools/network-verification), which

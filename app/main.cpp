@@ -7,6 +7,7 @@
 #include "velum/io/commands.hpp"
 #include "velum/io/plot_command.hpp"
 #include "velum/io/run_control.hpp"
+#include "velum/solve/blas_kernels.hpp"
 #include "velum/solve/processes.hpp"
 
 namespace {
@@ -19,6 +20,8 @@ struct ProcessesGuard {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // First: it may re-execute the program with OPENBLAS_CORETYPE set (blas_kernels.hpp).
+  velum::choose_blas_kernels(argv);
   velum::io::prepare_standard_streams();
   // Under mpirun every process runs this same program on the same model (docs/parallel.md).
   if (!velum::processes::start(&argc, &argv)) return velum::io::kExitBadInput;

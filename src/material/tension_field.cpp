@@ -10,6 +10,7 @@
 // contraction) and the tension s = n·S·n > 0; among admissible roots the one of lowest elastic
 // energy (W(E − β v_t) = W(E) − ½ β² v_tᵀQv_t: the largest ½ β² v_tᵀQv_t) is the solution.
 // This rejects the spurious roots with negative tension that an anisotropic sheet can have.
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -35,7 +36,11 @@ class AngleEquation {
 
   /// H(θ) and, when dH is non-null, dH/dθ.
   double operator()(double theta, double* dH = nullptr) const {
-    const WrinkleFrame f(std::cos(theta), std::sin(theta));
+    return at(std::cos(theta), std::sin(theta), dH);
+  }
+  /// The same from c = cos θ, s = sin θ.
+  double at(double c, double s, double* dH = nullptr) const {
+    const WrinkleFrame f(c, s);
     const Vec3 Qvt = Q_ * f.vt;
     const double d = f.vt.dot(Qvt), a = f.vnt.dot(St_), b = f.vt.dot(St_), e = f.vnt.dot(Qvt);
     if (dH) {
@@ -83,6 +88,20 @@ double refine_root(const AngleEquation& H, double lo, double hi, double Hlo) {
   return x;
 }
 
+// cos and sin of the sample angles kπ/kSamples, k = 0 ... kSamples − 1, computed once: the
+// scan for roots evaluates H at every sample of every wrinkled point (sincos was a seventh of
+// the C9 canopy's assembly).
+struct SampleAngles {
+  std::array<double, kSamples> c, s;
+  SampleAngles() {
+    for (int k = 0; k < kSamples; ++k) {
+      c[k] = std::cos(k * (std::numbers::pi / kSamples));
+      s[k] = std::sin(k * (std::numbers::pi / kSamples));
+    }
+  }
+};
+const SampleAngles kSampleAngles;
+
 }  // namespace
 
 TensionField tension_field(const Mat3& Q, const Vec3& St) {
@@ -100,10 +119,12 @@ TensionField tension_field(const Mat3& Q, const Vec3& St) {
   const double scale = Q.cwiseAbs().maxCoeff();
   double best_relief = -1, best_theta = 0, best_beta = 0;
   const double h = std::numbers::pi / kSamples;
-  double theta0 = 0, H0 = H(0);
+  const auto& sample = kSampleAngles;
+  const double Hfirst = H.at(sample.c[0], sample.s[0]);
+  double theta0 = 0, H0 = Hfirst;
   for (int k = 1; k <= kSamples; ++k) {
     const double theta1 = k * h;
-    const double H1 = k == kSamples ? H(0) : H(theta1);  // H has period π
+    const double H1 = k == kSamples ? Hfirst : H.at(sample.c[k], sample.s[k]);  // period π
     double root = -1;
     if (H0 == 0) {
       root = theta0;

@@ -1,14 +1,17 @@
 #include "velum/solve/linear_solver.hpp"
 
+#include <fmt/format.h>
+#include <klu.h>
 #include <Eigen/CholmodSupport>
-#include <Eigen/KLUSupport>
 #include <Eigen/UmfPackSupport>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
 
 #include "mumps_solver.hpp"
+#include "ordering.hpp"
 #include "symmetry.hpp"
 #include "velum/solve/petsc_solver.hpp"
 
@@ -49,12 +52,31 @@ class Cholmod final : public EigenSolver<Eigen::CholmodSupernodalLLT<SparseMatri
   // METIS nested dissection: at 118,803 DOF (200x200 quad4) 2% faster factorisations and 3%
   // less memory than CHOLMOD's default AMD, for an analysis of 0.29 s instead of 0.07 s once
   // per run (bench BM_Factorize/200).
-  Cholmod() : EigenSolver("cholmod", true) {
+  // check_symmetry: CHOLMOD reads the lower triangle only, so a matrix chosen by the user is
+  // checked at every factorisation (one pass over the entries, against a factorisation's many):
+  // an unsymmetric one (a follower pressure on a surface with a free edge, drag) would be
+  // factorised as a different, symmetric matrix. `auto` checks before it calls CHOLMOD.
+  explicit Cholmod(bool check_symmetry = true)
+      : EigenSolver("cholmod", true), check_symmetry_(check_symmetry) {
     impl_.cholmod().print = 0;
     impl_.cholmod().nmethods = 1;
     impl_.cholmod().method[0].ordering = CHOLMOD_METIS;
   }
+  bool analyze(const SparseMatrix& A) override {
+    if (check_symmetry_) check_.map(A);
+    return EigenSolver::analyze(A);
+  }
   bool factorize(const SparseMatrix& A) override {
+    if (check_symmetry_) {
+      const double asym = check_.asymmetry(A);
+      if (!(asym <= SymmetryCheck::kTolerance))
+        throw std::invalid_argument(fmt::format(
+            "linear_solver: cholmod factorises symmetric matrices only (it reads the lower "
+            "triangle), but this Jacobian is unsymmetric (max |a_ij - a_ji| = {:.2e} max "
+            "|a_ij|; a follower pressure on a surface with a free edge or drag make it so): "
+            "use linear_solver: auto, klu, umfpack or mumps",
+            asym));
+    }
     impl_.factorize(A);
     // CHOLMOD reports a non-positive pivot through its common status, not through info().
     factorized_ = impl_.info() == Eigen::Success && impl_.cholmod().status == CHOLMOD_OK;
@@ -63,6 +85,8 @@ class Cholmod final : public EigenSolver<Eigen::CholmodSupernodalLLT<SparseMatri
   int negative_pivots() const override { return factorized_ ? 0 : -1; }  // definite
 
  private:
+  bool check_symmetry_;
+  SymmetryCheck check_;
   bool factorized_ = false;
 };
 
@@ -83,18 +107,108 @@ class UmfPack final : public EigenSolver<UmfPackLUWithStatus> {
            : code == UMFPACK_ERROR_out_of_memory     ? "UMFPACK: out of memory (status -1)"
                                                      : "UMFPACK status " + std::to_string(code);
   }
-  // UMFPACK's iterative refinement is kept: it costs about 10% of a small run, but without
-  // it Newton stalled at 1.2x the tolerance on a 152k-DOF static membrane.
+  // No iterative refinement (UMFPACK_IRSTEP = 0; UMFPACK's default is up to 2 steps): Newton
+  // corrects what a step of refinement would, and on the C9 canopy's Jacobian a refined solve
+  // cost 1.5 ms against 0.18 ms without (the refinement's residual pass and its second
+  // solve), 15% of a Newton iteration, for residuals of 2e-13 against 4e-13.
   // METIS ordering: 10% faster factorisations than the default AMD at 118,803 DOF (768 ->
   // 692 ms, bench BM_Factorize/200), for 0.24 s more analysis once per run.
   UmfPack() : EigenSolver("umfpack", false) {
     impl_.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
+    impl_.umfpackControl()(UMFPACK_IRSTEP) = 0;
   }
+};
+
+// KLU keeping its pivot order between factorisations of one pattern: klu_refactor reuses the
+// rows chosen by the last full klu_factor (no pivot search, no symbolic work: about half the
+// cost of klu_factor on the C9 canopy's Jacobian). A Newton tangent changes little from one
+// iteration to the next, so the old pivots usually stay good; when they do not (the estimate
+// of the reciprocal condition number min |u_kk| / max |u_kk| fell below kWorse times the last
+// full factorisation's, or the refactorisation met a zero pivot), the matrix is factorised
+// again with pivoting and its new order is kept. (KLU's reciprocal pivot growth, klu_rgrowth,
+// would be the finer test, but it costs a fifth of a refactorisation on the C9's Jacobian.)
+class Klu final : public LinearSolver {
+ public:
+  Klu() { klu_defaults(&common_); }
+  ~Klu() override { release(); }
+  Klu(const Klu&) = delete;
+  Klu& operator=(const Klu&) = delete;
+  std::string_view name() const override { return "klu"; }
+  bool symmetric_only() const override { return false; }
+  // Ordering: METIS nested dissection of the node graph (ordering.hpp): on the C9 canopy's
+  // Jacobian 10.8 MFlop and 186k entries in L + U against 13.1 MFlop and 197k with KLU's AMD,
+  // and refactorisations 18% faster. KLU's AMD when METIS fails.
+  bool analyze(const SparseMatrix& A) override {
+    release();
+    n_ = static_cast<int>(A.rows());
+    int* outer = const_cast<int*>(A.outerIndexPtr());
+    int* inner = const_cast<int*>(A.innerIndexPtr());
+    const std::vector<int> position = nested_dissection(A);
+    if (static_cast<int>(position.size()) == n_) {
+      std::vector<int> order(n_);  // order[k] = the equation pivoted k-th
+      for (int i = 0; i < n_; ++i) order[position[i]] = i;
+      symbolic_ = klu_analyze_given(n_, outer, inner, order.data(), order.data(), &common_);
+    } else {
+      symbolic_ = klu_analyze(n_, outer, inner, &common_);
+    }
+    return symbolic_ != nullptr;
+  }
+  bool factorize(const SparseMatrix& A) override {
+    if (!symbolic_) return false;
+    int* outer = const_cast<int*>(A.outerIndexPtr());
+    int* inner = const_cast<int*>(A.innerIndexPtr());
+    double* values = const_cast<double*>(A.valuePtr());
+    if (numeric_ && klu_refactor(outer, inner, values, symbolic_, numeric_, &common_) &&
+        common_.status == KLU_OK && quality() && common_.rcond >= kWorse * rcond_)
+      return true;
+    if (numeric_) klu_free_numeric(&numeric_, &common_);
+    numeric_ = klu_factor(outer, inner, values, symbolic_, &common_);
+    ++full_factorizations_;
+    if (!numeric_ || common_.status != KLU_OK || !quality()) {
+      if (numeric_) klu_free_numeric(&numeric_, &common_);
+      return false;
+    }
+    rcond_ = common_.rcond;
+    return rcond_ > 0;
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    if (!numeric_) return false;
+    x = b;
+    return klu_solve(symbolic_, numeric_, n_, 1, x.data(), &common_) && x.allFinite();
+  }
+  std::string status() const override {
+    if (common_.status == KLU_SINGULAR) return "KLU: singular matrix";
+    if (common_.status == KLU_OUT_OF_MEMORY) return "KLU: out of memory";
+    return common_.status == KLU_OK ? std::string()
+                                    : "KLU status " + std::to_string(common_.status);
+  }
+  /// Factorisations with a pivot search (the others reused the pivot order).
+  long full_factorizations() const { return full_factorizations_; }
+
+ private:
+  static constexpr double kWorse = 1e-2;
+  bool quality() {
+    return klu_rcond(symbolic_, numeric_, &common_) && std::isfinite(common_.rcond);
+  }
+  void release() {
+    if (numeric_) klu_free_numeric(&numeric_, &common_);
+    if (symbolic_) klu_free_symbolic(&symbolic_, &common_);
+  }
+  klu_common common_{};
+  klu_symbolic* symbolic_ = nullptr;
+  klu_numeric* numeric_ = nullptr;
+  int n_ = 0;
+  double rcond_ = 0;  ///< of the last full factorisation
+  long full_factorizations_ = 0;
 };
 
 // Numerically symmetric matrices (|A − Aᵀ| <= 1e-10 |A|, tested at every factorisation): MUMPS's
 // LDLᵀ, definite or not (pivoting only once a pivot comes out negative); without MUMPS in the
-// build, CHOLMOD, with LU while the matrix is indefinite. Unsymmetric matrices: UMFPACK. A
+// build, CHOLMOD, with LU while the matrix is indefinite. Unsymmetric matrices: KLU with its
+// pivot order reused up to kKluLimit equations, UMFPACK above (the C9 canopy's Jacobian, 2,021
+// equations: a KLU refactorisation 5.4 ms against UMFPACK's 8.5 to 9.2; the full canopy, 7,980:
+// 43 ms against 46 to 51; at 30,492 KLU, a scalar left-looking code, takes 441 ms for 834
+// MFlop while the multifrontal codes use the BLAS: docs/performance.md, section 10). A
 // follower-pressure load stiffness is unsymmetric element by element, but on a surface whose
 // boundary is held (a clamped or closed membrane) the assembled sum is symmetric, and a symmetric
 // factorisation stores one triangle.
@@ -105,6 +219,8 @@ class AutoSolver final : public LinearSolver {
   bool analyze(const SparseMatrix& A) override {
     check_.map(A);
     sym_analyzed_ = chol_analyzed_ = lu_analyzed_ = false;
+    small_ = A.rows() <= kKluLimit;
+    lu_ = make_lu();
     return true;
   }
   bool factorize(const SparseMatrix& A) override {
@@ -148,20 +264,26 @@ class AutoSolver final : public LinearSolver {
     }
     skip_ = backoff_;
     backoff_ = std::min(2 * backoff_, 64);
-    chol_ = std::make_unique<Cholmod>();
+    chol_ = std::make_unique<Cholmod>(false);
     chol_analyzed_ = false;
     return false;
   }
   void release_lu() {
     if (!lu_analyzed_) return;
-    lu_ = std::make_unique<UmfPack>();
+    lu_ = make_lu();
     lu_analyzed_ = false;
   }
+  std::unique_ptr<LinearSolver> make_lu() const {
+    if (small_) return std::make_unique<Klu>();
+    return std::make_unique<UmfPack>();
+  }
+  static constexpr Eigen::Index kKluLimit = 6000;
 
   SymmetryCheck check_;
   std::unique_ptr<LinearSolver> sym_ = make_mumps_solver(true);  ///< null without MUMPS
-  std::unique_ptr<LinearSolver> chol_ = std::make_unique<Cholmod>();
-  std::unique_ptr<LinearSolver> lu_ = std::make_unique<UmfPack>();
+  std::unique_ptr<LinearSolver> chol_ = std::make_unique<Cholmod>(false);
+  std::unique_ptr<LinearSolver> lu_;
+  bool small_ = true;  ///< LU by KLU (else UMFPACK)
   LinearSolver* active_ = nullptr;
   bool sym_analyzed_ = false, chol_analyzed_ = false, lu_analyzed_ = false;
   int skip_ = 0, backoff_ = 1;  ///< LU factorisations before CHOLMOD is tried again
@@ -174,7 +296,7 @@ std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind) {
     case SolverKind::kCholmod:
       return std::make_unique<Cholmod>();
     case SolverKind::kKlu:
-      return std::make_unique<EigenSolver<Eigen::KLU<SparseMatrix>>>("klu", false);
+      return std::make_unique<Klu>();
     case SolverKind::kAuto:
       return std::make_unique<AutoSolver>();
     case SolverKind::kUmfpack:

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "velum/solve/linear_solver.hpp"
@@ -20,10 +21,14 @@ class SymmetryCheck {
     return structural_ = walk(A, dmax, vmax);
   }
   /// |A − Aᵀ| <= 1e-10 |A| (entry-wise maxima) on a structurally symmetric pattern.
-  bool symmetric(const SparseMatrix& A) {
+  bool symmetric(const SparseMatrix& A) { return asymmetry(A) <= kTolerance; }
+  /// max |a_ij − a_ji| / max |a_ij| (0 for a zero matrix), infinity on an unsymmetric pattern.
+  double asymmetry(const SparseMatrix& A) {
     double dmax = 0, vmax = 0;
-    return structural_ && walk(A, dmax, vmax) && dmax <= 1e-10 * vmax;
+    if (!structural_ || !walk(A, dmax, vmax)) return std::numeric_limits<double>::infinity();
+    return vmax > 0 ? dmax / vmax : 0.0;
   }
+  static constexpr double kTolerance = 1e-10;
 
  private:
   // For every strictly lower entry (i, j), column i's next unvisited upper entry must be

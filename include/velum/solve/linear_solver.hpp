@@ -1,7 +1,8 @@
 // Sparse direct solvers behind one interface (analyse / factorise / solve, as in Eigen):
 // CHOLMOD (symmetric positive definite), MUMPS (symmetric LDLᵀ, definite or not, or LU),
 // UMFPACK and KLU (unsymmetric). The symbolic analysis is kept while the sparsity pattern
-// holds; a failed factorisation returns a status, never throws, so a time step can be cut.
+// holds; a failed factorisation returns a status, never throws, so a time step can be cut (a
+// wrong choice is not a failure: CHOLMOD given an unsymmetric matrix throws, and the run stops).
 #pragma once
 
 #include <Eigen/SparseCore>
@@ -15,7 +16,8 @@ using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 /// kAuto: while the matrix is numerically symmetric (|A - Aᵀ| <= 1e-10 |A|, checked at every
 /// factorisation) MUMPS's LDLᵀ (without MUMPS in the build: CHOLMOD while it is positive
-/// definite), UMFPACK otherwise. kMumps: LDLᵀ when symmetric, LU otherwise.
+/// definite), otherwise KLU up to 6,000 equations and UMFPACK above. kMumps: LDLᵀ when
+/// symmetric, LU otherwise. kCholmod throws std::invalid_argument on an unsymmetric matrix.
 /// kPetsc: PETSc (MUMPS by default) on one or several MPI processes (petsc_solver.hpp).
 enum class SolverKind { kAuto, kCholmod, kUmfpack, kKlu, kMumps, kPetsc };
 

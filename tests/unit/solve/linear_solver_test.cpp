@@ -3,6 +3,8 @@
 // unsymmetric (a follower pressure on a free edge). Also which back-end `auto` picks.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "velum/solve/linear_solver.hpp"
@@ -68,14 +70,18 @@ TEST(Solver, AutoPicksTheSymmetricFactorisationWhenItCan) {
   EXPECT_EQ(s->name(), have_mumps() ? "mumps" : "cholmod");
   // Same pattern, indefinite values: MUMPS's LDLᵀ (pivoting), or LU without MUMPS.
   ASSERT_LT(solve_residual(*s, grid_matrix(20, 3.0, 0.0)), 1e-10);
-  EXPECT_EQ(s->name(), have_mumps() ? "mumps" : "umfpack");
-  // Unsymmetric values on the same pattern: LU.
+  EXPECT_EQ(s->name(), have_mumps() ? "mumps" : "klu");
+  // Unsymmetric values on the same pattern: LU, by KLU at this size.
   ASSERT_LT(solve_residual(*s, grid_matrix(20, 0.0, 0.3)), 1e-10);
-  EXPECT_EQ(s->name(), "umfpack");
+  EXPECT_EQ(s->name(), "klu");
   // And back.
   ASSERT_LT(solve_residual(*s, grid_matrix(20, 0.0, 0.0)), 1e-12);
   EXPECT_EQ(s->analyses(), 1) << "one pattern, one analysis at this level";
   EXPECT_EQ(s->factorizations(), 4);
+  // A large unsymmetric matrix: UMFPACK.
+  auto large = make_linear_solver(SolverKind::kAuto);
+  ASSERT_LT(solve_residual(*large, grid_matrix(80, 0.0, 0.3)), 1e-10);
+  EXPECT_EQ(large->name(), "umfpack");
 }
 
 // MUMPS factorises a symmetric matrix without pivoting first. Here the first pivot of each
@@ -105,13 +111,59 @@ TEST(Solver, MumpsPivotsWhenTheMatrixIsIndefinite) {
   }
 }
 
+// CHOLMOD reads one triangle: an unsymmetric matrix given to it by the user's choice must stop
+// the run with a message that says so, not be factorised as another (symmetric) matrix.
+TEST(Solver, CholmodRefusesAnUnsymmetricMatrix) {
+  auto s = make_linear_solver(SolverKind::kCholmod);
+  ASSERT_LT(solve_residual(*s, grid_matrix(10, 0.0, 0.0)), 1e-12);
+  try {
+    s->refactorize(grid_matrix(10, 0.0, 1e-6));  // same pattern, unsymmetric values
+    ADD_FAILURE() << "CHOLMOD accepted an unsymmetric matrix";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("unsymmetric"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("linear_solver: auto"), std::string::npos) << e.what();
+  }
+  // Round-off asymmetry (1e-14 of the entries) is symmetric enough.
+  EXPECT_LT(solve_residual(*s, grid_matrix(10, 0.0, 1e-14)), 1e-12);
+}
+
+// KLU reuses the pivot order of its last full factorisation while it stays stable: a matrix on
+// the same pattern whose old pivots are tiny (1e-14 on the diagonal) must be factorised again
+// with pivoting, and solved as accurately.
+TEST(Solver, KluRefactorisationFallsBackToPivotingWhenThePivotsDegrade) {
+  const int blocks = 40;
+  auto matrix = [&](double diag, double off) {
+    std::vector<Eigen::Triplet<double>> t;
+    for (int b = 0; b < blocks; ++b) {
+      const int i = 2 * b;
+      t.emplace_back(i, i, diag);
+      t.emplace_back(i + 1, i + 1, 1.0 + 0.01 * b);
+      t.emplace_back(i, i + 1, off);
+      t.emplace_back(i + 1, i, off);
+      if (b + 1 < blocks) t.emplace_back(i + 1, i + 2, 0.1), t.emplace_back(i + 2, i + 1, 0.2);
+    }
+    SparseMatrix A(2 * blocks, 2 * blocks);
+    A.setFromTriplets(t.begin(), t.end());
+    A.makeCompressed();
+    return A;
+  };
+  auto s = make_linear_solver(SolverKind::kKlu);
+  EXPECT_LT(solve_residual(*s, matrix(2.0, 0.5)), 1e-14);    // diagonal pivots
+  EXPECT_LT(solve_residual(*s, matrix(2.1, 0.52)), 1e-14);   // reused
+  EXPECT_LT(solve_residual(*s, matrix(1e-14, 1.0)), 1e-14);  // old pivots unstable: pivoting
+  EXPECT_LT(solve_residual(*s, matrix(1e-14, 1.1)), 1e-14);  // the new order, reused
+  EXPECT_LT(solve_residual(*s, matrix(2.0, 0.5)), 1e-14);
+  EXPECT_EQ(s->analyses(), 1);
+}
+
 TEST(Solver, SingularMatrixIsReportedNotSolved) {
   SparseMatrix A = grid_matrix(10, 0.0, 0.0);
   // Row and column 0 zero: a DOF without stiffness (the diagonal entry stays in the pattern).
   for (int j = 0; j < A.outerSize(); ++j)
     for (SparseMatrix::InnerIterator it(A, j); it; ++it)
       if (it.row() == 0 || it.col() == 0) it.valueRef() = 0.0;
-  for (SolverKind k : {SolverKind::kAuto, SolverKind::kUmfpack, SolverKind::kMumps}) {
+  for (SolverKind k :
+       {SolverKind::kAuto, SolverKind::kUmfpack, SolverKind::kKlu, SolverKind::kMumps}) {
     if (k == SolverKind::kMumps && !have_mumps()) continue;
     auto s = make_linear_solver(k);
     Eigen::VectorXd x, b = Eigen::VectorXd::Ones(A.rows());

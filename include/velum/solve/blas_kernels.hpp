@@ -1,0 +1,36 @@
+// OpenBLAS's kernels chosen from the CPU's features. A DYNAMIC_ARCH OpenBLAS (Debian's) picks
+// its kernels when it loads, from a table of CPU models it knows: on a newer processor it falls
+// back to older kernels (Debian's 0.3.21 runs its SSE3 "Prescott" kernels on an AVX-512 Xeon of
+// family 6 model 207, at a quarter of the AVX-512 kernels' dgemm speed). OPENBLAS_CORETYPE
+// overrides that choice, but only when it is set before the library loads, that is before
+// main() runs: the velum command re-executes itself once with it set.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+namespace velum {
+
+struct CpuFeatures {
+  bool avx512 = false;    ///< AVX-512 F, DQ, BW and VL, with the OS saving the zmm state
+  bool avx2_fma = false;  ///< AVX2 and FMA3, likewise
+  static CpuFeatures of_this_machine();
+};
+
+/// The OPENBLAS_CORETYPE to set, or "" to leave the library as it is: "" when the variable is
+/// already set (by the user or the machine's environment: some machines set it on purpose,
+/// because some OpenBLAS builds compute wrong results on some processors; never overridden),
+/// when no OpenBLAS is loaded (active_core empty) or when its kernels already use AVX2 and FMA;
+/// otherwise "SkylakeX" (a CPU with AVX-512) or "Haswell" (AVX2 and FMA).
+std::string blas_coretype_to_request(const char* environment_value, std::string_view active_core,
+                                     const CpuFeatures& cpu);
+
+/// The kernels the loaded OpenBLAS uses (openblas_get_corename), or "" without OpenBLAS.
+std::string openblas_core();
+
+/// To be called first in main(): when blas_coretype_to_request names kernels, sets
+/// OPENBLAS_CORETYPE and re-executes /proc/self/exe with the same arguments (the variable, now
+/// set, stops a second re-execution). Returns only when nothing was done or exec failed.
+void choose_blas_kernels(char** argv);
+
+}  // namespace velum

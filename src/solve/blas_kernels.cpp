@@ -1,0 +1,69 @@
+#include "velum/solve/blas_kernels.hpp"
+
+#include <dlfcn.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cstdlib>
+
+namespace velum {
+namespace {
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  std::transform(out.begin(), out.end(), out.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return out;
+}
+
+bool one_of(std::string_view core, std::initializer_list<std::string_view> names) {
+  return std::find(names.begin(), names.end(), core) != names.end();
+}
+
+}  // namespace
+
+CpuFeatures CpuFeatures::of_this_machine() {
+  CpuFeatures f;
+#if defined(__x86_64__) || defined(__i386__)
+  // libgcc's feature bits include the OS check (XGETBV) for the AVX and AVX-512 states.
+  __builtin_cpu_init();
+  f.avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+             __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl");
+  f.avx2_fma = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#endif
+  return f;
+}
+
+std::string blas_coretype_to_request(const char* environment_value, std::string_view active_core,
+                                     const CpuFeatures& cpu) {
+  if (environment_value != nullptr || active_core.empty()) return {};
+  const std::string core = lower(active_core);
+  // OpenBLAS's x86-64 cores whose double-precision kernels use 256-bit or 512-bit FMA. Once
+  // there, nothing is changed: with MUMPS's LDLᵀ at 152k DOFs on an AMD EPYC (Zen 5) the
+  // SkylakeX kernels gave no gain over Haswell's (dgemm 1.6x faster, its dtrsm 2.6x slower:
+  // docs/performance.md, section 10); the fallback to SSE3 kernels cost 1.4x the run.
+  if (one_of(core, {"haswell", "zen", "skylakex", "cooperlake", "sapphirerapids"})) return {};
+  if (cpu.avx512) return "SkylakeX";
+  if (cpu.avx2_fma) return "Haswell";
+  return {};
+}
+
+std::string openblas_core() {
+  using CoreName = char* (*)();
+  auto* name = reinterpret_cast<CoreName>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
+  const char* core = name ? name() : nullptr;
+  return core ? core : "";
+}
+
+void choose_blas_kernels(char** argv) {
+  const std::string want = blas_coretype_to_request(
+      std::getenv("OPENBLAS_CORETYPE"), openblas_core(), CpuFeatures::of_this_machine());
+  if (want.empty() || argv == nullptr || argv[0] == nullptr) return;
+  if (setenv("OPENBLAS_CORETYPE", want.c_str(), 0) != 0) return;
+  execv("/proc/self/exe", argv);
+  unsetenv("OPENBLAS_CORETYPE");  // exec failed: go on with the kernels loaded
+}
+
+}  // namespace velum

@@ -1,0 +1,39 @@
+// Which OpenBLAS kernels the velum command asks for (blas_kernels.hpp): never against a setting
+// of the user or the machine, never without OpenBLAS, only when the loaded kernels are older
+// than AVX2 on a CPU that has it.
+#include "velum/solve/blas_kernels.hpp"
+
+#include <gtest/gtest.h>
+
+namespace velum {
+namespace {
+
+TEST(BlasKernels, ChosenFromTheCpuOnlyWhenNobodyChose) {
+  const CpuFeatures avx512{true, true}, avx2{false, true}, sse{false, false};
+  // Debian's 0.3.21 on a processor it does not know: Prescott (SSE3) kernels.
+  EXPECT_EQ(blas_coretype_to_request(nullptr, "Prescott", avx512), "SkylakeX");
+  EXPECT_EQ(blas_coretype_to_request(nullptr, "Prescott", avx2), "Haswell");
+  EXPECT_EQ(blas_coretype_to_request(nullptr, "Sandybridge", avx2), "Haswell");
+  // Already AVX2 kernels or wider (SkylakeX's were no faster with MUMPS on an AVX-512 EPYC).
+  EXPECT_EQ(blas_coretype_to_request(nullptr, "Haswell", avx512), "");
+  EXPECT_EQ(blas_coretype_to_request(nullptr, "Cooperlake", avx512), "");
+  EXPECT_EQ(blas_coretype_to_request(nullptr, "SkylakeX", avx512), "");
+  EXPECT_EQ(blas_coretype_to_request(nullptr, "Zen", avx2), "");
+  EXPECT_EQ(blas_coretype_to_request(nullptr, "Prescott", sse), "");
+  // A setting of the user or the environment, even empty or narrower, is kept.
+  EXPECT_EQ(blas_coretype_to_request("Haswell", "Haswell", avx512), "");
+  EXPECT_EQ(blas_coretype_to_request("Prescott", "Prescott", avx512), "");
+  EXPECT_EQ(blas_coretype_to_request("", "Prescott", avx512), "");
+  // No OpenBLAS (another BLAS behind libblas.so.3): nothing to set.
+  EXPECT_EQ(blas_coretype_to_request(nullptr, "", avx512), "");
+}
+
+TEST(BlasKernels, ThisProcessSeesItsOpenBlas) {
+  // The tests link the same BLAS as the velum command: when it is OpenBLAS, its core is named.
+  const std::string core = openblas_core();
+  if (core.empty()) GTEST_SKIP() << "the BLAS loaded is not OpenBLAS";
+  EXPECT_EQ(blas_coretype_to_request("set", core, CpuFeatures::of_this_machine()), "");
+}
+
+}  // namespace
+}  // namespace velum
