@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "square_membrane.hpp"
 #include "velum/analysis/mechanical_system.hpp"
 #include "velum/model/gas_chamber.hpp"
 #include "velum/time/low_rank_solver.hpp"
@@ -18,26 +19,7 @@ namespace {
 using namespace velum;
 
 std::unique_ptr<Model> dome(int n, bool gas) {
-  auto m = std::make_unique<Model>();
-  const double pi = std::numbers::pi;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const double x = double(i) / n, y = double(j) / n;
-      m->add_node(j * (n + 1) + i + 1, Vec3(x, y, 0.1 * std::sin(pi * x) * std::sin(pi * y)));
-    }
-  std::vector<int> conn, edge;
-  auto id = [&](int i, int j) { return j * (n + 1) + i; };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i)
-      conn.insert(conn.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      if (i == 0 || j == 0 || i == n || j == n) edge.push_back(id(i, j));
-  BlockSetupReport report;
-  m->blocks.push_back(make_membrane_block("quad4", "sheet", std::move(conn), m->X,
-                                          PlaneStressLaw::isotropic("film", 1e9, 0.3), 1000.0, 1e-3,
-                                          nullptr, shape::Integration::kGauss, report));
-  m->fixed.push_back({edge, {true, true, true}});
+  auto m = clamped_square(n, 0.1);
   std::vector<int> all(static_cast<size_t>(m->blocks[0]->size()));
   for (size_t e = 0; e < all.size(); ++e) all[e] = static_cast<int>(e);
   if (gas) {
