@@ -23,6 +23,24 @@ struct VolumePoints {
   }
 };
 
+// Point q's share of V and of its gradient, added to an (3 x nodes); y = x(q) − o and g, the
+// point's position and tangent basis, are left for the Hessian.
+// ∂[y, g1, g2]/∂x_N = N (g1 x g2) + N,1 (g2 x y) + N,2 (y x g1).
+template <class Shape, class Nodes, class NodeForces>
+inline double add_point_gradient(const Nodes& x, const Vec3& o, int q, NodeForces& an, Vec3& y,
+                                 Eigen::Matrix<double, 3, 2>& g) {
+  const auto& pts = VolumePoints<Shape>::get();
+  const auto& N = pts.N[q];
+  const auto& dN = pts.dN[q];
+  const double w = pts.w[q];
+  y = x * N - o;
+  g = x * dN;
+  const Vec3 n = g.col(0).cross(g.col(1));
+  const Vec3 c1 = g.col(1).cross(y), c2 = y.cross(g.col(0));
+  an.noalias() += w * (n * N.transpose() + c1 * dN.col(0).transpose() + c2 * dN.col(1).transpose());
+  return w * y.dot(n);
+}
+
 }  // namespace
 
 template <class Shape>
@@ -39,22 +57,11 @@ double EnclosedVolume<Shape>::volume(const Nodes& x, const Vec3& o) {
 
 template <class Shape>
 double EnclosedVolume<Shape>::gradient(const Nodes& x, const Vec3& o, Vector& a) {
-  const auto& pts = VolumePoints<Shape>::get();
   Eigen::Matrix<double, 3, kN> an = Eigen::Matrix<double, 3, kN>::Zero();
   double V = 0;
-  for (int q = 0; q < Shape::kPoints; ++q) {
-    const auto& N = pts.N[q];
-    const auto& dN = pts.dN[q];
-    const double w = pts.w[q];
-    const Vec3 y = x * N - o;
-    const Eigen::Matrix<double, 3, 2> g = x * dN;
-    const Vec3 n = g.col(0).cross(g.col(1));
-    V += w * y.dot(n);
-    // ∂[y, g1, g2]/∂x_N = N (g1 x g2) + N,1 (g2 x y) + N,2 (y x g1)
-    const Vec3 c1 = g.col(1).cross(y), c2 = y.cross(g.col(0));
-    an.noalias() +=
-        w * (n * N.transpose() + c1 * dN.col(0).transpose() + c2 * dN.col(1).transpose());
-  }
+  Vec3 y;
+  Eigen::Matrix<double, 3, 2> g;
+  for (int q = 0; q < Shape::kPoints; ++q) V += add_point_gradient<Shape>(x, o, q, an, y, g);
   a = Eigen::Map<const Vector>(an.data());
   return V;
 }
@@ -66,17 +73,13 @@ double EnclosedVolume<Shape>::hessian(const Nodes& x, const Vec3& o, double scal
   Eigen::Matrix<double, 3, kN> an = Eigen::Matrix<double, 3, kN>::Zero();
   H.setZero();
   double V = 0;
+  Vec3 y;
+  Eigen::Matrix<double, 3, 2> g;
   for (int q = 0; q < Shape::kPoints; ++q) {
+    V += add_point_gradient<Shape>(x, o, q, an, y, g);
     const auto& N = pts.N[q];
     const auto& dN = pts.dN[q];
     const double w = pts.w[q];
-    const Vec3 y = x * N - o;
-    const Eigen::Matrix<double, 3, 2> g = x * dN;
-    const Vec3 n = g.col(0).cross(g.col(1));
-    V += w * y.dot(n);
-    const Vec3 c1 = g.col(1).cross(y), c2 = y.cross(g.col(0));
-    an.noalias() +=
-        w * (n * N.transpose() + c1 * dN.col(0).transpose() + c2 * dN.col(1).transpose());
     // The triple product [y, g1, g2] is trilinear in x: its second derivative couples two
     // slots. Block (n, m) (rows x_n, columns x_m):
     //   N_n N,1m (−[g2]x) + N_n N,2m [g1]x + N,1n N_m [g2]x + N,1n N,2m (−[y]x)
