@@ -31,6 +31,16 @@ def quads(frame):
     return [xy[c] for c in frame.connectivity[:N_QUADS]]
 
 
+def plan_view(fig, ax, frame, cell_values, cmap, title):
+    """The roof's cells seen from above, coloured by one value per cell."""
+    pc = PolyCollection(quads(frame), array=cell_values, cmap=cmap, edgecolor="k", linewidth=0.2)
+    ax.add_collection(pc)
+    ax.autoscale()
+    ax.set_aspect("equal")
+    ax.set_title(title)
+    fig.colorbar(pc, ax=ax)
+
+
 def sheet_stress(frame):
     """True stress (warp, fill, shear) in the deformed sheet axes of the roof's cells."""
     c = frame.cell_data
@@ -70,14 +80,8 @@ def main(out):
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.6))
     for a, values, title in ((ax[0], z_form, "found shape: height z (m)"),
                              (ax[1], dz * 1e3, "snow 0.5 kN/m²: deflection (mm)")):
-        pc = PolyCollection(quads(form), array=np.array([values[c].mean() for c in
-                                                          form.connectivity[:N_QUADS]]),
-                            cmap="viridis", edgecolor="k", linewidth=0.2)
-        a.add_collection(pc)
-        a.autoscale()
-        a.set_aspect("equal")
-        a.set_title(title)
-        fig.colorbar(pc, ax=a)
+        cells = np.array([values[c].mean() for c in form.connectivity[:N_QUADS]])
+        plan_view(fig, a, form, cells, "viridis", title)
     fig.tight_layout()
     fig.savefig(out / "shape.png", dpi=120)
 
@@ -85,13 +89,7 @@ def main(out):
     s = sheet_stress(snow) * 1e-6
     for a, k, title in ((ax[0], 0, "warp stress under snow (kN/m)"),
                         (ax[1], 1, "fill stress under snow (kN/m)")):
-        pc = PolyCollection(quads(snow), array=s[:, k], cmap="coolwarm", edgecolor="k",
-                            linewidth=0.2)
-        a.add_collection(pc)
-        a.autoscale()
-        a.set_aspect("equal")
-        a.set_title(title)
-        fig.colorbar(pc, ax=a)
+        plan_view(fig, a, snow, s[:, k], "coolwarm", title)
     fig.tight_layout()
     fig.savefig(out / "stresses.png", dpi=120)
 

@@ -27,6 +27,28 @@ constexpr double kT0 = 0.02;  // thickness
 
 // ---------------------------------------------------------------------------------------- A4
 
+// A flat element in the plane z = 0 with straight edges: corners perturbed, mid-side nodes at
+// edge midpoints (the quad9's centre node at the corners' mean), so its area is the polygon's.
+template <class S>
+typename Membrane<S>::Nodes straight_flat_element(test::Random& rnd, double& area) {
+  typename Membrane<S>::Nodes X =
+      test::distorted_element<S>(rnd, kH, 0.1, 0.0, Mat3::Identity(), Vec3::Zero());
+  const int corners = (S::kNodes == 3 || S::kNodes == 6) ? 3 : 4;
+  for (int k = corners; k < S::kNodes; ++k) {
+    if (k - corners < corners) {
+      const int a = k - corners, b = (a + 1) % corners;
+      X.col(k) = 0.5 * (X.col(a) + X.col(b));
+    }
+  }
+  area = 0;
+  for (int a = 0; a < corners; ++a) {
+    const int b = (a + 1) % corners;
+    area += 0.5 * (X(0, a) * X(1, b) - X(0, b) * X(1, a));
+  }
+  if (S::kNodes == 9) X.col(8) = 0.25 * (X.col(0) + X.col(1) + X.col(2) + X.col(3));
+  return X;
+}
+
 TYPED_TEST(MembraneKernel, A4TangentMatchesFiniteDifferences) {
   using S = TypeParam;
   using M = Membrane<S>;
@@ -184,23 +206,8 @@ TYPED_TEST(MembraneKernel, PressureResultantOnFlatElementIsPressureTimesArea) {
   using M = Membrane<S>;
   test::Random rnd(300 + S::kNodes);
   const Mat3 R = rnd.rotation(1.0);
-  // Straight-edged flat element: corners perturbed, mid-side nodes at edge midpoints, so the
-  // area is the polygon area.
-  typename M::Nodes X =
-      test::distorted_element<S>(rnd, kH, 0.1, 0.0, Mat3::Identity(), Vec3::Zero());
-  const int corners = (S::kNodes == 3 || S::kNodes == 6) ? 3 : 4;
-  for (int k = corners; k < S::kNodes; ++k) {
-    if (k - corners < corners) {
-      const int a = k - corners, b = (a + 1) % corners;
-      X.col(k) = 0.5 * (X.col(a) + X.col(b));
-    }
-  }
   double area = 0;
-  for (int a = 0; a < corners; ++a) {
-    const int b = (a + 1) % corners;
-    area += 0.5 * (X(0, a) * X(1, b) - X(0, b) * X(1, a));
-  }
-  if (S::kNodes == 9) X.col(8) = 0.25 * (X.col(0) + X.col(1) + X.col(2) + X.col(3));
+  const typename M::Nodes X = straight_flat_element<S>(rnd, area);
   const typename M::Nodes Xr = R * X;
   typename M::Points pts;
   M::setup(Xr, PlaneStressLaw::isotropic("iso", 1, 0).Q(), test::axes_at(0, R), 1.0, pts);
@@ -254,21 +261,8 @@ TYPED_TEST(MembraneKernel, DirectedPressureResultantIsPressureTimesProjectedArea
   using S = TypeParam;
   using M = Membrane<S>;
   test::Random rnd(500 + S::kNodes);
-  typename M::Nodes X =
-      test::distorted_element<S>(rnd, kH, 0.1, 0.0, Mat3::Identity(), Vec3::Zero());
-  const int corners = (S::kNodes == 3 || S::kNodes == 6) ? 3 : 4;
-  for (int k = corners; k < S::kNodes; ++k) {
-    if (k - corners < corners) {
-      const int a = k - corners, b = (a + 1) % corners;
-      X.col(k) = 0.5 * (X.col(a) + X.col(b));
-    }
-  }
   double area = 0;
-  for (int a = 0; a < corners; ++a) {
-    const int b = (a + 1) % corners;
-    area += 0.5 * (X(0, a) * X(1, b) - X(0, b) * X(1, a));
-  }
-  if (S::kNodes == 9) X.col(8) = 0.25 * (X.col(0) + X.col(1) + X.col(2) + X.col(3));
+  const typename M::Nodes X = straight_flat_element<S>(rnd, area);
   const double angle = 35.0 * std::acos(-1.0) / 180.0;
   const Mat3 R = Eigen::AngleAxisd(angle, Vec3::UnitX()).toRotationMatrix();
   const Vec3 d(0, 0, -1);
