@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "velum/time/low_rank_solver.hpp"
@@ -108,6 +109,12 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& sparse_solver,
   // tangent at all.
   constexpr double kChordGain = 0.1;
   auto fell_fast = [&](int k) { return rep.residuals[k] <= kChordGain * rep.residuals[k - 1]; };
+  // Stagnation: Newton that has not halved its best residual in kStagnationWindow iterations
+  // is wandering, not converging (quadratic or even linear convergence halves it in a few);
+  // with a large max_iterations it would otherwise run on for as long as it is allowed.
+  constexpr int kStagnationWindow = 40;
+  double best = std::numeric_limits<double>::infinity();
+  int best_it = 0;
   for (int it = 0; it <= ns.max_iterations; ++it) {
     // When the corrections contract fast enough that this iterate should be the last
     // (quadratic model: next ≈ ‖du‖ θ²), its residual is evaluated alone first: a tangent
@@ -146,6 +153,15 @@ StepReport newton_iterate(SecondOrderSystem& sys, LinearSolver& sparse_solver,
     if (it >= 3 && rn > 1e30 * start) {
       rep.reason = with_diagnosis(
           fmt::format("Newton diverged (residual {:.3e} from {:.3e})", rn, rep.residuals[0]),
+          diagnosis);
+      return rep;
+    }
+    if (rn < 0.5 * best) best = rn, best_it = it;
+    if (it - best_it >= kStagnationWindow) {
+      rep.reason = with_diagnosis(
+          fmt::format("Newton stagnated: the residual has not halved in {} iterations (residual "
+                      "{:.3e}, best {:.3e}); give a smaller step",
+                      kStagnationWindow, rn, best),
           diagnosis);
       return rep;
     }

@@ -185,5 +185,45 @@ TEST(Newton, PredictsAlongTheParabolaWhenItDidBetter) {
   }
 }
 
+// Newton on u³ − 2u + 2 = 0 from u = 0 cycles between 0 and 1 for ever (the textbook cycle):
+// it must stop as stagnated long before a large max_iterations, not run it out.
+class NewtonCycle final : public SecondOrderSystem {
+ public:
+  int size() const override { return 1; }
+  void evaluate(double t, const VecX& u, const VecX&, const VecX&, double cu, double, double,
+                VecX& r, SparseMatrix* J) override {
+    r.resize(1);
+    r[0] = u[0] * u[0] * u[0] - 2 * u[0] + 2 * t;
+    if (!J) return;
+    if (J->nonZeros() != 1) {
+      J->resize(1, 1);
+      J->setIdentity();
+      J->makeCompressed();
+    }
+    J->valuePtr()[0] = cu * (3 * u[0] * u[0] - 2);
+  }
+  const VecX& lumped_mass() const override { return mass_; }
+  double force_scale() const override { return 2; }
+  double residual_noise() const override { return 0; }
+  std::string diagnose_singular(const SparseMatrix&) const override { return {}; }
+
+ private:
+  VecX mass_ = VecX::Ones(1);
+};
+
+TEST(Newton, StopsWhenTheResidualStagnates) {
+  NewtonCycle sys;
+  StaticNewton newton(false);  // no predictor: the step starts at u = 0
+  newton.newton.line_search = false;
+  newton.newton.max_iterations = 1000;
+  auto solver = make_linear_solver(SolverKind::kUmfpack);
+  State s;
+  s.u = s.v = s.a = VecX::Zero(1);
+  const StepReport rep = newton.step(sys, *solver, 0.0, 1.0, s);
+  EXPECT_FALSE(rep.converged);
+  EXPECT_NE(rep.reason.find("stagnated"), std::string::npos) << rep.reason;
+  EXPECT_LT(rep.residuals.size(), 60U);
+}
+
 }  // namespace
 }  // namespace velum
