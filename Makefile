@@ -54,13 +54,15 @@ asan:
 
 # libFuzzer (clang, ASan + UBSan; preset fuzz) on the model, Gmsh and .inp readers, each for
 # FUZZ_SECONDS (default 60), seeded from the examples and the test meshes; crashes, leaks and
-# slow inputs land in out/fuzz/<harness>/ (tools/run-fuzz). Not part of `make check`.
+# slow inputs land in out/fuzz/<harness>/ (tools/run-fuzz). FUZZ_RUNS=1000000 stops each at
+# that many executions instead (FUZZ_SECONDS=0: no time limit). Not part of `make check`.
 FUZZ_SECONDS ?= 60
+FUZZ_RUNS ?= -1
 fuzz:
 	@scripts/install-deps --fuzz
 	@cmake --preset fuzz > /dev/null
 	@cmake --build build/fuzz -j $(JOBS)
-	@tools/run-fuzz build/fuzz out/fuzz $(FUZZ_SECONDS)
+	@tools/run-fuzz build/fuzz out/fuzz $(FUZZ_SECONDS) $(FUZZ_RUNS)
 
 format:
 	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
