@@ -10,7 +10,7 @@ from pathlib import Path
 import yaml
 
 SNOW = 500.0  # N/m² per plan area, downwards
-GUST = 300.0  # N/m² suction, follower
+GUST = 300.0  # N/m² suction (uplift), follower: along g1 x g2, which points up here
 
 
 def main(form, path):
@@ -35,7 +35,7 @@ def main(form, path):
         {"name": "gust", "analysis": {"type": "dynamic", "time": {"end": 0.6, "step": 0.01},
                                       "integrator": {"scheme": "generalized-alpha",
                                                      "rho_inf": 0.8}},
-         "loads": [snow(), {"type": "pressure", "elements": "roof", "value": -GUST,
+         "loads": [snow(), {"type": "pressure", "elements": "roof", "value": GUST,
                           "function": "gust"}]},
     ]
     model["output"]["directory"] = "staged"  # beside the model file: out/staged
