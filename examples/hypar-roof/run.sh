@@ -1,6 +1,7 @@
 #!/bin/sh
 # The hypar roof: form finding, then 0.5 kN/m² snow on the found shape (elastic, and with
-# wrinkling), then the figures. From this folder: ./run.sh [path/to/velum]
+# wrinkling), then the figures; then the same roof as one staged model (form finding,
+# prestress, snow, gust as analysis steps). From this folder: ./run.sh [path/to/velum]
 set -e
 VELUM=${1:-../../build/release/velum}
 /usr/bin/python3 make_model.py hypar-form.yaml
@@ -9,3 +10,6 @@ VELUM=${1:-../../build/release/velum}
 "$VELUM" run out/snow.yaml
 "$VELUM" run out/snow-wrinkling.yaml
 PYTHONPATH=../../build/release/python /usr/bin/python3 plot.py out
+/usr/bin/python3 staged_model.py hypar-form.yaml out/hypar-staged.yaml
+"$VELUM" run out/hypar-staged.yaml
+PYTHONPATH=../../build/release/python /usr/bin/python3 staged_numbers.py out

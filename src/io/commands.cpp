@@ -291,6 +291,7 @@ int check_command(const std::filesystem::path& file) {
       : a.type == AnalysisSettings::Type::kFormFinding ? "updated reference"
                                                        : a.scheme,
       a.time.t_end, a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
+  say(stdout, "{}", describe_steps(*in));
   say(stdout, "output:     {} every {:.6g}, {} history column{}{}\n", in->output.directory.string(),
       in->output.interval, in->output.history.size(), in->output.history.size() == 1 ? "" : "s",
       in->output.fields ? ", fields" : "");
@@ -321,6 +322,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   if (openblas_set_num_threads) openblas_set_num_threads(omp_get_max_threads());
   if (opt.output) input.output.directory = *opt.output;
   out.directory = input.output.directory;
+  if (!input.steps.empty()) return run_staged(input, opt);  // staged_run.cpp
 
   std::unique_ptr<MechanicalSystem> system;
   try {

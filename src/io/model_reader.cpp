@@ -131,6 +131,11 @@ ModelInput Reader::read(const Node& root) {
   }
   if (auto problems = yaml_structure_problems(root, name_); !problems.empty())
     throw InputError(std::move(problems));
+  if (has(root, "steps")) return read_steps(root);  // model/read_steps.cpp
+  return read_one(root);
+}
+
+ModelInput Reader::read_one(const Node& root) {
   try {
     parse(root);
   } catch (const YAML::Exception& e) {
@@ -145,7 +150,7 @@ ModelInput Reader::read(const Node& root) {
 void Reader::parse(const Node& root) {
   check_map(root, "",
             {"title", "mesh", "materials", "sections", "masses", "boundary", "loads", "functions",
-             "analysis", "output"});
+             "analysis", "output", "steps"});
   if (auto t = text(root, "title", "", false)) in_.title = *t;
   parse_functions(root["functions"]);
   if (require(root, "mesh", "")) parse_mesh(root["mesh"]);

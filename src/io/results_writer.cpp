@@ -114,7 +114,7 @@ std::string json_string(const std::string& s) {
 ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
                              std::filesystem::path directory, const WriterPosition* resume)
     : input_(input),
-      system_(system),
+      system_(&system),
       dir_(std::move(directory)),
       labels_(cell_labels(input.model, input.block_materials)),
       average_(input.model) {
@@ -154,14 +154,17 @@ ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
   history_ = std::fopen(h.c_str(), "w");
   if (!history_)
     throw OutputError(fmt::format("cannot write {}: {}", h.string(), std::strerror(errno)));
-  std::string header = "time";
+  std::string header = input_.steps.empty() ? "time" : "time,analysis_step";
   for (const auto& e : input_.output.history) header += "," + e.name;
   std::fprintf(history_, "%s\n", header.c_str());
   if (std::fflush(history_) != 0) throw OutputError(fmt::format("cannot write {}", h.string()));
   steps_ = std::fopen(sp.c_str(), "w");
   if (!steps_)
     throw OutputError(fmt::format("cannot write {}: {}", sp.string(), std::strerror(errno)));
-  if (std::fputs("step,time,step_size,iterations,factorizations,negative_pivots,residuals\n",
+  if (std::fputs(input_.steps.empty()
+                     ? "step,time,step_size,iterations,factorizations,negative_pivots,residuals\n"
+                     : "analysis_step,step,time,step_size,iterations,factorizations,"
+                       "negative_pivots,residuals\n",
                  steps_) < 0 ||
       std::fflush(steps_) != 0)
     throw OutputError(fmt::format("cannot write {}", sp.string()));
@@ -187,6 +190,7 @@ void ResultsWriter::write_step(const AcceptedStep& step) {
   // Negative pivots: empty where unknown (dynamic steps, LU factorisations).
   const int neg = step.report ? step.report->negative_pivots : -1;
   const std::string row =
+      (input_.steps.empty() ? std::string() : fmt::format("{},", analysis_step_)) +
       fmt::format("{},{:.12g},{:.6g},{},{},{},{}\n", step.step, step.t, step.h, step.iterations,
                   step.factorizations, neg >= 0 ? std::to_string(neg) : std::string(), all);
   if (std::fputs(row.c_str(), steps_) < 0 || std::fflush(steps_) != 0)
@@ -197,8 +201,8 @@ void ResultsWriter::write(const StepSnapshot& snap) {
   // Positions, reactions and cells once per output time: for the history row, the frame and
   // the summary's extremes.
   const double t = snap.step.t;
-  const NodePositions U = system_.displacements(t, snap.state.u);
-  const NodePositions V = system_.velocities(snap.state.v);
+  const NodePositions U = system_->displacements(t, snap.state.u);
+  const NodePositions V = system_->velocities(snap.state.v);
   const NodePositions x = input_.model.X + U;
   NodePositions R;
   bool have_R = false;
@@ -211,9 +215,9 @@ void ResultsWriter::write(const StepSnapshot& snap) {
 
 NodePositions ResultsWriter::reactions(const StepSnapshot& snap, const NodePositions& x) const {
   NodePositions Fint;
-  system_.assembler().internal(x, Fint, nullptr);
-  NodePositions R = Fint - system_.external_forces(snap.step.t, snap.state.u, snap.state.v);
-  const DofMap& d = system_.dofs();
+  system_->assembler().internal(x, Fint, nullptr);
+  NodePositions R = Fint - system_->external_forces(snap.step.t, snap.state.u, snap.state.v);
+  const DofMap& d = system_->dofs();
   for (int n = 0; n < input_.model.num_nodes(); ++n) {
     Vec3 local = d.to_local(n, R.col(n));
     for (int c = 0; c < 3; ++c)
@@ -295,7 +299,7 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
     case Q::kExternalWork:
       return snap.energy.external_work;
     case Q::kGasVolume:
-      return system_.assembler().gas_volume(h.load, x);
+      return system_->assembler().gas_volume(h.load, x);
     case Q::kGasPressure:
       return gas_pressure(h.load, snap.step.t, x);
   }
@@ -304,15 +308,15 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
 
 double ResultsWriter::gas_pressure(int i, double t, const NodePositions& x) const {
   const GasLoad& gas = input_.model.gases[i];
-  return gas.pressure(system_.assembler().gas_volume(i, x),
+  return gas.pressure(system_->assembler().gas_volume(i, x),
                       input_.model.function_value(gas.amount, t));
 }
 
 void ResultsWriter::write_history(const StepSnapshot& snap) {
   NodePositions U, V, x, R;
   if (!input_.output.history.empty()) {
-    U = system_.displacements(snap.step.t, snap.state.u);
-    V = system_.velocities(snap.state.v);
+    U = system_->displacements(snap.step.t, snap.state.u);
+    V = system_->velocities(snap.state.v);
     x = input_.model.X + U;
   }
   bool have_R = false;
@@ -323,6 +327,7 @@ void ResultsWriter::write_history_row(const StepSnapshot& snap, const NodePositi
                                       const NodePositions& V, const NodePositions& x,
                                       NodePositions& R, bool& have_R) {
   std::string row = fmt::format("{:.12g}", snap.step.t);
+  if (!input_.steps.empty()) row += fmt::format(",{}", analysis_step_);
   for (const auto& h : input_.output.history)
     row += fmt::format(",{:.12g}", history_value(h, snap, U, V, x, R, have_R));
   row += "\n";
@@ -466,6 +471,24 @@ void ResultsWriter::write_summary(const RunSummary& r) {
   if (r.form_updates >= 0)
     s += fmt::format("  \"form_finding\": {{\"updates\": {}, \"residual\": {}}},\n", r.form_updates,
                      json_number(r.form_residual));
+  if (!r.analysis_steps.empty()) {
+    s += "  \"analysis_steps\": [\n";
+    for (size_t i = 0; i < r.analysis_steps.size(); ++i) {
+      const StepSummary& a = r.analysis_steps[i];
+      s += fmt::format(
+          "    {{\"name\": {}, \"type\": \"{}\", \"status\": \"{}\", \"start_time\": {}, "
+          "\"end_time\": {}, \"steps\": {}, \"newton_iterations\": {}, \"integrator\": {}",
+          json_string(a.name), a.type, a.status, json_number(a.start_time), json_number(a.end_time),
+          a.steps, a.newton_iterations, json_string(a.integrator));
+      if (!a.reason.empty()) s += fmt::format(", \"reason\": {}", json_string(a.reason));
+      if (a.form_updates >= 0)
+        s += fmt::format(", \"form_finding\": {{\"updates\": {}, \"residual\": {}}}",
+                         a.form_updates, json_number(a.form_residual));
+      s += fmt::format(", \"external_work\": {}}}{}\n", json_number(a.external_work),
+                       i + 1 < r.analysis_steps.size() ? "," : "");
+    }
+    s += "  ],\n";
+  }
   std::string warnings;
   for (const auto& w : r.warnings) warnings += (warnings.empty() ? "" : ", ") + json_string(w);
   s += fmt::format("  \"warnings\": [{}],\n", warnings);

@@ -169,6 +169,49 @@ def inp_edit(old, new):
 
 
 # (name, model text, extra files {name: text|bytes}, extra args, expected status, phrases)
+
+# Staged models (`steps:`, docs/model-format.md "Analysis steps"): the base model, static, with
+# its analysis moved into the steps.
+STATIC_STEP = {"type": "static", "time": {"end": 1.0, "step": 0.5}}
+STAGED_BOUNDARY = [{"nodes": "left", "fix": ["x", "y", "z"]}, {"nodes": [2, 3, 5, 6], "fix": ["z"]}]
+
+
+def staged(steps, **changes):
+    changes.setdefault("analysis", None)
+    changes.setdefault("functions", None)
+    changes.setdefault("loads__0__function", None)
+    changes.setdefault("output__interval", None)
+    changes.setdefault("boundary", STAGED_BOUNDARY)
+    m = yaml.safe_load(mutate(**changes))
+    m["steps"] = steps
+    return yaml.safe_dump(m, sort_keys=False)
+
+
+def line_of(text, needle, nth=1):
+    """1-based line of the nth line of `text` holding `needle`."""
+    seen = 0
+    for i, line in enumerate(text.splitlines(), 1):
+        if needle in line:
+            seen += 1
+            if seen == nth:
+                return i
+    raise AssertionError(needle)
+
+
+def staged_at(steps, needle, nth, key, phrase, **changes):
+    """A bad staged model and the message naming its file, line and key."""
+    text = staged(steps, **changes)
+    return text, [f"model.yaml:{line_of(text, needle, nth)}: {key}", phrase]
+
+
+ST_DUP = staged_at([{"name": "a", "analysis": STATIC_STEP}, {"name": "a", "analysis": STATIC_STEP}], "name: a", 2, "steps[1].name", "a second step named 'a'")
+ST_KEY = staged_at([{"name": "a", "analysis": STATIC_STEP, "lods": []}], "lods", 1, "steps[0].lods", "did you mean 'loads'")
+ST_NOAN = staged_at([{"name": "a", "analysis": STATIC_STEP}, {"name": "b"}], "name: b", 1, "steps[1].analysis", "required key is missing")
+ST_TIME = staged_at([{"name": "a", "analysis": STATIC_STEP}, {"name": "b", "analysis": {"type": "static", "time": {"end": -1, "step": 0.5}}}], "end: -1", 1, "steps[1].analysis.time.end", "")
+ST_FF = staged_at([{"name": "a", "analysis": STATIC_STEP}, {"name": "b", "analysis": {"type": "form_finding", "time": {"end": 1, "step": 1}}}], "type: form_finding", 1, "steps[1].analysis.type", "only the first step can be form_finding")
+ST_LOADS = staged_at([{"name": "a", "analysis": STATIC_STEP}, {"name": "b", "analysis": STATIC_STEP, "loads": [{"type": "point", "nodes": 6, "force": [0, 1, 0], "function": "gust"}]}], "function: gust", 1, "steps[1].loads[0].function", "gust")
+ST_TOP = staged_at([{"name": "a", "analysis": STATIC_STEP}], "type: dynamic", 1, "analysis", "gives each step its own analysis", analysis=BASE["analysis"])
+
 CASES = [
     # ---- YAML itself ----
     ("yaml_syntax", "mesh: [1, 2\nmaterials: {", {}, [], 1, ["YAML syntax error", "model.yaml:"]),
@@ -398,6 +441,22 @@ CASES = [
     ("cli_unknown_option", mutate(), {}, ["--frobnicate"], 1, ["frobnicate"]),
     # ---- a solve that fails: exit 2, summary says failed ----
     ("solve_fails", mutate(analysis__type="static", loads__0={"type": "pressure", "elements": "sheet", "value": 1.0}, sections=[BASE["sections"][0]], mesh__elements=[BASE["mesh"]["elements"][0]], analysis__time={"end": 1.0, "step": 0.5, "min_step": 0.1}, output__interval=0.5), {}, [], 2, ["the solve failed at t = ", "summary.json:failed"]),
+    # ---- analysis steps (steps:) ----
+    ("steps_empty", staged([]), {}, [], 1, ["steps: steps is a list of analysis steps", "give at least one"]),
+    ("steps_not_a_list", staged({"a": 1}), {}, [], 1, ["steps: steps is a list"]),
+    ("steps_duplicate_name", ST_DUP[0], {}, [], 1, ST_DUP[1]),
+    ("steps_unknown_key", ST_KEY[0], {}, [], 1, ST_KEY[1]),
+    ("steps_no_analysis", ST_NOAN[0], {}, [], 1, ST_NOAN[1]),
+    ("steps_bad_time", ST_TIME[0], {}, [], 1, ST_TIME[1]),
+    ("steps_form_finding_later", ST_FF[0], {}, [], 1, ST_FF[1]),
+    ("steps_loads_undefined_function", ST_LOADS[0], {}, [], 1, ST_LOADS[1]),
+    ("steps_and_top_analysis", ST_TOP[0], {}, [], 1, ST_TOP[1]),
+    ("steps_no_name", staged([{"analysis": STATIC_STEP}]), {}, [], 1, ["steps[0].name: required key is missing"]),
+    ("steps_checkpoint", staged([{"name": "a", "analysis": STATIC_STEP}], output__checkpoint={"steps": 1}), {}, [], 1, ["output.checkpoint", "writes no checkpoints"]),
+    ("steps_restart_refused", staged([{"name": "a", "analysis": STATIC_STEP}]), {}, ["--restart", "{dir}/out"], 1, ["--restart: a model with steps", "cannot be restarted"]),
+    ("steps_fixed_node_moved", staged([{"name": "pull", "analysis": STATIC_STEP}, {"name": "hold", "analysis": STATIC_STEP, "boundary": STAGED_BOUNDARY + [{"nodes": [6], "fix": ["x"]}]}]), {}, [], 2, ["step 'hold' (2 of 2): node 6 would jump by", "summary.json:failed"]),
+    ("good_steps_check", staged([{"name": "pull", "analysis": STATIC_STEP}, {"name": "hold", "analysis": STATIC_STEP}]), {}, ["check"], 0, ["step 1:", "'pull': static, t = 0 to 1", "'hold': static, t = 1 to 2", "held boundary, held loads", "is valid"]),
+    ("good_steps_run", staged([{"name": "pull", "analysis": STATIC_STEP}, {"name": "shake", "analysis": {"type": "dynamic", "time": {"end": 0.02, "step": 0.005}}}]), {}, [], 0, ["step 2/2 'shake': dynamic", "converged", "summary.json:converged"]),
     # ---- good inputs ----
     ("good_base_check", mutate(), {}, ["check"], 0, ["is valid", "units"]),
     ("good_base_run", mutate(), {}, [], 0, ["converged"]),

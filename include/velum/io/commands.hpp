@@ -13,8 +13,10 @@
 #include <string>
 #include <vector>
 
+#include "velum/io/checkpoint.hpp"
 #include "velum/io/model_reader.hpp"
 #include "velum/io/results_writer.hpp"
+#include "velum/io/run_control.hpp"
 
 namespace velum::io {
 
@@ -59,6 +61,16 @@ struct RunOutcome {
 /// `velum run` does, printing its progress and statistics on stderr unless quiet. Models that
 /// cannot be set up, I/O failures and failed solves are reported in the outcome, not thrown.
 RunOutcome run_model(ModelInput& input, const RunControls& controls);
+
+/// run_model for a model with steps (src/io/staged_run.cpp).
+RunOutcome run_staged(ModelInput& input, const RunControls& controls);
+/// `velum check`'s lines for a model's steps (none without steps).
+std::string describe_steps(const ModelInput& input);
+/// The output folder, its lock and the results writer of a run (`resume`: a restart).
+bool open_results(const ModelInput& input, MechanicalSystem& system,
+                  const std::filesystem::path& dir, const std::optional<CheckpointFile>& resume,
+                  RunOutcome& out, std::optional<OutputLock>& lock,
+                  std::unique_ptr<ResultsWriter>& writer);
 
 int run_command(const RunOptions& options);
 int check_command(const std::filesystem::path& model);

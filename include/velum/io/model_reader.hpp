@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "velum/analysis/analysis.hpp"
+#include "velum/analysis/stages.hpp"
 #include "velum/model/model.hpp"
 
 namespace velum::io {
@@ -75,6 +76,9 @@ struct ModelInput {
   std::vector<std::string> warnings;           ///< "file:line: key: text", not fatal
   std::string yaml;                ///< the model's YAML text (DIR/form.yaml is written from it)
   std::filesystem::path base_dir;  ///< what relative paths in it start from
+  /// A staged model's steps, in order (model, analysis and output above are the first
+  /// step's); empty for a model without `steps:`.
+  std::vector<AnalysisStep> steps;
 };
 
 // Limits beyond which a model is refused as bad input (docs/model-format.md, "Limits"): each

@@ -23,6 +23,18 @@ class OutputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// One analysis step of a staged run, as summary.json's analysis_steps lists it.
+struct StepSummary {
+  std::string name, type;               ///< analysis.type of the step
+  std::string status;                   ///< converged | failed | not run
+  double start_time = 0, end_time = 0;  ///< total time (end: where it stopped)
+  int steps = 0, newton_iterations = 0;
+  std::string integrator, reason;
+  int form_updates = -1;  ///< form finding: reference updates
+  double form_residual = 0;
+  double external_work = 0;  ///< the work of loads and prescribed motions in this step
+};
+
 struct RunSummary {
   bool converged = false;
   int steps = 0, newton_iterations = 0, factorizations = 0;
@@ -36,6 +48,7 @@ struct RunSummary {
   int threads = 0;           ///< OpenMP threads the run used
   int form_updates = -1;     ///< form finding: reference updates (-1: not form finding)
   double form_residual = 0;  ///< form finding: residual / force scale on the found shape
+  std::vector<StepSummary> analysis_steps;  ///< a staged model's steps (empty otherwise)
 };
 
 /// The largest (or smallest) value of a result over the output times so far, where and when.
@@ -78,6 +91,13 @@ class ResultsWriter {
   void write_step(const AcceptedStep& step);
   void write_summary(const RunSummary& s);
 
+  /// A staged run: the rows and frames that follow belong to analysis step `number`
+  /// (1-based), solved by `system` on the model now in the ModelInput given at construction.
+  void begin_analysis_step(int number, MechanicalSystem& system) {
+    analysis_step_ = number;
+    system_ = &system;
+  }
+
   const std::filesystem::path& directory() const { return dir_; }
   int frames() const { return static_cast<int>(frame_times_.size()); }
 
@@ -99,7 +119,8 @@ class ResultsWriter {
   void write_pvd();
 
   const ModelInput& input_;
-  MechanicalSystem& system_;
+  MechanicalSystem* system_;
+  int analysis_step_ = 0;
   std::filesystem::path dir_;
   std::FILE* history_ = nullptr;
   std::FILE* steps_ = nullptr;

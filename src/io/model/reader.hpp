@@ -2,7 +2,8 @@
 // they read: model_reader.cpp (the file as a whole and the final checks), read_mesh.cpp
 // (nodes, elements, node sets), read_materials.cpp (materials), read_sections.cpp (sections
 // and the element blocks they make), read_loads.cpp (time functions, masses, boundary
-// conditions, loads), read_gas.cpp (enclosed gas) and read_analysis.cpp (analysis and output).
+// conditions, loads), read_gas.cpp (enclosed gas), read_analysis.cpp (analysis and output)
+// and read_steps.cpp (analysis steps).
 #pragma once
 
 #include <map>
@@ -55,7 +56,12 @@ class Reader : public ReaderContext {
 
  private:
   // model_reader.cpp
+  /// A model without steps (or one step's model, which read_steps puts together).
+  ModelInput read_one(const Node& root);
   void parse(const Node& root);
+
+  // read_steps.cpp: a model with `steps:`, read once per step.
+  ModelInput read_steps(const Node& root);
   void final_checks(const Node& root);
 
   // read_mesh.cpp

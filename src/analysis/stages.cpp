@@ -1,0 +1,250 @@
+#include "velum/analysis/stages.hpp"
+
+#include <fmt/format.h>
+
+#include <optional>
+#include <stdexcept>
+
+#include "velum/model/gas_chamber.hpp"
+
+namespace velum {
+
+void shift_functions(Model& model, double t0) {
+  if (t0 == 0) return;
+  for (TimeFunction& f : model.functions) {
+    if (f.kind == TimeFunction::Kind::kRamp) {
+      f.kind = TimeFunction::Kind::kTable;
+      f.points = {{t0, 0.0}, {t0 + f.duration, 1.0}};
+    } else if (f.kind == TimeFunction::Kind::kTable) {
+      for (auto& p : f.points) p.first += t0;
+    }
+  }
+}
+
+namespace {
+
+template <class T>
+void same_list(const std::vector<T>& a, const std::vector<T>& b, const char* what) {
+  if (a.size() != b.size())
+    throw std::logic_error(
+        fmt::format("a step goes on with the {} before it, but they differ "
+                    "in number ({} and {})",
+                    what, a.size(), b.size()));
+}
+
+}  // namespace
+
+void hold_loads(Model& step, const Model& before, double t) {
+  same_list(step.point_loads, before.point_loads, "point loads");
+  same_list(step.edge_loads, before.edge_loads, "edge loads");
+  same_list(step.pressures, before.pressures, "pressures");
+  same_list(step.gravity, before.gravity, "gravity loads");
+  same_list(step.gases, before.gases, "gas loads");
+  for (size_t i = 0; i < step.point_loads.size(); ++i) {
+    const PointLoad& b = before.point_loads[i];
+    step.point_loads[i].force = b.force * before.function_value(b.function, t);
+    step.point_loads[i].function = -1;
+  }
+  for (size_t i = 0; i < step.edge_loads.size(); ++i) {
+    const EdgeLoad& b = before.edge_loads[i];
+    step.edge_loads[i].force_per_length = b.force_per_length * before.function_value(b.function, t);
+    step.edge_loads[i].function = -1;
+  }
+  for (size_t i = 0; i < step.pressures.size(); ++i) {
+    const PressureLoad& b = before.pressures[i];
+    step.pressures[i].value = b.value * before.function_value(b.function, t);
+    step.pressures[i].function = -1;
+  }
+  for (size_t i = 0; i < step.gravity.size(); ++i) {
+    const GravityLoad& b = before.gravity[i];
+    step.gravity[i].acceleration = b.acceleration * before.function_value(b.function, t);
+    step.gravity[i].function = -1;
+  }
+  // The gas amount is a time function: held by a constant function of its value.
+  for (size_t i = 0; i < step.gases.size(); ++i) {
+    TimeFunction held;
+    held.value = before.function_value(before.gases[i].amount, t);
+    held.name = "held";
+    step.functions.push_back(held);
+    step.gases[i].amount = static_cast<int>(step.functions.size()) - 1;
+  }
+}
+
+void hold_boundary(Model& step, const Model& before, double t) {
+  same_list(step.prescribed, before.prescribed, "prescribed motions");
+  for (size_t i = 0; i < step.prescribed.size(); ++i) {
+    const PrescribedMotion& b = before.prescribed[i];
+    step.prescribed[i].displacement = b.displacement * before.function_value(b.function, t);
+    step.prescribed[i].function = -1;
+  }
+}
+
+void move_reference(Model& model, const NodePositions& x) {
+  model.X = x;
+  for (auto& b : model.blocks) b = b->on_reference(x, 0.0);
+  for (GasLoad& g : model.gases) set_up_gas_chamber(model, g);
+}
+
+namespace {
+
+/// The state at the end of a step as full nodal vectors (they outlive its equation numbering).
+struct NodalState {
+  NodePositions U, V, A;
+};
+
+NodalState nodal(const MechanicalSystem& sys, double t, const State& s) {
+  NodalState n{sys.displacements(t, s.u), sys.velocities(s.v), sys.velocities(s.a)};
+  return n;
+}
+
+/// The state of the step that `sys` solves, from the end of the step before; a message when a
+/// node's constrained components would put it elsewhere than where that step left it.
+State carry_in(const MechanicalSystem& sys, double t, const NodalState& n, std::string& jump) {
+  State s;
+  s.u.resize(sys.size()), s.v.resize(sys.size()), s.a.resize(sys.size());
+  sys.dofs().gather(n.U, s.u);
+  sys.dofs().gather(n.V, s.v);
+  sys.dofs().gather(n.A, s.a);
+  const NodePositions U = sys.displacements(t, s.u);
+  const Model& m = sys.model();
+  const double size = (m.X.rowwise().maxCoeff() - m.X.rowwise().minCoeff()).norm();
+  const double tol = 1e-9 * (size + n.U.cwiseAbs().maxCoeff());
+  int worst = -1;
+  double worst_d = tol;
+  for (int i = 0; i < m.num_nodes(); ++i)
+    if (const double d = (U.col(i) - n.U.col(i)).norm(); d > worst_d) worst = i, worst_d = d;
+  if (worst >= 0)
+    jump = fmt::format(
+        "node {} would jump by {:.6g} at the start of the step: its fixed, prescribed or "
+        "symmetry components put it elsewhere than where the step before left it (fixed "
+        "components hold zero displacement from the reference, prescribed motions are measured "
+        "from it); leave it free, or prescribe where it is",
+        m.node_ids[static_cast<size_t>(worst)], worst_d);
+  return s;
+}
+
+}  // namespace
+
+namespace {
+
+// The run of the steps: what goes on from one to the next.
+class StageRunner {
+ public:
+  StageRunner(std::vector<AnalysisStep>& steps, Model& slot, const StageObserver& obs)
+      : steps_(steps), slot_(slot), obs_(obs) {
+    out_.steps.resize(steps.size());
+  }
+
+  StagedResult run() {
+    for (size_t k = 0; k < steps_.size(); ++k) {
+      const std::string which =
+          fmt::format("step '{}' ({} of {})", steps_[k].name, k + 1, steps_.size());
+      StepOutcome& o = out_.steps[k];
+      o.run = true;
+      o.t_start = o.t_end = t_;
+      try {
+        if (!step(k, o)) {
+          out_.failed = static_cast<int>(k);
+          out_.reason = which + ": " + reason_;
+          return std::move(out_);
+        }
+      } catch (const std::exception& e) {  // a model that cannot be set up, a solver that throws
+        out_.failed = static_cast<int>(k);
+        out_.reason = which + ": " + e.what();
+        return std::move(out_);
+      }
+    }
+    out_.completed = true;
+    return std::move(out_);
+  }
+
+ private:
+  // Runs step k; false (reason_ set) when it fails.
+  bool step(size_t k, StepOutcome& o) {
+    AnalysisStep& step = steps_[k];
+    Model& m = step.model;
+    shift_functions(m, t_);
+    if (k > 0 && !step.loads_given) hold_loads(m, slot_, t_);
+    if (k > 0 && !step.boundary_given) hold_boundary(m, slot_, t_);
+    if (found_) {
+      move_reference(m, *found_);
+      // The motions held from form finding brought their nodes to the found shape: from it,
+      // they hold them where they are.
+      if (!step.boundary_given && !have_state_)
+        for (PrescribedMotion& p : m.prescribed) p.displacement.setZero();
+    }
+    slot_ = std::move(m);
+    MechanicalSystem sys(slot_);
+    AnalysisSettings settings = step.analysis;
+    settings.time.t0 = t_;
+    settings.time.t_end = t_ + step.analysis.time.t_end;
+    State start;
+    if (have_state_) {
+      start = carry_in(sys, t_, carried_, reason_);
+      if (!reason_.empty()) return false;
+    }
+    if (obs_.begin) obs_.begin(static_cast<int>(k), sys);
+    State last = start;
+    const auto observe = [&](const StepSnapshot& snap) {
+      last = snap.state;
+      if (k > 0 && snap.step.step == 0) return true;  // the end of the step before
+      Energies E = snap.energy;
+      E.external_work += before_.external_work;
+      E.damping += before_.damping;
+      return !obs_.step ||
+             obs_.step(static_cast<int>(k),
+                       StepSnapshot{snap.step, snap.system, snap.state, E, snap.checkpoint});
+    };
+    if (settings.type == AnalysisSettings::Type::kFormFinding)
+      o.result = run_form_finding(slot_, sys, settings, observe, obs_.warn, &o.form);
+    else
+      o.result = run_analysis(sys, settings, observe, obs_.warn, have_state_ ? &start : nullptr);
+    const TimeLoopResult& loop = o.result.loop;
+    o.t_end = loop.completed ? settings.time.t_end : loop.t;
+    out_.energy = o.result.energy;
+    out_.energy.external_work += before_.external_work;
+    out_.energy.damping += before_.damping;
+    if (!loop.completed) {
+      out_.stopped = loop.stopped;
+      reason_ = loop.reason.empty() ? "stopped" : loop.reason;
+      return false;
+    }
+    t_ = settings.time.t_end;
+    if (settings.type == AnalysisSettings::Type::kFormFinding) {
+      // The found shape is the reference from here on: the state and the account start again.
+      found_ = o.form.shape;
+      have_state_ = false;
+      before_ = Energies{};
+      out_.energy = Energies{};
+      return true;
+    }
+    before_.external_work = out_.energy.external_work;
+    before_.damping = out_.energy.damping;
+    carried_ = nodal(sys, t_, last);
+    if (settings.equilibrium()) {  // an equilibrium is at rest, whatever came before it
+      carried_.V.setZero();
+      carried_.A.setZero();
+    }
+    have_state_ = true;
+    return true;
+  }
+
+  std::vector<AnalysisStep>& steps_;
+  Model& slot_;
+  const StageObserver& obs_;
+  StagedResult out_;
+  std::string reason_;
+  double t_ = 0;
+  Energies before_;  ///< work and damping of the steps done (since the last form finding)
+  NodalState carried_;
+  bool have_state_ = false;  ///< false: the step starts at rest on its reference
+  std::optional<NodePositions> found_;
+};
+
+}  // namespace
+
+StagedResult run_stages(std::vector<AnalysisStep>& steps, Model& slot, const StageObserver& obs) {
+  return StageRunner(steps, slot, obs).run();
+}
+
+}  // namespace velum
