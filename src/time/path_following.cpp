@@ -172,11 +172,10 @@ StepReport PathTracer::step(Control control, double size) {
     }
     double delta_t = 0;
     if (!constraint(control, size, du, dt, a_, b_, delta_t)) {
-      rep.reason =
-          control == Control::kDisplacement
-              ? "no load level holds the controlled displacement here (the load no longer "
-                "changes it: a limit point in the displacement, or no equilibrium beyond)"
-              : "no point on the arc near the path (the arc length is too long here)";
+      rep.reason = control == Control::kDisplacement
+                       ? "no load level holds the controlled displacement here (the load no longer "
+                         "changes it: a limit point in the displacement, or no equilibrium beyond)"
+                       : "no point on the arc near the path (the arc length is too long here)";
       return rep;
     }
     a_ += delta_t * b_;
