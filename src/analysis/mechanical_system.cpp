@@ -159,10 +159,7 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     if (J && cu == 0) combine_values(*J, 0.0, nullptr, 0.0);
     assemble_external(t, v, J && cu != 0 ? J : nullptr, true);
   }
-  if (J && cu != 0 && cu != 1) {
-    combine_values(*J, cu, nullptr, 0.0);
-    low_rank_.U *= cu;
-  }
+  if (J && cu != 0 && cu != 1) low_rank_.U *= cu;
   if (J && cu == 0) low_rank_ = {};
 
   dofs_.gather(Fint_ - Fext_, r);
@@ -176,23 +173,37 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
   force_scale_ = std::max({Fint_.norm(), Fext_.norm(), mv_.norm()});
 
   if (!J) return;
-  if (cu != 0) {  // J holds cu (K − Kp) here: the stiffness that turns a ulp of x into force
-    // ε ‖|J|ᵀ |x|‖, column by column (no two threads write one entry); for a symmetric J it
-    // is ε ‖|J| |x|‖.
+  if (cu != 0) {
+    // J holds K − Kp here (unscaled): the stiffness that turns a ulp of x into force. One
+    // pass over the entries gives the round-off level ε ‖|K − Kp|ᵀ |x|‖ (column by column:
+    // no two threads write one entry; for a symmetric J it is ε ‖|J| |x|‖) and makes J =
+    // cu (K − Kp) + cm M (the matrix is the largest thing an iteration walks).
     dofs_.gather(x_, x_eq_);
     noise_eq_.resize(size());
     const int* outer = J->outerIndexPtr();
     const int* inner = J->innerIndexPtr();
-    const double* jv = J->valuePtr();
+    double* jv = J->valuePtr();
+    const double* mv = cm != 0 ? mass_matrix().valuePtr() : nullptr;
 #pragma omp parallel for schedule(static) if (J->nonZeros() > kParallelMatrixEntries)
     for (int j = 0; j < J->outerSize(); ++j) {
       double sum = 0;
-      for (int k = outer[j]; k < outer[j + 1]; ++k) sum += std::abs(jv[k] * x_eq_[inner[k]]);
+      if (mv) {
+        for (int k = outer[j]; k < outer[j + 1]; ++k) {
+          sum += std::abs(jv[k] * x_eq_[inner[k]]);
+          jv[k] = cu * jv[k] + cm * mv[k];
+        }
+      } else {
+        for (int k = outer[j]; k < outer[j + 1]; ++k) {
+          sum += std::abs(jv[k] * x_eq_[inner[k]]);
+          jv[k] *= cu;
+        }
+      }
       noise_eq_[j] = sum;
     }
-    residual_noise_ = std::numeric_limits<double>::epsilon() * noise_eq_.norm() / std::abs(cu);
+    residual_noise_ = std::numeric_limits<double>::epsilon() * noise_eq_.norm();
+  } else if (cm != 0) {
+    combine_values(*J, 1.0, &mass_matrix(), cm);
   }
-  if (cm != 0) combine_values(*J, 1.0, &mass_matrix(), cm);
   if (drag_ && cv != 0) {
     for (const auto& m : model_.masses) {
       const double c = 0.5 * m.drag_rho * m.drag_cd_area;

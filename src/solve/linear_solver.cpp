@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <klu.h>
+#include <omp.h>
 #include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>
 
@@ -45,6 +46,24 @@ class EigenSolver : public LinearSolver {
   bool sym_;
 };
 
+// CHOLMOD 3.0 (SuiteSparse 5.12) runs loops of its supernodal factorisation in OpenMP regions
+// with num_threads(CHOLMOD_OMP_NUM_THREADS), a constant 4, whatever the program's thread count:
+// on Hencky quad4 n = 130 with --threads 1, three extra threads took 28 % of the run's CPU
+// samples, most of it spinning in libgomp and the kernel, on this 2-core machine (24.4 s CPU
+// with OMP_THREAD_LIMIT=1, 35.7 s without). Those loops copy and clear; the BLAS (dgemm,
+// dsyrk), which does the work, has its own threads (--threads). While CHOLMOD runs, no
+// OpenMP region may be active (max-active-levels 0): its regions run on the calling thread.
+class SerialOpenMp {
+ public:
+  SerialOpenMp() : levels_(omp_get_max_active_levels()) { omp_set_max_active_levels(0); }
+  ~SerialOpenMp() { omp_set_max_active_levels(levels_); }
+  SerialOpenMp(const SerialOpenMp&) = delete;
+  SerialOpenMp& operator=(const SerialOpenMp&) = delete;
+
+ private:
+  int levels_;
+};
+
 class Cholmod final : public EigenSolver<Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower>> {
  public:
   // A non-positive pivot is reported through the status (and `auto` falls back to LU), not
@@ -64,6 +83,7 @@ class Cholmod final : public EigenSolver<Eigen::CholmodSupernodalLLT<SparseMatri
   }
   bool analyze(const SparseMatrix& A) override {
     if (check_symmetry_) check_.map(A);
+    SerialOpenMp serial;
     return EigenSolver::analyze(A);
   }
   bool factorize(const SparseMatrix& A) override {
@@ -77,10 +97,15 @@ class Cholmod final : public EigenSolver<Eigen::CholmodSupernodalLLT<SparseMatri
             "use linear_solver: auto, klu, umfpack or mumps",
             asym));
     }
+    SerialOpenMp serial;
     impl_.factorize(A);
     // CHOLMOD reports a non-positive pivot through its common status, not through info().
     factorized_ = impl_.info() == Eigen::Success && impl_.cholmod().status == CHOLMOD_OK;
     return factorized_;
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    SerialOpenMp serial;
+    return EigenSolver::solve(b, x);
   }
   int negative_pivots() const override { return factorized_ ? 0 : -1; }  // definite
 

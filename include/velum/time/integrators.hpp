@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "velum/solve/linear_solver.hpp"
+#include "velum/time/low_rank_solver.hpp"
 #include "velum/time/second_order_system.hpp"
 
 namespace velum {
@@ -29,6 +30,9 @@ struct NewtonSettings {
   /// Reuse the last factorisation for the next correction while the residual falls tenfold
   /// per correction (a chord step); false: a fresh tangent at every iteration.
   bool reuse_tangent = true;
+  /// Dynamics (with reuse_tangent): a step of the same size as the last starts with chord
+  /// steps on the last step's factorisation, under the same tenfold test.
+  bool reuse_across_steps = true;
 };
 
 struct StepReport {
@@ -80,6 +84,13 @@ class GeneralizedAlpha : public TimeIntegrator {
   std::string name_;
   VecX un_, vn_, an_, r_, du_, uf_, vf_, am_;
   SparseMatrix J_;  ///< kept between steps: its pattern is allocated once
+  /// The solver (with the low-rank part of the factorisation it holds) kept between steps,
+  /// the wrapped solver's factorisation count after the last step (-1: none) and the shift
+  /// coefficients (cu, cv, ca) of the Jacobian it factorised last.
+  std::unique_ptr<LowRankCorrectedSolver> low_rank_;
+  long carried_count_ = -1;
+  Vec3 carried_shift_ = Vec3::Zero();
+  int last_factorizations_ = 0;  ///< of the last step (carried only after an easy one)
 };
 
 /// Explicit central difference (velocity Verlet form) with the lumped mass.

@@ -25,6 +25,8 @@ class LowRankCorrectedSolver final : public LinearSolver {
   bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
   bool symmetric_only() const override { return sparse_.symmetric_only(); }
   std::string status() const override;
+  const LinearSolver& wrapped() const { return sparse_; }
+  const SecondOrderSystem& system() const { return sys_; }
 
  private:
   LinearSolver& sparse_;

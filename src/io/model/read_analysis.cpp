@@ -192,7 +192,9 @@ void Reader::parse_analysis(const Node& a) {
   if (has(a, "newton")) {
     const Node n = a["newton"];
     const std::string p = "analysis.newton";
-    if (check_map(n, p, {"tolerance", "max_iterations", "line_search", "reuse_tangent"})) {
+    if (check_map(n, p,
+                  {"tolerance", "max_iterations", "line_search", "reuse_tangent",
+                   "reuse_across_steps"})) {
       if (auto tol = positive(n, "tolerance", p, false, "the Newton tolerance"))
         s.newton.tolerance = *tol;
       if (has(n, "max_iterations")) {
@@ -209,6 +211,7 @@ void Reader::parse_analysis(const Node& a) {
       }
       if (auto ls = boolean(n, "line_search", p)) s.newton.line_search = *ls;
       if (auto reuse = boolean(n, "reuse_tangent", p)) s.newton.reuse_tangent = *reuse;
+      if (auto across = boolean(n, "reuse_across_steps", p)) s.newton.reuse_across_steps = *across;
     }
   }
   if (has(a, "damping")) {
