@@ -309,6 +309,7 @@ CASES = [
     ("newton_zero_iterations", mutate(analysis__newton={"max_iterations": 0}), {}, [], 1, ["at least one iteration"]),
     # ---- output ----
     ("line_search_not_boolean", mutate(analysis__newton={"tolerance": 1e-8, "line_search": "maybe"}), {}, [], 1, ["analysis.newton.line_search"]),
+    ("reuse_across_steps_not_boolean", mutate(analysis__newton={"reuse_across_steps": "maybe"}), {}, [], 1, ["analysis.newton.reuse_across_steps"]),
     ("history_unknown_quantity", mutate(output__history=[{"name": "a", "quantity": "displacment", "node": 6, "component": "x"}]), {}, [], 1, ["did you mean 'displacement'"]),
     ("history_point_outside", mutate(output__history=[{"name": "a", "quantity": "stress", "point": [5, 5, 0], "component": "s11"}]), {}, [], 1, ["lies in no membrane element"]),
     ("history_duplicate_name", mutate(output__history=[{"name": "a", "quantity": "kinetic_energy"}, {"name": "a", "quantity": "strain_energy"}]), {}, [], 1, ["duplicate history name 'a'"]),
