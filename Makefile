@@ -4,7 +4,7 @@ BUILD  := build/$(PRESET)
 JOBS   ?= $(shell nproc)
 CMAKE_FLAGS ?= $(if $(CI),-DVELUM_WERROR=ON,)
 
-.PHONY: all deps configure build check demo bench profile-c9 verify asan fuzz clean format install
+.PHONY: all deps configure build check demo bench profile-c9 compare-fenicsx verify asan fuzz clean format install
 
 all: build
 
@@ -35,6 +35,11 @@ bench: build
 profile-c9: build
 	@scripts/install-deps --profile
 	@bench/c9-profile --velum $(BUILD)/velum
+
+# Velum against FEniCSx on the Hencky membrane (bench/compare-fenicsx; minutes of CPU).
+compare-fenicsx: build
+	@scripts/install-deps --bench
+	@bench/compare-fenicsx --velum $(BUILD)/velum
 
 # Cases A and B through CTest (their log becomes the report's B section), then the paper's
 # membrane-versus-network experiments C1, C2 at every size (tools/network-verification), which
