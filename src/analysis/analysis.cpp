@@ -88,9 +88,8 @@ class EnergyAccount {
     work_scale_ += std::abs(dW);
     const double alpha = sys_.model().rayleigh_mass;
     if (alpha != 0)
-      E.damping +=
-          0.5 * st.h * alpha *
-          (cur.v.dot(sys_.mass_matrix() * cur.v) + v_prev_.dot(sys_.mass_matrix() * v_prev_));
+      E.damping += 0.5 * st.h * alpha *
+                   (cur.v.dot(sys_.mass_times(cur.v)) + v_prev_.dot(sys_.mass_times(v_prev_)));
     E.kinetic = dynamic_ ? sys_.kinetic_energy(cur.v) : 0.0;
     E.strain = sys_.strain_energy(st.t, cur.u);
     U_prev_ = U, F_prev_ = F, v_prev_ = cur.v;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "velum/solve/processes.hpp"
+
 namespace velum {
 namespace {
 
@@ -49,6 +51,16 @@ const SparseMatrix& MechanicalSystem::mass_matrix() const {
     have_mass_ = true;
   }
   return M_;
+}
+
+VecX MechanicalSystem::mass_times(const VecX& v) const {
+  VecX Mv = mass_matrix() * v;
+  complete(Mv);
+  return Mv;
+}
+
+void MechanicalSystem::complete(VecX& from_jacobian) const {
+  processes::sum(from_jacobian.data(), static_cast<long>(from_jacobian.size()));
 }
 
 void MechanicalSystem::apply_prescribed(double t, NodePositions& U) const {
@@ -164,12 +176,16 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
 
   dofs_.gather(Fint_ - Fext_, r);
   if (a.squaredNorm() != 0) {
-    mv_ = mass_matrix() * a;
+    mv_ = mass_times(a);
     r += mv_;
   } else
     mv_.setZero(r.size());
-  if (alpha != 0 && v.squaredNorm() != 0) r += alpha * (mass_matrix() * v);
-  if (beta != 0) r += beta * (K_ * v);
+  if (alpha != 0 && v.squaredNorm() != 0) r += alpha * mass_times(v);
+  if (beta != 0) {
+    VecX Kv = K_ * v;
+    complete(Kv);
+    r += beta * Kv;
+  }
   force_scale_ = std::max({Fint_.norm(), Fext_.norm(), mv_.norm()});
 
   if (!J) return;
@@ -200,11 +216,15 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
       }
       noise_eq_[j] = sum;
     }
+    // On several processes: the sum of the shares' |J| |x| (equal to |J| |x| except where
+    // two processes add into one entry, where it bounds it from above).
+    complete(noise_eq_);
     residual_noise_ = std::numeric_limits<double>::epsilon() * noise_eq_.norm();
   } else if (cm != 0) {
     combine_values(*J, 1.0, &mass_matrix(), cm);
   }
-  if (drag_ && cv != 0) {
+  // Payload drag: added once, by the first process (its share holds every node's own block).
+  if (drag_ && cv != 0 && processes::rank() == 0) {
     for (const auto& m : model_.masses) {
       const double c = 0.5 * m.drag_rho * m.drag_cd_area;
       if (c <= 0) continue;
@@ -269,7 +289,9 @@ std::string MechanicalSystem::inverted_element(double t_from, const VecX& u_from
 
 std::string MechanicalSystem::diagnose_singular(const SparseMatrix& J) const {
   // Equations whose diagonal is negligible carry no stiffness (nor mass) at all.
-  const VecX d = J.diagonal().cwiseAbs();
+  VecX d = J.diagonal();
+  complete(d);  // the shares' diagonals add up to J's
+  d = d.cwiseAbs();
   const double dmax = d.size() ? d.maxCoeff() : 0.0;
   std::vector<std::string> bad;
   int count = 0;

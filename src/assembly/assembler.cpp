@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "velum/solve/processes.hpp"
+
 namespace velum {
 namespace {
 
@@ -53,17 +55,27 @@ void to_local_frames(const DofMap& dofs, std::span<const int> nodes, double* r, 
 // from node adjacency, it costs a few bytes per node pair instead of a triplet per
 // element-matrix entry (117 MB for 50k quad4), and is cheap enough to rebuild on demand
 // rather than kept next to the matrices built on it.
-void build_pattern(const Model& model, const DofMap& dofs, std::vector<int>& outer,
-                   std::vector<int>& inner) {
+//
+// On several processes, the pattern of this process's share: the couplings of its own
+// elements (`own`, per block), the self-coupling of their nodes, and on the first process
+// that of every node (point masses and payload drag are added there).
+void build_pattern(const Model& model, const DofMap& dofs, const std::vector<std::vector<int>>& own,
+                   bool every_node, std::vector<int>& outer, std::vector<int>& inner) {
   const int nn = model.num_nodes(), neq = dofs.num_equations();
+  std::vector<char> touched(nn, every_node ? 1 : 0);
+  if (!every_node)
+    for (size_t bi = 0; bi < model.blocks.size(); ++bi)
+      for (int e : own[bi])
+        for (int a : model.blocks[bi]->nodes(e)) touched[a] = 1;
   // Node adjacency with repeats, compressed: count, then fill.
   std::vector<int> start(nn + 1, 0), adj, fill;
   auto visit = [&](const auto& link) {
-    for (int n = 0; n < nn; ++n) link(n, n);
-    for (const auto& b : model.blocks)
-      for (int e = 0; e < b->size(); ++e)
-        for (int a : b->nodes(e))
-          for (int c : b->nodes(e))
+    for (int n = 0; n < nn; ++n)
+      if (touched[n]) link(n, n);
+    for (size_t bi = 0; bi < model.blocks.size(); ++bi)
+      for (int e : own[bi])
+        for (int a : model.blocks[bi]->nodes(e))
+          for (int c : model.blocks[bi]->nodes(e))
             if (a != c) link(a, c);
   };
   visit([&](int a, int) { ++start[a + 1]; });
@@ -93,6 +105,10 @@ void build_pattern(const Model& model, const DofMap& dofs, std::vector<int>& out
   std::sort(eq_node.begin(), eq_node.end());
   int built_for = -1;
   for (const auto& [q, n] : eq_node) {
+    if (!touched[n]) {
+      outer[q + 1] = static_cast<int>(inner.size());
+      continue;
+    }
     if (n != built_for) {
       column.clear();
       for (int k = start[n]; k < start[n + 1]; ++k)
@@ -110,8 +126,37 @@ void build_pattern(const Model& model, const DofMap& dofs, std::vector<int>& out
 
 Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), dofs_(dofs) {
   neq_ = dofs.num_equations();
+  several_ = processes::count() > 1;
+  const int rank = processes::rank();
+  // The partition: an element belongs to the process that owns the row of its lowest
+  // equation (rows split in contiguous even ranges, as the PETSc matrix's): with a node
+  // numbering that follows the mesh (bandwidth-reduced, or row by row), a process's elements
+  // form a band whose entries mostly fall in its own rows. An element without equations goes
+  // round-robin.
+  auto owner = [&](const ElementBlock& b, int e) {
+    int lowest = neq_;
+    for (int n : b.nodes(e))
+      for (int c = 0; c < 3; ++c)
+        if (const int q = dofs.equation(n, c); q >= 0) lowest = std::min(lowest, q);
+    return lowest < neq_ ? processes::owner(lowest, neq_) : e % processes::count();
+  };
+  for (const auto& bp : model.blocks) {
+    auto& own = own_.emplace_back();
+    auto& local = local_.emplace_back(bp->size(), -1);
+    for (int e = 0; e < bp->size(); ++e)
+      if (!several_ || owner(*bp, e) == rank) {
+        local[e] = static_cast<int>(own.size());
+        own.push_back(e);
+      }
+  }
+  auto mine = [&](int block, const std::vector<int>& elems) {
+    std::vector<int> kept;
+    for (int e : elems)
+      if (local_[block][e] >= 0) kept.push_back(e);
+    return kept;
+  };
   std::vector<int> outer, inner, eqs;
-  build_pattern(model, dofs, outer, inner);
+  build_pattern(model, dofs, own_, !several_ || rank == 0, outer, inner);
   nonzeros_ = static_cast<Eigen::Index>(inner.size());
   auto position = [&](int row, int col) {
     const int* lo = inner.data() + outer[col];
@@ -121,15 +166,18 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
     const auto& b = *model.blocks[bi];
     const int nd = b.dofs_per_element();
-    std::vector<int> all(b.size());
-    for (int e = 0; e < b.size(); ++e) all[e] = e;
-    colors_.push_back(color_elements(b, all, model.num_nodes()));
-    std::vector<int> map(static_cast<size_t>(b.size()) * nd * nd);
-    for (int e = 0; e < b.size(); ++e) {
+    colors_.push_back(color_elements(b, own_[bi], model.num_nodes()));
+    if (several_) {
+      std::vector<int> all(b.size());
+      for (int e = 0; e < b.size(); ++e) all[e] = e;
+      colors_all_.push_back(color_elements(b, all, model.num_nodes()));
+    }
+    std::vector<int> map(own_[bi].size() * nd * nd);
+    for (size_t k = 0; k < own_[bi].size(); ++k) {
       eqs.clear();
-      for (int n : b.nodes(e))
+      for (int n : b.nodes(own_[bi][k]))
         for (int c = 0; c < 3; ++c) eqs.push_back(dofs.equation(n, c));
-      int* m = map.data() + static_cast<size_t>(e) * nd * nd;
+      int* m = map.data() + k * nd * nd;
       for (int j = 0; j < nd; ++j)
         for (int i = 0; i < nd; ++i)
           m[j * nd + i] = (eqs[i] >= 0 && eqs[j] >= 0) ? position(eqs[i], eqs[j]) : -1;
@@ -139,7 +187,8 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
   for (const auto& b : model.blocks) max_dofs_ = std::max(max_dofs_, b->dofs_per_element());
   for (const auto& p : model.pressures) {
     const auto& b = *model.blocks[p.block];
-    pressure_colors_.push_back(color_elements(b, p.elements, model.num_nodes()));
+    pressure_colors_.push_back(color_elements(b, mine(p.block, p.elements), model.num_nodes()));
+    if (several_) pressure_colors_all_.push_back(color_elements(b, p.elements, model.num_nodes()));
     std::vector<char> seen(b.size(), 0);
     int distinct = 0;
     for (int e : p.elements) distinct += seen[e] ? 0 : (seen[e] = 1);
@@ -150,10 +199,24 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
     auto& parts = gas_parts_.emplace_back();
     for (const auto& part : g.parts) {
       const auto& b = *model.blocks[part.block];
-      parts.push_back({color_elements(b, part.elements, model.num_nodes()),
-                       make_surface_volume_kernel(b.type_name())});
+      GasPart gp;
+      gp.own = mine(part.block, part.elements);
+      gp.colors = color_elements(b, gp.own, model.num_nodes());
+      if (several_) gp.colors_all = color_elements(b, part.elements, model.num_nodes());
+      gp.kernel = make_surface_volume_kernel(b.type_name());
+      parts.push_back(std::move(gp));
     }
   }
+}
+
+long Assembler::own_elements() const {
+  long n = 0;
+  for (const auto& own : own_) n += static_cast<long>(own.size());
+  return n;
+}
+
+void Assembler::reduce(NodePositions& F) const {
+  if (shared()) processes::sum(F.data(), static_cast<long>(F.size()));
 }
 
 void combine_values(SparseMatrix& A, double a, const SparseMatrix* B, double b) {
@@ -183,7 +246,7 @@ SparseMatrix Assembler::make_matrix() const {
 
 void Assembler::make_matrix(SparseMatrix& A) const {
   std::vector<int> outer, inner;
-  build_pattern(model_, dofs_, outer, inner);
+  build_pattern(model_, dofs_, own_, !several_ || processes::rank() == 0, outer, inner);
   A.resize(neq_, neq_);
   A.resizeNonZeros(nonzeros());
   std::copy(outer.begin(), outer.end(), A.outerIndexPtr());
@@ -209,6 +272,7 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
   }
   const int nd = b.dofs_per_element();
   const int* map = scatter_[bi].data();
+  const int* local = local_[bi].data();
   double* values = K ? K->valuePtr() : nullptr;
   for (const auto& list : colors) {
     const int nchunks = (static_cast<int>(list.size()) + kChunk - 1) / kChunk;
@@ -246,7 +310,7 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
             for (int q = 0; q < nd * nd; ++q) ke[q] *= matrix_sign;
           }
           if (dofs_.has_frames()) to_local_frames(dofs_, nodes, re, ke, nd);
-          const int* m = map + static_cast<size_t>(e) * nd * nd;
+          const int* m = map + static_cast<size_t>(local[e]) * nd * nd;
           for (int q = 0; q < nd * nd; ++q)
             if (m[q] >= 0) values[m[q]] += ke[q];
         }
@@ -269,7 +333,7 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
     const auto& b = *model_.blocks[bi];
     const double p = bi < block_pressure.size() ? block_pressure[bi] : 0.0;
     run(
-        static_cast<int>(bi), colors_[bi],
+        static_cast<int>(bi), several_ && whole_ ? colors_all_[bi] : colors_[bi],
         [&](std::span<const int> elems, double* r, double* Ke) { b.internal(elems, x, r, Ke); },
         [&](std::span<const int> elems, double* f, double* Kp) {
           if (p == 0) return false;
@@ -278,30 +342,41 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
         },
         K != nullptr, F, &Fp, K, 1.0);
   }
+  reduce(F);
+  if (!block_pressure.empty()) reduce(Fp);
 }
 
 void Assembler::pressure(int i, double p, const NodePositions& x, NodePositions& Fext,
                          SparseMatrix* K) const {
   const auto& load = model_.pressures[i];
   const auto& b = *model_.blocks[load.block];
+  // On several processes this process's share is summed apart, then added.
+  NodePositions& F = shared() ? scratch_ : Fext;
+  if (shared()) scratch_.setZero(3, model_.num_nodes());
   // Forces add to Fext; the load stiffness enters the residual r = f_int − f_ext negated.
   run(
-      load.block, pressure_colors_[i],
+      load.block, several_ && whole_ ? pressure_colors_all_[i] : pressure_colors_[i],
       [&](std::span<const int> elems, double* r, double* Ke) {
         if (load.fixed_direction)
           b.directed_pressure(elems, x, p, load.direction, load.projected, r, Ke);
         else
           b.pressure(elems, x, p, r, Ke);
       },
-      kNoLoad, K != nullptr, Fext, nullptr, K, -1.0);
+      kNoLoad, K != nullptr, F, nullptr, K, -1.0);
+  if (shared()) {
+    reduce(scratch_);
+    Fext += scratch_;
+  }
 }
 
 double Assembler::gas_volume(int i, const NodePositions& x) const {
   const auto& gas = model_.gases[i];
   double V = 0;
   for (size_t k = 0; k < gas.parts.size(); ++k)
-    V += gas_parts_[i][k].kernel->volume(
-        gas.parts[k].elements, model_.blocks[gas.parts[k].block]->connectivity(), x, gas.origin);
+    V += gas_parts_[i][k].kernel->volume(whole_ ? gas.parts[k].elements : gas_parts_[i][k].own,
+                                         model_.blocks[gas.parts[k].block]->connectivity(), x,
+                                         gas.origin);
+  if (shared()) processes::sum(&V, 1);
   return V;
 }
 
@@ -312,15 +387,16 @@ void Assembler::gas_derivatives(int i, const NodePositions& x, double scale, Nod
   for (size_t k = 0; k < gas.parts.size(); ++k) {
     const int block = gas.parts[k].block;
     const auto& conn = model_.blocks[block]->connectivity();
-    const auto& kernel = *gas_parts_[i][k].kernel;
+    const auto& part = gas_parts_[i][k];
     // The residual r = f_int − f_ext holds −scale ∂²V/∂x²: the kernel scales, run negates.
     run(
-        block, gas_parts_[i][k].colors,
+        block, several_ && whole_ ? part.colors_all : part.colors,
         [&](std::span<const int> elems, double* a, double* H) {
-          kernel.derivatives(elems, conn, x, gas.origin, scale, a, H);
+          part.kernel->derivatives(elems, conn, x, gas.origin, scale, a, H);
         },
         kNoLoad, K != nullptr, A, nullptr, K, -1.0);
   }
+  reduce(A);
 }
 
 void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
@@ -331,11 +407,12 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
     const int nn = b.nodes_per_element(), nd = 3 * nn;
     const bool hrz = b.type_name() == "tri6" || b.type_name() == "quad8";
     MatX Me(nn, nn);
-    for (int e = 0; e < b.size(); ++e) {
+    for (size_t k = 0; k < own_[bi].size(); ++k) {
+      const int e = own_[bi][k];
       b.mass(e, Me.data());
       const auto nodes = b.nodes(e);
       if (M) {
-        const int* m = scatter_[bi].data() + static_cast<size_t>(e) * nd * nd;
+        const int* m = scatter_[bi].data() + k * nd * nd;
         for (int j = 0; j < nn; ++j)
           for (int i = 0; i < nn; ++i)
             for (int d = 0; d < 3; ++d) {  // frames leave R I Rᵀ = I unchanged
@@ -350,8 +427,10 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
         (*lumped)[nodes[i]] += hrz ? Me(i, i) * total / diag : Me.row(i).sum();
     }
   }
+  if (lumped && several_) processes::sum(lumped->data(), lumped->size());
+  const bool first = !several_ || processes::rank() == 0;  // a point mass is added once
   for (const auto& pm : model_.masses) {
-    if (M)
+    if (M && first)
       for (int d = 0; d < 3; ++d)
         if (const int a = dofs_.equation(pm.node, d); a >= 0) M->coeffRef(a, a) += pm.mass;
     if (lumped) (*lumped)[pm.node] += pm.mass;
@@ -360,16 +439,17 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
 
 NodePositions Assembler::gravity_forces(const Vec3& g) const {
   NodePositions F = NodePositions::Zero(3, model_.num_nodes());
-  for (const auto& bp : model_.blocks) {
-    const auto& b = *bp;
+  for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
+    const auto& b = *model_.blocks[bi];
     const int nn = b.nodes_per_element();
     MatX Me(nn, nn);
-    for (int e = 0; e < b.size(); ++e) {
+    for (int e : own_[bi]) {
       b.mass(e, Me.data());
       const auto nodes = b.nodes(e);
       for (int i = 0; i < nn; ++i) F.col(nodes[i]) += Me.row(i).sum() * g;
     }
   }
+  if (several_) processes::sum(F.data(), static_cast<long>(F.size()));
   for (const auto& pm : model_.masses) F.col(pm.node) += pm.mass * g;
   return F;
 }

@@ -376,6 +376,14 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     say(stderr, "velum: {} nodes, {} elements, {} equations; results in {}\n",
         input.model.num_nodes(), input.model.num_elements(), system->size(),
         input.output.directory.string());
+  if (several) {  // the partition of the elements (docs/parallel.md)
+    const auto own = processes::gather(static_cast<double>(system->assembler().own_elements()));
+    if (!opt.quiet) {
+      std::string list;
+      for (double n : own) list += fmt::format("{}{}", list.empty() ? "" : ", ", n);
+      say(stderr, "velum: {} processes compute {} elements each\n", own.size(), list);
+    }
+  }
 
   Progress progress(opt.quiet, settings.time.t0, settings.time.t_end);
   progress.start(
@@ -389,6 +397,15 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   std::exception_ptr output_failure;
   RunSummary& summary = out.summary;
   summary.elements = input.model.num_elements();
+  // Per process figures for summary.json (a collective call: every process, once).
+  const auto gather_processes = [&] {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);  // ru_maxrss: kibibytes on Linux
+    summary.process_elements =
+        processes::gather(static_cast<double>(system->assembler().own_elements()));
+    summary.process_cpu_seconds = processes::gather(cpu_seconds() - cpu_at_start);
+    summary.process_memory_mb = processes::gather(static_cast<double>(usage.ru_maxrss) / 1024.0);
+  };
   summary.dofs = system->size();
   try {
     const auto observe = [&](const StepSnapshot& snap) {
@@ -447,6 +464,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
       out.status = sig == SIGINT ? kExitInterrupted : kExitTerminated;
     }
   } catch (const OutputError& e) {
+    if (several) gather_processes();  // the first process alone fails here: the others gather
     progress.end_line();
     out.status = kExitIo;
     out.errors.push_back(e.what());
@@ -459,6 +477,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   summary.wall_seconds = seconds_since(opt.started);
   summary.cpu_seconds = cpu_seconds() - cpu_at_start;
   summary.threads = omp_get_max_threads();
+  if (several) gather_processes();
   if (!writes) return out;
   try {
     writer->write_summary(summary);

@@ -199,7 +199,9 @@ void ResultsWriter::write_step(const AcceptedStep& step) {
 
 void ResultsWriter::write(const StepSnapshot& snap) {
   // Positions, reactions and cells once per output time: for the history row, the frame and
-  // the summary's extremes.
+  // the summary's extremes. Under mpirun only the first process writes: the forces come from
+  // every element here, with no communication (the others are not taking part).
+  const Assembler::WholeMesh whole(system_.assembler());
   const double t = snap.step.t;
   const NodePositions U = system_->displacements(t, snap.state.u);
   const NodePositions V = system_->velocities(snap.state.v);
@@ -313,6 +315,7 @@ double ResultsWriter::gas_pressure(int i, double t, const NodePositions& x) cons
 }
 
 void ResultsWriter::write_history(const StepSnapshot& snap) {
+  const Assembler::WholeMesh whole(system_.assembler());  // see write()
   NodePositions U, V, x, R;
   if (!input_.output.history.empty()) {
     U = system_->displacements(snap.step.t, snap.state.u);
@@ -457,6 +460,18 @@ void ResultsWriter::write_summary(const RunSummary& r) {
   getrusage(RUSAGE_SELF, &usage);  // ru_maxrss: kibibytes on Linux
   s += fmt::format("  \"cpu_seconds\": {},\n  \"peak_memory_mb\": {},\n  \"threads\": {},\n",
                    json_number(r.cpu_seconds), json_number(usage.ru_maxrss / 1024.0), r.threads);
+  if (r.process_elements.size() > 1) {
+    auto list = [](const std::vector<double>& v) {
+      std::string t;
+      for (double x : v) t += (t.empty() ? "" : ", ") + json_number(x);
+      return "[" + t + "]";
+    };
+    s += fmt::format(
+        "  \"processes\": {{\"count\": {}, \"elements\": {}, \"cpu_seconds\": {}, "
+        "\"peak_memory_mb\": {}}},\n",
+        r.process_elements.size(), list(r.process_elements), list(r.process_cpu_seconds),
+        list(r.process_memory_mb));
+  }
   auto extreme = [](const char* key, const Extreme& x, const char* where) {
     if (!x.found) return fmt::format("    \"{}\": null", key);
     return fmt::format("    \"{}\": {{\"value\": {}, \"{}\": {}, \"time\": {}}}", key,

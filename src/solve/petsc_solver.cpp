@@ -62,6 +62,9 @@ class PetscSolver final : public LinearSolver {
   std::string status() const override { return status_; }
   int negative_pivots() const override { return negative_; }
 
+  // A is this process's share of the matrix (on one process, the whole of it): every entry
+  // of it is added (ADD_VALUES) into the distributed matrix, rows owned elsewhere included
+  // (PETSc sends those at assembly). The preallocation is the union of the shares' patterns.
   bool analyze(const SparseMatrix& A) override {
     release();
     status_.clear();
@@ -75,34 +78,44 @@ class PetscSolver final : public LinearSolver {
     lo_ = bs_ * (rank * base + std::min(rank, extra));
     hi_ = lo_ + bs_ * (base + (rank < extra ? 1 : 0));
     const int local = hi_ - lo_;
-    // The owned rows of the column-compressed matrix, row-compressed: columns are walked in
-    // order, so each row's columns come out sorted.
+    // The share row-compressed, rows with entries only: columns are walked in order, so each
+    // row's columns come out sorted.
     const int* outer = A.outerIndexPtr();
     const int* inner = A.innerIndexPtr();
-    row_start_.assign(local + 1, 0);
+    std::vector<int> count(n + 1, 0);
     for (int j = 0; j < n; ++j)
-      for (int k = outer[j]; k < outer[j + 1]; ++k)
-        if (inner[k] >= lo_ && inner[k] < hi_) ++row_start_[inner[k] - lo_ + 1];
-    for (int i = 0; i < local; ++i) row_start_[i + 1] += row_start_[i];
-    cols_.resize(row_start_[local]);
-    source_.resize(row_start_[local]);
-    values_.resize(row_start_[local]);
-    std::vector<int> fill(row_start_.begin(), row_start_.end() - 1);
-    std::vector<PetscInt> diagonal(local, 0), off(local, 0);
+      for (int k = outer[j]; k < outer[j + 1]; ++k) ++count[inner[k] + 1];
+    rows_.clear();
+    row_start_.assign(1, 0);
+    std::vector<int> fill(n, 0);
+    for (int i = 0; i < n; ++i)
+      if (count[i + 1] > 0) {
+        fill[i] = row_start_.back();
+        rows_.push_back(i);
+        row_start_.push_back(row_start_.back() + count[i + 1]);
+      }
+    cols_.resize(row_start_.back());
+    source_.resize(row_start_.back());
+    values_.assign(row_start_.back(), 0.0);
     for (int j = 0; j < n; ++j)
-      for (int k = outer[j]; k < outer[j + 1]; ++k)
-        if (const int i = inner[k]; i >= lo_ && i < hi_) {
-          const int q = fill[i - lo_]++;
-          cols_[q] = j;
-          source_[q] = k;
-          ++(j >= lo_ && j < hi_ ? diagonal : off)[i - lo_];
-        }
-    if (!ok(MatCreate(comm_, &A_), "MatCreate") ||
-        !ok(MatSetSizes(A_, local, local, n, n), "MatSetSizes") ||
-        !ok(MatSetType(A_, MATAIJ), "MatSetType") ||
-        !ok(MatSetBlockSize(A_, bs_), "MatSetBlockSize") ||
-        !ok(MatSeqAIJSetPreallocation(A_, 0, diagonal.data()), "preallocation") ||
-        !ok(MatMPIAIJSetPreallocation(A_, 0, diagonal.data(), 0, off.data()), "preallocation") ||
+      for (int k = outer[j]; k < outer[j + 1]; ++k) {
+        const int q = fill[inner[k]]++;
+        cols_[q] = j;
+        source_[q] = k;
+      }
+    Mat pre = nullptr;
+    const bool made = ok(MatCreate(comm_, &A_), "MatCreate") &&
+                      ok(MatSetSizes(A_, local, local, n, n), "MatSetSizes") &&
+                      ok(MatSetType(A_, MATAIJ), "MatSetType") &&
+                      ok(MatSetBlockSize(A_, bs_), "MatSetBlockSize") &&
+                      ok(MatCreate(comm_, &pre), "MatCreate") &&
+                      ok(MatSetSizes(pre, local, local, n, n), "MatSetSizes") &&
+                      ok(MatSetType(pre, MATPREALLOCATOR), "MatSetType") &&
+                      ok(MatSetBlockSize(pre, bs_), "MatSetBlockSize") &&
+                      ok(MatSetUp(pre), "MatSetUp") && add_share(pre) &&
+                      ok(MatPreallocatorPreallocate(pre, PETSC_TRUE, A_), "preallocation");
+    if (pre) MatDestroy(&pre);
+    if (!made ||
         !ok(MatSetOption(A_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption") ||
         !ok(MatCreateVecs(A_, &x_, &b_), "MatCreateVecs") || !ok(VecDuplicate(b_, &r_), "Vec") ||
         !ok(VecScatterCreateToAll(x_, &to_all_, &x_all_), "VecScatterCreateToAll"))
@@ -127,7 +140,6 @@ class PetscSolver final : public LinearSolver {
     }
     name_ = direct_ ? fmt::format("petsc ({})", user_pc_ ? factor_kind_ : "mumps")
                     : fmt::format("petsc ({} + {})", kt, pt);
-    symmetry_.map(A);
     return true;
   }
 
@@ -137,20 +149,19 @@ class PetscSolver final : public LinearSolver {
     if (!A_) return false;
     const double* v = A.valuePtr();
     for (size_t q = 0; q < source_.size(); ++q) values_[q] = v[source_[q]];
-    for (int i = lo_; i < hi_; ++i) {
-      const int first = row_start_[i - lo_], count = row_start_[i - lo_ + 1] - first;
-      const PetscInt row = i;
-      if (!ok(MatSetValues(A_, 1, &row, count, cols_.data() + first, values_.data() + first,
-                           INSERT_VALUES),
-              "MatSetValues"))
-        return false;
-    }
-    if (!ok(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin") ||
-        !ok(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd"))
-      return false;
+    if (!ok(MatZeroEntries(A_), "MatZeroEntries") || !add_share(A_)) return false;
     MatNorm(A_, NORM_FROBENIUS, &anorm_);
-    // Every process holds the same matrix: the same decision everywhere.
-    const bool symmetric = symmetry_.symmetric(A);
+    // Numerically symmetric: max |a_ij − a_ji| <= 1e-10 max |a_ij| (as `auto`), judged on the
+    // summed matrix; the same answer on every process.
+    bool symmetric = false;
+    if (direct_ && !user_pc_) {
+      PetscReal amax = 0;
+      if (!max_abs(amax)) return false;
+      PetscBool sym = PETSC_FALSE;
+      if (!ok(MatIsSymmetric(A_, SymmetryCheck::kTolerance * amax, &sym), "MatIsSymmetric"))
+        return false;
+      symmetric = sym == PETSC_TRUE;
+    }
     if (direct_ && !user_pc_) {
       const char* want = symmetric ? PCCHOLESKY : PCLU;
       if (factor_kind_ != want) {  // a new factor type: its symbolic analysis is redone
@@ -258,6 +269,47 @@ class PetscSolver final : public LinearSolver {
     return false;
   }
 
+  // Adds this process's share (values_) into M and assembles it.
+  bool add_share(Mat M) {
+    for (size_t r = 0; r < rows_.size(); ++r) {
+      const int first = row_start_[r], count = row_start_[r + 1] - first;
+      const PetscInt row = rows_[r];
+      if (!ok(MatSetValues(M, 1, &row, count, cols_.data() + first, values_.data() + first,
+                           ADD_VALUES),
+              "MatSetValues"))
+        return false;
+    }
+    return ok(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin") &&
+           ok(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  }
+
+  // The largest |a_ij| of the assembled matrix, over every process.
+  bool max_abs(PetscReal& amax) {
+    PetscReal mine = 0;
+    auto scan = [&](Mat M) {
+      MatInfo info;
+      const PetscScalar* a = nullptr;
+      if (!ok(MatGetInfo(M, MAT_LOCAL, &info), "MatGetInfo") ||
+          !ok(MatSeqAIJGetArrayRead(M, &a), "MatSeqAIJGetArrayRead"))
+        return false;
+      const auto nz = static_cast<PetscInt>(info.nz_used);
+      for (PetscInt k = 0; k < nz; ++k) mine = std::max(mine, PetscAbsScalar(a[k]));
+      MatSeqAIJRestoreArrayRead(M, &a);
+      return true;
+    };
+    PetscBool mpi = PETSC_FALSE;
+    PetscObjectTypeCompare(reinterpret_cast<PetscObject>(A_), MATMPIAIJ, &mpi);
+    if (mpi == PETSC_TRUE) {
+      Mat diagonal = nullptr, off = nullptr;
+      if (!ok(MatMPIAIJGetSeqAIJ(A_, &diagonal, &off, nullptr), "MatMPIAIJGetSeqAIJ") ||
+          !scan(diagonal) || !scan(off))
+        return false;
+    } else if (!scan(A_)) {
+      return false;
+    }
+    return MPI_Allreduce(&mine, &amax, 1, MPIU_REAL, MPI_MAX, comm_) == MPI_SUCCESS;
+  }
+
   bool set_near_null_space() {
     const MatX q = orthonormal_columns(settings_.near_null_space);
     std::vector<Vec> vecs(q.cols());
@@ -294,7 +346,7 @@ class PetscSolver final : public LinearSolver {
   std::string name_ = "petsc", factor_kind_, status_;
   int bs_ = 1, lo_ = 0, hi_ = 0, negative_ = -1;
   PetscReal anorm_ = 0;
-  std::vector<int> row_start_, source_;
+  std::vector<int> rows_, row_start_, source_;  // this process's share, row-compressed
   std::vector<PetscInt> cols_;
   std::vector<PetscScalar> values_;
   Mat A_ = nullptr;
@@ -302,7 +354,6 @@ class PetscSolver final : public LinearSolver {
   VecScatter to_all_ = nullptr;
   KSP ksp_ = nullptr;
   PC pc_ = nullptr;
-  SymmetryCheck symmetry_;
 };
 
 }  // namespace

@@ -1,8 +1,10 @@
 #include "velum/solve/processes.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #ifdef VELUM_HAVE_PETSC
 #include <petscsys.h>
@@ -105,6 +107,42 @@ bool all(bool local) {
   }
 #endif
   return local;
+}
+
+void sum(double* data, long n) {
+#ifdef VELUM_HAVE_PETSC
+  if (my_count > 1 && n > 0) {
+    // In pieces: MPI counts are int.
+    constexpr long kPiece = 1L << 26;
+    std::vector<double> total(static_cast<size_t>(std::min(n, kPiece)));
+    for (long first = 0; first < n; first += kPiece) {
+      const int m = static_cast<int>(std::min(kPiece, n - first));
+      MPI_Reduce(data + first, total.data(), m, MPI_DOUBLE, MPI_SUM, 0, PETSC_COMM_WORLD);
+      if (my_rank == 0) std::copy(total.begin(), total.begin() + m, data + first);
+      MPI_Bcast(data + first, m, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
+    }
+  }
+#else
+  (void)data, (void)n;
+#endif
+}
+
+std::vector<double> gather(double value) {
+#ifdef VELUM_HAVE_PETSC
+  if (my_count > 1) {
+    std::vector<double> all(my_rank == 0 ? my_count : 0);
+    MPI_Gather(&value, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
+    return all;
+  }
+#endif
+  return {value};
+}
+
+int owner(long k, long total) {
+  const long base = total / my_count, extra = total % my_count;
+  // The first `extra` processes hold base + 1 items.
+  const long split = extra * (base + 1);
+  return static_cast<int>(k < split ? k / (base + 1) : extra + (k - split) / std::max(base, 1L));
 }
 
 }  // namespace velum::processes

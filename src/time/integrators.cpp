@@ -390,14 +390,16 @@ void StaticNewton::record_inertia(SecondOrderSystem& sys, LinearSolver& solver, 
   rep.negative_pivots = solver.refactorize(J_) ? solver.negative_pivots() : -1;
 }
 
-void StaticNewton::remember(double t, double h, const VecX& u_start, const VecX& u,
-                            const StepReport& rep) {
+void StaticNewton::remember(const SecondOrderSystem& sys, double t, double h, const VecX& u_start,
+                            const VecX& u, const StepReport& rep) {
   if (second_) {  // the residual each predictor left, to first order: J times its error
     linear_ -= u;
     parabolic_ -= u;
     du_.noalias() = J_ * linear_;
+    sys.complete(du_);  // J_ may be this process's share
     const double by_line = du_.squaredNorm();
     du_.noalias() = J_ * parabolic_;
+    sys.complete(du_);  // J_ may be this process's share
     prefer_parabola_ = du_.squaredNorm() < by_line;
   } else {
     prefer_parabola_ = false;
@@ -453,7 +455,7 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
     rep.factorizations = factorizations;
   }
   if (rep.converged) {
-    remember(t, h, s.u, u, rep);
+    remember(sys, t, h, s.u, u, rep);
     s.u = u;
   }
   return rep;

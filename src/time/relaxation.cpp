@@ -13,6 +13,7 @@ void DynamicRelaxation::update_masses(SecondOrderSystem& sys, double t, const Ve
   VecX rows = VecX::Zero(n);
   for (int k = 0; k < J_.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(J_, k); it; ++it) rows[it.row()] += std::abs(it.value());
+  sys.complete(rows);  // J may be this process's share
   const auto& groups = sys.equation_groups();
   if (!groups.empty()) {
     const int ng = *std::max_element(groups.begin(), groups.end()) + 1;

@@ -24,6 +24,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   double force_scale() const override { return force_scale_; }
   double residual_noise() const override { return residual_noise_; }
   std::string diagnose_singular(const SparseMatrix& J) const override;
+  void complete(VecX& from_jacobian) const override;
   const std::vector<int>& equation_groups() const override { return equation_node_; }
   std::string inverted_element(double t_from, const VecX& u_from, double t_to,
                                const VecX& u_to) const override;
@@ -31,8 +32,11 @@ class MechanicalSystem final : public SecondOrderSystem {
   const Model& model() const { return model_; }
   const DofMap& dofs() const { return dofs_; }
   const Assembler& assembler() const { return assembler_; }
-  /// The consistent mass matrix, assembled when first asked for (a static run never needs it).
+  /// The consistent mass matrix, assembled when first asked for (a static run never needs it):
+  /// on several processes, this process's share of it (see mass_times).
   const SparseMatrix& mass_matrix() const;
+  /// M v, whole (summed over the processes).
+  VecX mass_times(const VecX& v) const;
 
   /// Full nodal displacements (3 x nodes) for equation values u at time t (prescribed
   /// motions included).
@@ -56,7 +60,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   double gas_pressure(int i) const { return gas_pressure_[i]; }
 
   double kinetic_energy(const VecX& v) const {
-    return v.squaredNorm() == 0 ? 0.0 : 0.5 * v.dot(mass_matrix() * v);
+    return v.squaredNorm() == 0 ? 0.0 : 0.5 * v.dot(mass_times(v));
   }
   double strain_energy(double t, const VecX& u) const;
 

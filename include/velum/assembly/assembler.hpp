@@ -2,6 +2,12 @@
 // pattern (built once). Elements of a block are coloured so that no two elements of a colour
 // share a node: threads then write disjoint entries, without locks, and every entry receives
 // its contributions in the same order whatever the thread count (deterministic results).
+//
+// On several MPI processes (docs/parallel.md) each process owns a share of the elements (an
+// element goes to the process that owns the row of its lowest equation) and computes only
+// those: its matrices hold its share of the sum (their pattern: its elements' couplings), the
+// solver adds the shares; its vectors (forces, lumped masses, gas volumes and gradients) are
+// summed over the processes here, so that every process holds the whole, identical vector.
 #pragma once
 
 #include <Eigen/Core>
@@ -67,6 +73,24 @@ class Assembler {
   NodePositions gravity_forces(const Vec3& g) const;
 
   int num_colors(int block) const { return static_cast<int>(colors_[block].size()); }
+  /// Elements this process computes (all of them on one process).
+  long own_elements() const;
+
+  /// While alive, the vector results (internal, pressure, gas volume and derivatives) come
+  /// from every element, on this process alone, with no communication: what the first
+  /// process's output needs (the other processes do not take part in writing). No matrix
+  /// then.
+  class WholeMesh {
+   public:
+    explicit WholeMesh(const Assembler& a) : a_(a), was_(a.whole_) { a.whole_ = true; }
+    ~WholeMesh() { a_.whole_ = was_; }
+    WholeMesh(const WholeMesh&) = delete;
+    WholeMesh& operator=(const WholeMesh&) = delete;
+
+   private:
+    const Assembler& a_;
+    bool was_;
+  };
 
  private:
   struct Colored {
@@ -86,18 +110,29 @@ class Assembler {
     std::vector<double, Eigen::aligned_allocator<double>> K, K_load;
   };
 
+  using Colors = std::vector<std::vector<int>>;
+  // Sums a vector over the processes (nothing on one process or for the whole mesh).
+  void reduce(NodePositions& F) const;
+  bool shared() const { return several_ && !whole_; }
+
   const Model& model_;
   const DofMap& dofs_;
   int neq_ = 0;
   Eigen::Index nonzeros_ = 0;
-  std::vector<std::vector<std::vector<int>>> colors_;           // per block
-  std::vector<std::vector<int>> scatter_;                       // per block: ne x dofs² positions
-  std::vector<std::vector<std::vector<int>>> pressure_colors_;  // per pressure load
-  std::vector<char> covers_block_;                              // per pressure load
+  bool several_ = false;                     // elements shared between processes
+  mutable bool whole_ = false;               // a WholeMesh is alive
+  std::vector<std::vector<int>> own_;        // per block: this process's elements, ascending
+  std::vector<std::vector<int>> local_;      // per block: element -> index into own_ (-1: not)
+  std::vector<Colors> colors_, colors_all_;  // per block: own elements, every element
+  std::vector<std::vector<int>> scatter_;    // per block: own x dofs² positions
+  std::vector<Colors> pressure_colors_, pressure_colors_all_;  // per pressure load
+  std::vector<char> covers_block_;                             // per pressure load
   struct GasPart {
-    std::vector<std::vector<int>> colors;
+    Colors colors, colors_all;
+    std::vector<int> own;  // its elements this process computes
     std::unique_ptr<SurfaceVolumeKernel> kernel;
   };
+  mutable NodePositions scratch_;                // a process's share of a load, before the sum
   std::vector<std::vector<GasPart>> gas_parts_;  // per gas load, per part
   int max_dofs_ = 0;
   mutable std::vector<ElementBuffers> buffers_;  // one per thread, reused across calls

@@ -43,9 +43,12 @@ struct RunSummary {
   Energies energy;
   std::string reason, integrator, solver;
   std::vector<std::string> warnings;  ///< what a user must know about a normal end
-  std::string status;        ///< when set ("interrupted"), replaces "converged" or "failed"
-  double cpu_seconds = 0;    ///< CPU time (user + system, all threads) of the run
-  int threads = 0;           ///< OpenMP threads the run used
+  std::string status;      ///< when set ("interrupted"), replaces "converged" or "failed"
+  double cpu_seconds = 0;  ///< CPU time (user + system, all threads) of the run
+  int threads = 0;         ///< OpenMP threads the run used
+  /// Under mpirun (more than one entry): per process, in rank order, the elements it
+  /// computed, its CPU seconds and its peak memory (MB).
+  std::vector<double> process_elements, process_cpu_seconds, process_memory_mb;
   int form_updates = -1;     ///< form finding: reference updates (-1: not form finding)
   double form_residual = 0;  ///< form finding: residual / force scale on the found shape
   std::vector<StepSummary> analysis_steps;  ///< a staged model's steps (empty otherwise)

@@ -5,6 +5,8 @@
 // process and every call here is trivial.
 #pragma once
 
+#include <vector>
+
 namespace velum::processes {
 
 /// Whether this build has PETSc and MPI (VELUM_WITH_PETSC).
@@ -25,5 +27,16 @@ int rank();   ///< this process, 0 .. count() − 1
 int count();  ///< processes in the run
 /// True on every process when `local` is true on every process (a collective call).
 bool all(bool local);
+/// Sums data[0 .. n) over the processes, in place, the same bits on every process (reduced
+/// to the first process, then broadcast: an all-reduce may add in a different order on
+/// different processes, and the processes' decisions must agree). A collective call; nothing
+/// on one process.
+void sum(double* data, long n);
+/// Each process's `value`, in rank order, on the first process (empty on the others). A
+/// collective call; {value} on one process.
+std::vector<double> gather(double value);
+/// The process that owns item k of `total` split into count() contiguous, even ranges (as
+/// PETSc splits rows).
+int owner(long k, long total);
 
 }  // namespace velum::processes

@@ -134,7 +134,8 @@ class StaticNewton : public TimeIntegrator {
   void record_inertia(SecondOrderSystem& sys, LinearSolver& solver, double t, const VecX& u,
                       StepReport& rep);
   // The history the next predictor needs, after the step from u_start to u was accepted.
-  void remember(double t, double h, const VecX& u_start, const VecX& u, const StepReport& rep);
+  void remember(const SecondOrderSystem& sys, double t, double h, const VecX& u_start,
+                const VecX& u, const StepReport& rep);
 
   bool extrapolate_;
   VecX r_, du_, zero_;

@@ -61,6 +61,10 @@ class SecondOrderSystem {
   /// Names the equations of J that carry no stiffness and no mass, and what to do about them;
   /// empty when there are none.
   virtual std::string diagnose_singular(const SparseMatrix& J) const = 0;
+  /// Completes a vector computed from the Jacobian this system assembled (J x, row sums of
+  /// |J|): on several processes each holds its share of J, and the shares' vectors are summed
+  /// here (every process then holds the same whole vector). Nothing on one process.
+  virtual void complete(VecX& from_jacobian) const { (void)from_jacobian; }
 };
 
 }  // namespace velum
