@@ -10,7 +10,9 @@ the middle, so that with two or three processes the equations of a cable's two e
 nodes on the symmetry planes, fall on different processes. Each case runs once on one process
 (no mpirun) with `linear_solver: auto`, once with `petsc`, then under `mpirun -np N` for each N;
 every history column must agree with the one-process `petsc` and `auto` runs within 1e-8 of the
-column's largest magnitude, and only one set of result files may appear.
+column's largest magnitude, and only one set of result files may appear. Under mpirun each
+process computes only its share of the elements: summary.json `processes.elements` must be the
+partition predicted here (which puts a boundary through a cable and the symmetry planes).
 """
 import csv
 import json
@@ -113,10 +115,12 @@ output:
 """
 
 
-def owners(case, n):
-    """Process owning each node's equations under the PETSc solver's row split (equations in
-    node order; whole rows, blocks of 1 here since symmetry nodes have two equations), for the
-    partition checks; the nodes come from the model text."""
+def partition(case, n):
+    """The element partition velum uses on n processes (src/assembly/assembler.cpp): an element
+    belongs to the process owning the row of its lowest equation, rows split in n contiguous
+    even ranges; equations in node order (symmetry nodes have two, fixed nodes none). Returns
+    the owner of each element (sheet, then lines), the cable and quad connectivities and the
+    symmetry-plane nodes; the nodes come from the model text."""
     text = model(case, "petsc")
     import re
     nodes = json.loads(re.search(r"nodes: (\[\[.*?\]\])\n", text).group(1))
@@ -125,14 +129,38 @@ def owners(case, n):
     py = set(json.loads(re.search(r"plane_y: (\[.*?\])\n", text).group(1)))
     first, count = {}, 0
     for nid, *_ in nodes:
-        first[nid] = count
+        if nid not in outer:
+            first[nid] = count
         count += 0 if nid in outer else 3 - (nid in px) - (nid in py)
     base, extra = divmod(count, n)
     starts = [r * base + min(r, extra) for r in range(n)]
-    owner = {nid: max(r for r in range(n) if starts[r] <= e) for nid, e in first.items()
-             if nid not in outer}
-    cables = re.search(r"set: lines, type: cable2, connectivity: (\[\[.*?\]\])", text)
-    return owner, json.loads(cables.group(1)), px, py
+
+    def owner(elem):
+        lowest = min(first[v] for v in elem if v in first)
+        return max(r for r in range(n) if starts[r] <= lowest)
+
+    quads = json.loads(re.search(r"set: sheet, type: quad4, connectivity: (\[\[.*?\]\])",
+                                 text).group(1))
+    cables = json.loads(re.search(r"set: lines, type: cable2, connectivity: (\[\[.*?\]\])",
+                                  text).group(1))
+    return [owner(e) for e in quads + cables], quads, cables, px | py
+
+
+def partition_errors(case, n):
+    """The partition must put a boundary through a cable (elements meeting at one of its
+    nodes computed by different processes) and through the symmetry planes (their nodes in
+    elements of several processes)."""
+    own, quads, cables, planes = partition(case, n)
+    elems = quads + cables
+    errors = []
+    cut = [c for k, c in enumerate(cables)
+           if any(own[j] != own[len(quads) + k] for j, e in enumerate(elems) if set(e) & set(c))]
+    if not cut:
+        errors.append(f"{n} processes: no partition boundary through a cable")
+    on_planes = {own[j] for j, e in enumerate(elems) if set(e) & planes}
+    if len(on_planes) < 2:
+        errors.append(f"{n} processes: the symmetry planes lie on processes {sorted(on_planes)}")
+    return errors, [own.count(r) for r in range(n)]
 
 
 def history(path):
@@ -179,16 +207,12 @@ def main():
             env)
         refs[solver] = history(os.path.join(d, "history.csv"))
     errors = compare(refs["auto"], refs["petsc"], "petsc vs auto, one process")
+    expected = {}
     for n in counts:
         if n < 2:
             continue
-        owner, cables, px, py = owners(case, n)
-        cut = [c for c in cables if owner.get(c[0]) is not None and owner.get(c[1]) is not None
-               and owner[c[0]] != owner[c[1]]]
-        planes = {owner[v] for v in px | py if v in owner}
-        if not cut or len(planes) < 2:
-            errors.append(f"{n} processes: the row split should cut a cable ({cut}) and a "
-                          f"symmetry plane (its nodes on processes {sorted(planes)})")
+        found, expected[n] = partition_errors(case, n)
+        errors += found
     for n in counts:
         d = os.path.join(out, f"np{n}")
         p = run(["mpirun", "-np", str(n), "--oversubscribe", "--bind-to", "none", velum, "run",
@@ -199,6 +223,15 @@ def main():
         summary = json.load(open(os.path.join(d, "summary.json")))
         if summary.get("status") != "converged":
             errors.append(f"{n} processes: summary status {summary.get('status')}")
+        # Each process computed only its share of the elements: the predicted partition.
+        if n > 1:
+            share = [int(e) for e in summary.get("processes", {}).get("elements", [])]
+            if share != expected[n] or sum(share) != summary["elements"] or max(share) >= sum(
+                    share):
+                errors.append(f"{n} processes: elements per process {share}, expected "
+                              f"{expected[n]} of {summary['elements']}")
+            if f"{n} processes compute" not in p.stderr:
+                errors.append(f"{n} processes: the console should give the partition")
         if p.stderr.count("velum: converged") != 1:
             errors.append(f"{n} processes: the console should hear one process, got:\n{p.stderr}")
         one = os.path.join(out, "one-petsc")
