@@ -201,7 +201,7 @@ void ResultsWriter::write(const StepSnapshot& snap) {
   // Positions, reactions and cells once per output time: for the history row, the frame and
   // the summary's extremes. Under mpirun only the first process writes: the forces come from
   // every element here, with no communication (the others are not taking part).
-  const Assembler::WholeMesh whole(system_.assembler());
+  const Assembler::WholeMesh whole(system_->assembler());
   const double t = snap.step.t;
   const NodePositions U = system_->displacements(t, snap.state.u);
   const NodePositions V = system_->velocities(snap.state.v);
@@ -315,7 +315,7 @@ double ResultsWriter::gas_pressure(int i, double t, const NodePositions& x) cons
 }
 
 void ResultsWriter::write_history(const StepSnapshot& snap) {
-  const Assembler::WholeMesh whole(system_.assembler());  // see write()
+  const Assembler::WholeMesh whole(system_->assembler());  // see write()
   NodePositions U, V, x, R;
   if (!input_.output.history.empty()) {
     U = system_->displacements(snap.step.t, snap.state.u);
