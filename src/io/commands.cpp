@@ -299,14 +299,6 @@ int check_command(const std::filesystem::path& file) {
   return kExitOk;
 }
 
-/// CPU time of this process so far (user + system, all threads), seconds.
-static double cpu_seconds() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
-
 RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   RunOutcome out;
   const double cpu_at_start = cpu_seconds();

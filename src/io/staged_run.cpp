@@ -3,7 +3,6 @@
 // with the totals at the top level and each step in analysis_steps.
 #include <fmt/format.h>
 #include <omp.h>
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -13,20 +12,10 @@
 #include "velum/solve/processes.hpp"
 
 namespace velum::io {
-namespace {
-
-double cpu_now() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
-
-}  // namespace
 
 RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
   RunOutcome out;
-  const double cpu_at_start = cpu_now();
+  const double cpu_at_start = cpu_seconds();
   out.directory = input.output.directory;
   auto refuse = [&](std::string why) {
     out.status = kExitBadInput;
@@ -127,7 +116,7 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
   }
   summary.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - opt.started).count();
-  summary.cpu_seconds = cpu_now() - cpu_at_start;
+  summary.cpu_seconds = cpu_seconds() - cpu_at_start;
   summary.threads = omp_get_max_threads();
   try {
     writer->write_summary(summary);

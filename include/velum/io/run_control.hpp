@@ -27,6 +27,9 @@ void say(std::FILE* f, fmt::format_string<T...> format, T&&... args) {
 /// fails with EPIPE instead of killing the process).
 void prepare_standard_streams();
 
+/// CPU time of this process so far (user + system, all threads), seconds.
+double cpu_seconds();
+
 /// While alive, SIGINT and SIGTERM set a flag instead of killing the process (a second one
 /// kills it as usual); the previous handlers come back at destruction.
 class InterruptGuard {
