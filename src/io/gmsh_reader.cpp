@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <fstream>
+#include <new>
 #include <set>
 #include <sstream>
 #include <string_view>
@@ -221,6 +222,13 @@ MeshData read_gmsh(const std::filesystem::path& file) {
   GmshSession session;
   try {
     gmsh::open(name);
+  } catch (const std::bad_alloc&) {
+    // libgmsh sizes its arrays from the file's counts unchecked (binary files: 4 TB asked for
+    // by one flipped byte, found by fuzzing).
+    throw MeshFileError(fmt::format(
+        "{}: cannot read the Gmsh file: the Gmsh library ran out of memory reading it (a count "
+        "in the file is larger than this machine can hold: a corrupt file?)",
+        name));
   } catch (const std::exception& e) {
     const std::string why = last_gmsh_error();
     throw MeshFileError(

@@ -338,6 +338,8 @@ CASES = [
     ("model_nul_bytes", None, {"model.yaml": lambda: b"title: a\x00b\n"}, [], 1, ["model.yaml"]),
     ("check_model_is_directory", "<dir>", {}, ["check"], 1, ["is a directory"]),
     # ---- inputs the fuzzer found (fuzz/, tests/cli/data/fuzz/) ----
+    # Found by the Gmsh harness: a binary v4.1 file whose corrupt count makes libgmsh ask for 4 TB.
+    ("fuzz_gmsh_huge_count", with_mesh_file("m.msh"), {"m.msh": lambda: open(os.path.join(DATA, "fuzz", "gmsh-huge-count.msh"), "rb").read()}, [], 1, ["model.yaml:2: mesh.file:", "m.msh: cannot read the Gmsh file: the Gmsh library ran out of memory"]),
     ("fuzz_loadall_hang", None, {"model.yaml": lambda: open(os.path.join(DATA, "fuzz", "loadall-hang.yaml"), "rb").read()}, [], 1, ["model.yaml:94: a second YAML document"]),
     ("fuzz_flow_map_then_comma", "{}\n,\n", {}, [], 1, ["mesh: required key is missing"]),
     ("fuzz_flow_map_then_comma_second_doc", "a: 1\n---\n{}\n,\n", {}, [], 1, ["model.yaml:2: a second YAML document"]),
