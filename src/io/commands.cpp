@@ -299,6 +299,28 @@ int check_command(const std::filesystem::path& file) {
   return kExitOk;
 }
 
+void mark_interrupted(int sig, const std::string& reason, RunSummary& summary, RunOutcome& out) {
+  summary.status = "interrupted";
+  summary.reason =
+      fmt::format("interrupted by {} {}", sig == SIGINT ? "SIGINT" : "SIGTERM", reason);
+  out.status = sig == SIGINT ? kExitInterrupted : kExitTerminated;
+}
+
+bool finish_summary(ResultsWriter& writer, RunSummary& summary, Clock::time_point started,
+                    double cpu_at_start, RunOutcome& out) {
+  summary.wall_seconds = seconds_since(started);
+  summary.cpu_seconds = cpu_seconds() - cpu_at_start;
+  summary.threads = omp_get_max_threads();
+  try {
+    writer.write_summary(summary);
+  } catch (const OutputError& e) {
+    out.status = kExitIo;
+    out.errors.push_back(e.what());
+    return false;
+  }
+  return true;
+}
+
 RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   RunOutcome out;
   const double cpu_at_start = cpu_seconds();
@@ -448,13 +470,10 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
       summary.reason = fmt::format("stopped by the caller at t = {:.6g}", summary.final_time);
     if (!result.loop.completed) out.status = kExitSolveFailed;
     summary.warnings = result.warnings;
-    if (const int sig = InterruptGuard::signal_received(); sig && !result.loop.completed) {
-      summary.status = "interrupted";
-      summary.reason =
-          fmt::format("interrupted by {} after step {} (t = {:.6g})",
-                      sig == SIGINT ? "SIGINT" : "SIGTERM", result.loop.steps, summary.final_time);
-      out.status = sig == SIGINT ? kExitInterrupted : kExitTerminated;
-    }
+    if (const int sig = InterruptGuard::signal_received(); sig && !result.loop.completed)
+      mark_interrupted(
+          sig, fmt::format("after step {} (t = {:.6g})", result.loop.steps, summary.final_time),
+          summary, out);
   } catch (const OutputError& e) {
     if (several) gather_processes();  // the first process alone fails here: the others gather
     progress.end_line();
@@ -466,18 +485,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     summary.reason = e.what();
     out.status = kExitSolveFailed;
   }
-  summary.wall_seconds = seconds_since(opt.started);
-  summary.cpu_seconds = cpu_seconds() - cpu_at_start;
-  summary.threads = omp_get_max_threads();
   if (several) gather_processes();
-  if (!writes) return out;
-  try {
-    writer->write_summary(summary);
-  } catch (const OutputError& e) {
-    out.status = kExitIo;
-    out.errors.push_back(e.what());
-    return out;
-  }
+  if (!writes || !finish_summary(*writer, summary, opt.started, cpu_at_start, out)) return out;
   if (out.status == kExitSolveFailed) {
     out.errors.push_back(
         fmt::format("the solve failed at t = {:.6g} (step {}, last output kept in {}): {}",

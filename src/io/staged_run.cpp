@@ -2,10 +2,8 @@
 // history.csv and steps.csv with an analysis_step column, one frame series, and summary.json
 // with the totals at the top level and each step in analysis_steps.
 #include <fmt/format.h>
-#include <omp.h>
 
 #include <algorithm>
-#include <chrono>
 
 #include "velum/io/commands.hpp"
 #include "velum/io/run_control.hpp"
@@ -108,23 +106,10 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
   out.stopped = r.stopped;
   if (!r.completed) out.status = kExitSolveFailed;
   if (const int sig = InterruptGuard::signal_received(); sig && !r.completed) {
-    summary.status = "interrupted";
-    summary.reason =
-        fmt::format("interrupted by {} at t = {:.6g} ({})", sig == SIGINT ? "SIGINT" : "SIGTERM",
-                    summary.final_time, r.reason);
-    out.status = sig == SIGINT ? kExitInterrupted : kExitTerminated;
+    mark_interrupted(sig, fmt::format("at t = {:.6g} ({})", summary.final_time, r.reason), summary,
+                     out);
   }
-  summary.wall_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - opt.started).count();
-  summary.cpu_seconds = cpu_seconds() - cpu_at_start;
-  summary.threads = omp_get_max_threads();
-  try {
-    writer->write_summary(summary);
-  } catch (const OutputError& e) {
-    out.status = kExitIo;
-    out.errors.push_back(e.what());
-    return out;
-  }
+  if (!finish_summary(*writer, summary, opt.started, cpu_at_start, out)) return out;
   if (out.status == kExitSolveFailed) {
     out.errors.push_back(fmt::format("the solve failed at t = {:.6g} (last output kept in {}): {}",
                                      summary.final_time, out.directory.string(), r.reason));

@@ -72,6 +72,14 @@ bool open_results(const ModelInput& input, MechanicalSystem& system,
                   RunOutcome& out, std::optional<OutputLock>& lock,
                   std::unique_ptr<ResultsWriter>& writer);
 
+/// A run stopped by SIGINT or SIGTERM (sig): status "interrupted", `reason`, exit 130 / 143.
+void mark_interrupted(int sig, const std::string& reason, RunSummary& summary, RunOutcome& out);
+/// Times the run (wall since `started`, CPU since `cpu_at_start`, threads) and writes
+/// summary.json; false, with the outcome set to an I/O failure, when it cannot be written.
+bool finish_summary(ResultsWriter& writer, RunSummary& summary,
+                    std::chrono::steady_clock::time_point started, double cpu_at_start,
+                    RunOutcome& out);
+
 int run_command(const RunOptions& options);
 int check_command(const std::filesystem::path& model);
 /// `velum import DECK.inp -o MODEL.yaml` (src/io/import_command.cpp).
