@@ -7,6 +7,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "velum/math/types.hpp"
@@ -38,11 +39,14 @@ class MeshFileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Reads a Gmsh .msh file (2.2 or 4.x, ASCII or binary). Physical groups become named node
+/// Reads a Gmsh .msh file (MSH 2.2 or 4.1, ASCII or binary). Physical groups become named node
 /// sets (every dimension) and element sets (lines and surfaces); unnamed groups are named by
 /// their tag. Without physical groups, every line and surface element goes to the set "all".
 /// Throws MeshFileError.
 MeshData read_gmsh(const std::filesystem::path& file);
+
+/// The same from the file's bytes; `name` names the file in messages.
+MeshData read_gmsh_text(std::string_view bytes, const std::string& name);
 
 /// Velum's element type name of a Gmsh element type number, or empty when unsupported.
 std::string type_of_gmsh(int gmsh_type);
