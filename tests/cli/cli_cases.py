@@ -429,6 +429,9 @@ CASES = [
     ("msh_header_only", with_mesh_file("h.msh"), {"h.msh": lambda: "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"}, [], 1, ["h.msh"]),
     ("msh_repeated_node_in_element", with_mesh_file("m.msh"), {"m.msh": msh_edit("\n4 3 2 1 1 1 5 9 8\n", "\n4 3 2 1 1 1 5 9 5\n")}, [], 1, ["element 4 of set 'sheet' (quad4) is degenerate or inverted: it repeats node 5"]),
     # Velum's own .msh reader: what it refuses, naming the file and the line.
+    # Found by the harness of Velum's own reader: a flipped bit makes an entity's physical groups
+    # read -2^31 (whose negation overflowed) or 0.
+    ("fuzz_gmsh_physical_tag", with_mesh_file("m.msh"), {"m.msh": lambda: open(os.path.join(DATA, "fuzz", "gmsh-int-min-physical.msh"), "rb").read()}, [], 1, ["m.msh: byte", "physical group tag"]),
     ("msh_version_40", with_mesh_file("m.msh"), {"m.msh": msh_edit("2.2 0 8", "4 0 8")}, [], 1, ["m.msh:2: MSH 4 is not read: save the mesh as MSH 4.1 or 2.2"]),
     ("msh_version_unknown", with_mesh_file("m.msh"), {"m.msh": msh_edit("2.2 0 8", "3.0 0 8")}, [], 1, ["m.msh:2: MSH version 3 is not read"]),
     ("msh_data_size_4", with_mesh_file("m.msh"), {"m.msh": msh_edit("2.2 0 8", "2.2 0 4")}, [], 1, ["m.msh:2: data size 4 (8 expected)"]),

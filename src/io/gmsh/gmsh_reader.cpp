@@ -171,7 +171,8 @@ MeshData mesh_of(MshContents& c, const std::string& name) {
   std::set<std::pair<int, int>> groups;  // (dim, physical tag)
   for (const auto& [entity, physicals] : c.entity_physicals)
     for (int p : physicals) groups.insert({entity.first, p});
-  for (const auto& [dim, tag] : groups) {
+  for (const auto& group : groups) {
+    const int dim = group.first, tag = group.second;  // captured below (C++20 bindings are not)
     const auto named = c.physical_names.find({dim, tag});
     const std::string set = named != c.physical_names.end() && !named->second.empty()
                                 ? named->second

@@ -19,6 +19,13 @@ int small_int(const Input& in, long v, std::string_view what) {
   return static_cast<int>(v);
 }
 
+// A physical group's tag in $Entities: its sign is an orientation, dropped.
+int physical_tag(const Input& in, long v) {
+  if (v == 0 || v < -std::numeric_limits<int>::max() || v > std::numeric_limits<int>::max())
+    in.fail(fmt::format("physical group tag {} is out of range", v));
+  return static_cast<int>(v < 0 ? -v : v);
+}
+
 int dimension(const Input& in, long v) {
   if (v < 0 || v > 3) in.fail(fmt::format("an entity dimension of {} (0 to 3 expected)", v));
   return static_cast<int>(v);
@@ -66,8 +73,8 @@ void read_entities(Input& in, bool binary, MshContents& out) {
         const Size nphys = in.binary<Size>("an entity's number of physical groups");
         in.need(4, nphys, "an entity's physical groups");
         for (Size k = 0; k < nphys; ++k) {
-          const int p = in.binary<std::int32_t>("a physical group tag");
-          out.entity_physicals[{dim, tag}].insert(p < 0 ? -p : p);
+          const long p = in.binary<std::int32_t>("a physical group tag");
+          out.entity_physicals[{dim, tag}].insert(physical_tag(in, p));
         }
         if (dim > 0) {
           const Size nbound = in.binary<Size>("an entity's number of bounding entities");
@@ -81,8 +88,8 @@ void read_entities(Input& in, bool binary, MshContents& out) {
         const long nphys = t.integer("the entity's number of physical groups");
         if (nphys < 0) in.fail("a negative number of physical groups");
         for (long k = 0; k < nphys; ++k) {
-          const int p = small_int(in, t.integer("a physical group tag"), "physical group tag");
-          out.entity_physicals[{dim, tag}].insert(p < 0 ? -p : p);
+          out.entity_physicals[{dim, tag}].insert(
+              physical_tag(in, t.integer("a physical group tag")));
         }
         // The bounding entities (curves, surfaces, volumes) are not needed.
       }
