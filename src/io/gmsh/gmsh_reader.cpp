@@ -110,6 +110,27 @@ std::pair<double, bool> read_format(Input& in) {
   return {version, binary};
 }
 
+// The sections after $MeshFormat; unknown ones ($Comments, $NodeData, ...) are skipped.
+void read_sections(Input& in, bool msh41, bool binary, MshContents& out) {
+  std::string_view line;
+  while (in.next_line(line)) {
+    if (line == "$PhysicalNames")
+      msh::read_physical_names(in, out);
+    else if (line == "$Entities" && msh41)
+      msh::read_msh41_entities(in, binary, out);
+    else if (line == "$PartitionedEntities")
+      in.fail("a partitioned mesh ($PartitionedEntities): save it unpartitioned");
+    else if (line == "$Nodes")
+      msh41 ? msh::read_msh41_nodes(in, binary, out) : msh::read_msh2_nodes(in, binary, out);
+    else if (line == "$Elements")
+      msh41 ? msh::read_msh41_elements(in, binary, out) : msh::read_msh2_elements(in, binary, out);
+    else if (line.size() > 1 && line.front() == '$' && line.substr(0, 4) != "$End")
+      in.skip_section(line.substr(1));
+    else if (!line.empty())
+      in.fail(fmt::format("unexpected '{}' between sections", msh::printable(line)));
+  }
+}
+
 // The file's physical groups become node sets (every dimension) and element sets (lines and
 // surfaces), in the order (dimension, tag), an element belonging to the first set naming it;
 // without physical groups every line and surface element goes to the set "all".
@@ -218,10 +239,7 @@ MeshData read_gmsh_text(std::string_view bytes, const std::string& name) {
   if (!binary) check_ascii_counts(bytes, name, version);
   try {
     MshContents contents;
-    if (version >= 4)
-      msh::read_msh41(in, binary, contents);
-    else
-      msh::read_msh2(in, binary, contents);
+    read_sections(in, version >= 4, binary, contents);
     return mesh_of(contents, name);
   } catch (const std::bad_alloc&) {
     throw MeshFileError(fmt::format("{}: the mesh is larger than this machine's memory", name));

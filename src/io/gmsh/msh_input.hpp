@@ -162,8 +162,12 @@ class Tokens {
 /// Checks a tag read from the file (Gmsh tags start at 1) and returns it as a long.
 long checked_tag(const Input& in, std::uint64_t tag, std::string_view what);
 
+// The sections, each read from the line after its $Name to the line after its $EndName.
 void read_physical_names(Input& in, MshContents& out);
-void read_msh2(Input& in, bool binary, MshContents& out);
-void read_msh41(Input& in, bool binary, MshContents& out);
+void read_msh2_nodes(Input& in, bool binary, MshContents& out);
+void read_msh2_elements(Input& in, bool binary, MshContents& out);
+void read_msh41_entities(Input& in, bool binary, MshContents& out);
+void read_msh41_nodes(Input& in, bool binary, MshContents& out);
+void read_msh41_elements(Input& in, bool binary, MshContents& out);
 
 }  // namespace velum::io::msh

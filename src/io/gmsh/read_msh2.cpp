@@ -48,7 +48,9 @@ void expect_end(Input& in, std::string_view end) {
   if (in.line(end) != end) in.fail(fmt::format("expected {} here", end));
 }
 
-void read_nodes(Input& in, bool binary, MshContents& out) {
+}  // namespace
+
+void read_msh2_nodes(Input& in, bool binary, MshContents& out) {
   const long n = section_count(in, "the number of nodes");
   if (binary) {
     in.need(4 + 3 * 8, static_cast<std::size_t>(n), "the nodes");
@@ -72,7 +74,7 @@ void read_nodes(Input& in, bool binary, MshContents& out) {
   expect_end(in, "$EndNodes");
 }
 
-void read_elements(Input& in, bool binary, MshContents& out) {
+void read_msh2_elements(Input& in, bool binary, MshContents& out) {
   const long n = section_count(in, "the number of elements");
   Msh2Elements elements(out);
   long nodes[125];
@@ -129,24 +131,6 @@ void read_elements(Input& in, bool binary, MshContents& out) {
     }
   }
   expect_end(in, "$EndElements");
-}
-
-}  // namespace
-
-void read_msh2(Input& in, bool binary, MshContents& out) {
-  std::string_view line;
-  while (in.next_line(line)) {
-    if (line == "$PhysicalNames")
-      read_physical_names(in, out);
-    else if (line == "$Nodes")
-      read_nodes(in, binary, out);
-    else if (line == "$Elements")
-      read_elements(in, binary, out);
-    else if (line.size() > 1 && line.front() == '$' && line.substr(0, 4) != "$End")
-      in.skip_section(line.substr(1));
-    else if (!line.empty())
-      in.fail(fmt::format("unexpected '{}' between sections", printable(line)));
-  }
 }
 
 }  // namespace velum::io::msh

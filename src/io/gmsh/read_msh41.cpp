@@ -60,7 +60,9 @@ void expect_end(Input& in, bool binary, std::string_view end) {
   if (in.line(end) != end) in.fail(fmt::format("expected {} here", end));
 }
 
-void read_entities(Input& in, bool binary, MshContents& out) {
+}  // namespace
+
+void read_msh41_entities(Input& in, bool binary, MshContents& out) {
   const Header h = header(in, binary, "the numbers of points, curves, surfaces and volumes");
   const Size counts[] = {h.a, h.b, h.c, h.d};
   for (int dim = 0; dim < 4; ++dim) {
@@ -98,7 +100,7 @@ void read_entities(Input& in, bool binary, MshContents& out) {
   expect_end(in, binary, "$EndEntities");
 }
 
-void read_nodes(Input& in, bool binary, MshContents& out) {
+void read_msh41_nodes(Input& in, bool binary, MshContents& out) {
   const Header h = header(in, binary, "the $Nodes header (blocks, nodes, smallest, largest tag)");
   in.need(binary ? 20 : 8, h.a, "the node blocks");
   in.need(binary ? 32 : 4, h.b, "the nodes");
@@ -163,7 +165,7 @@ void read_nodes(Input& in, bool binary, MshContents& out) {
   expect_end(in, binary, "$EndNodes");
 }
 
-void read_elements(Input& in, bool binary, MshContents& out) {
+void read_msh41_elements(Input& in, bool binary, MshContents& out) {
   const Header h = header(in, binary, "the $Elements header (blocks, elements, tags)");
   in.need(binary ? 20 : 8, h.a, "the element blocks");
   in.need(binary ? 16 : 4, h.b, "the elements");
@@ -224,28 +226,6 @@ void read_elements(Input& in, bool binary, MshContents& out) {
   if (total != h.b)
     in.fail(fmt::format("$Elements declares {} elements but its blocks hold {}", h.b, total));
   expect_end(in, binary, "$EndElements");
-}
-
-}  // namespace
-
-void read_msh41(Input& in, bool binary, MshContents& out) {
-  std::string_view line;
-  while (in.next_line(line)) {
-    if (line == "$PhysicalNames")
-      read_physical_names(in, out);
-    else if (line == "$Entities")
-      read_entities(in, binary, out);
-    else if (line == "$PartitionedEntities")
-      in.fail("a partitioned mesh ($PartitionedEntities): save it unpartitioned");
-    else if (line == "$Nodes")
-      read_nodes(in, binary, out);
-    else if (line == "$Elements")
-      read_elements(in, binary, out);
-    else if (line.size() > 1 && line.front() == '$' && line.substr(0, 4) != "$End")
-      in.skip_section(line.substr(1));
-    else if (!line.empty())
-      in.fail(fmt::format("unexpected '{}' between sections", printable(line)));
-  }
 }
 
 }  // namespace velum::io::msh
