@@ -49,7 +49,8 @@ class In {
     if (n < 0) bad();
     need(static_cast<size_t>(n) * sizeof(double));
     std::vector<double> v(static_cast<size_t>(n));
-    std::memcpy(v.data(), data_.data() + at_, v.size() * sizeof(double));
+    if (!v.empty())  // an empty vector's data() may be null, which memcpy must never get
+      std::memcpy(v.data(), data_.data() + at_, v.size() * sizeof(double));
     at_ += v.size() * sizeof(double);
     return v;
   }
