@@ -75,6 +75,8 @@ class Assembler {
   int num_colors(int block) const { return static_cast<int>(colors_[block].size()); }
   /// Elements this process computes (all of them on one process).
   long own_elements() const;
+  /// The elements of block `block` this process computes, ascending.
+  const std::vector<int>& own(int block) const { return own_[static_cast<size_t>(block)]; }
 
   /// While alive, the vector results (internal, pressure, gas volume and derivatives) come
   /// from every element, on this process alone, with no communication: what the first
