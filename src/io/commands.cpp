@@ -343,7 +343,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
 
   std::unique_ptr<MechanicalSystem> system;
   try {
-    system = std::make_unique<MechanicalSystem>(input.model);
+    system = std::make_unique<MechanicalSystem>(input.model, input.analysis.partition);
   } catch (const std::exception& e) {
     out.status = kExitBadInput;
     out.errors.push_back(fmt::format("{}: {}", input.file.string(), e.what()));
@@ -404,10 +404,16 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
         input.output.directory.string());
   if (several) {  // the partition of the elements (docs/parallel.md)
     const auto own = processes::gather(static_cast<double>(system->assembler().own_elements()));
+    const Assembler& a = system->assembler();
+    if (!opt.quiet && !a.partition_note().empty())
+      say(stderr, "velum: analysis.partition: scotch not used ({}); elements shared by rows\n",
+          a.partition_note());
     if (!opt.quiet) {
       std::string list;
       for (double n : own) list += fmt::format("{}{}", list.empty() ? "" : ", ", n);
-      say(stderr, "velum: {} processes compute {} elements each\n", own.size(), list);
+      say(stderr, "velum: {} processes compute {} elements each ({} partition, {} nodes shared)\n",
+          own.size(), list, a.partition() == ElementPartition::kScotch ? "scotch" : "rows",
+          a.shared_nodes());
     }
   }
 
@@ -429,6 +435,9 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     getrusage(RUSAGE_SELF, &usage);  // ru_maxrss: kibibytes on Linux
     summary.process_elements =
         processes::gather(static_cast<double>(system->assembler().own_elements()));
+    summary.partition =
+        system->assembler().partition() == ElementPartition::kScotch ? "scotch" : "rows";
+    summary.shared_nodes = system->assembler().shared_nodes();
     summary.process_cpu_seconds = processes::gather(cpu_seconds() - cpu_at_start);
     summary.process_memory_mb = processes::gather(static_cast<double>(usage.ru_maxrss) / 1024.0);
   };

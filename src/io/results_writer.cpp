@@ -357,10 +357,10 @@ void ResultsWriter::write_summary(const RunSummary& r) {
       return "[" + t + "]";
     };
     s += fmt::format(
-        "  \"processes\": {{\"count\": {}, \"elements\": {}, \"cpu_seconds\": {}, "
-        "\"peak_memory_mb\": {}}},\n",
-        r.process_elements.size(), list(r.process_elements), list(r.process_cpu_seconds),
-        list(r.process_memory_mb));
+        "  \"processes\": {{\"count\": {}, \"partition\": \"{}\", \"elements\": {}, "
+        "\"shared_nodes\": {}, \"cpu_seconds\": {}, \"peak_memory_mb\": {}}},\n",
+        r.process_elements.size(), r.partition, list(r.process_elements), r.shared_nodes,
+        list(r.process_cpu_seconds), list(r.process_memory_mb));
   }
   auto extreme = [](const char* key, const Extreme& x, const char* where) {
     if (!x.found) return fmt::format("    \"{}\": null", key);

@@ -27,7 +27,7 @@ import xml.etree.ElementTree as ET
 N = 6  # quad4 per side
 
 
-def model(case, solver):
+def model(case, solver, partition=None):
     h = 1.0 / N
     grid = [(i * h, j * h) for j in range(N + 1) for i in range(N + 1)]
     middle = len(grid) // 2 + 1
@@ -72,6 +72,8 @@ def model(case, solver):
         drag = ""
     # analysis.petsc_options through the command line: PORD ordering in the dynamic case.
     options = '\n  petsc_options: "-mat_mumps_icntl_7 4"' if dynamic and solver == "petsc" else ""
+    if partition:
+        options += f"\n  partition: {partition}"
     return f"""title: quarter membrane on two symmetry planes with a payload on three cables ({case})
 mesh:
   nodes: {json.dumps(nodes)}
@@ -321,6 +323,24 @@ def main():
         if mine != theirs:
             errors.append(f"{n} processes: the folder holds {mine}, one process wrote {theirs}")
         errors += frame_errors(one, d, n)
+    if case == "static":  # PT-Scotch's partition of the element graph (analysis.partition)
+        with open(os.path.join(out, "scotch.yaml"), "w") as f:
+            f.write(model(case, "petsc", "scotch"))
+        d = os.path.join(out, "np2-scotch")
+        p = run(["mpirun", "-np", "2", "--oversubscribe", "--bind-to", "none", velum, "run",
+                 os.path.join(out, "scotch.yaml"), "-o", d, "--threads", "1"], env)
+        got = history(os.path.join(d, "history.csv"))
+        for solver, ref in refs.items():
+            errors += compare(ref, got, f"2 processes, scotch, vs one ({solver})")
+        procs = json.load(open(os.path.join(d, "summary.json"))).get("processes", {})
+        share = procs.get("elements", [])
+        if procs.get("partition") != "scotch" or "scotch partition" not in p.stderr:
+            errors.append(f"scotch: partition {procs.get('partition')}, console:\n{p.stderr}")
+        if len(share) != 2 or min(share) == 0 or sum(share) != len(partition(case, 2)[0]):
+            errors.append(f"scotch: elements per process {share}")
+        if not procs.get("shared_nodes", 0) > 0:
+            errors.append(f"scotch: shared nodes {procs.get('shared_nodes')}")
+        errors += frame_errors(os.path.join(out, "one-petsc"), d, 2)
     if errors:
         sys.exit("FAIL:\n" + "\n".join(errors))
     rows = len(refs["petsc"][1])
