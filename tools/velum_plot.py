@@ -72,6 +72,44 @@ def frames_of(folder):
             for d in root.findall("./Collection/DataSet")]
 
 
+def read_frame(path):
+    """A frame as a meshio.Mesh; a run on several processes wrote it as a .pvtu naming one
+    piece per process: put together in the one-process order by the pieces' node_index and
+    cell_index arrays."""
+    if not path.endswith(".pvtu"):
+        return meshio.read(path)
+    sources = [os.path.join(os.path.dirname(path), p.get("Source"))
+               for p in ET.parse(path).getroot().iter("Piece")]
+    pieces = [meshio.read(s) for s in sources]
+    nodes = [p.point_data["node_index"] for p in pieces]
+    n_points = 1 + max(int(n.max()) for n in nodes if n.size)
+    points = np.zeros((n_points, 3))
+    point_data = {name: np.zeros((n_points,) + np.shape(a)[1:], np.asarray(a).dtype)
+                  for name, a in pieces[0].point_data.items() if name != "node_index"}
+    cells = []  # (one-process index, type, nodes, {field: value})
+    for p, at in zip(pieces, nodes):
+        points[at] = p.points
+        for name in point_data:
+            point_data[name][at] = p.point_data[name]
+        for b, block in enumerate(p.cells):
+            index = p.cell_data["cell_index"][b]
+            for k in range(len(block.data)):
+                cells.append((int(index[k]), block.type, at[block.data[k]],
+                              {n: v[b][k] for n, v in p.cell_data.items() if n != "cell_index"}))
+    cells.sort(key=lambda c: c[0])
+    blocks, cell_data = [], {n: [] for n in pieces[0].cell_data if n != "cell_index"}
+    for _, kind, conn, values in cells:  # consecutive cells of one type: one block
+        if not blocks or blocks[-1][0] != kind:
+            blocks.append((kind, []))
+            for n in cell_data:
+                cell_data[n].append([])
+        blocks[-1][1].append(conn)
+        for n in cell_data:
+            cell_data[n][-1].append(values[n])
+    return meshio.Mesh(points, [(k, np.array(c)) for k, c in blocks], point_data=point_data,
+                       cell_data={n: [np.array(v) for v in b] for n, b in cell_data.items()})
+
+
 def field_values(mesh, name, nodal):
     """(values, where): values per cell (concatenated over blocks) or per point."""
     comp = None
@@ -211,7 +249,7 @@ def main(argv):
                            f"{len(frames) - 1}, or negative from the last)")
         index = a.frame % len(frames)
         time, path = frames[index]
-        mesh = meshio.read(path)
+        mesh = read_frame(path)
         field = a.field or next(f for f in DEFAULT_FIELDS
                                 if f in mesh.cell_data or f in mesh.point_data)
         os.makedirs(out, exist_ok=True)

@@ -117,7 +117,8 @@ class Frame:
         self.time = float(time)
         self.node_ids = node_ids
         self.blocks = blocks
-        arrays, self.point_data, self.cell_data = read_vtu(self.path)
+        read = read_pvtu if self.path.suffix == ".pvtu" else read_vtu
+        arrays, self.point_data, self.cell_data = read(self.path)
         self.point_names, self.cell_names = list(self.point_data), list(self.cell_data)
         self.points = arrays["Points"].reshape(-1, 3)
         offsets = arrays["offsets"]
@@ -209,4 +210,48 @@ def read_vtu(path):
             cell_data[name] = data
         else:
             arrays[name] = data
+    return arrays, point_data, cell_data
+
+
+def read_pvtu(path):
+    """A frame of a run on several processes (a .pvtu naming one piece per process) as
+    ``read_vtu`` gives a one-process frame: the pieces put together in the one-process point
+    and cell order by their ``node_index`` and ``cell_index`` arrays (which are dropped)."""
+    path = Path(path)
+    root = ET.parse(path).getroot()
+    pieces = [read_vtu(path.parent / p.get("Source")) for p in root.iter("Piece")]
+    if not pieces:
+        raise ValueError(f"{path}: no pieces")
+    nodes = [pd["node_index"] for _, pd, _ in pieces]
+    cells = [cd["cell_index"] for _, _, cd in pieces]
+    n_points = 1 + max(int(n.max()) for n in nodes if n.size)
+    n_cells = 1 + max((int(c.max()) for c in cells if c.size), default=-1)
+
+    def scatter(parts, index, size):
+        first = parts[0]
+        out = np.zeros((size,) + first.shape[1:], first.dtype)
+        for part, at in zip(parts, index):
+            out[at] = part
+        return out
+
+    point_data = {name: scatter([pd[name] for _, pd, _ in pieces], nodes, n_points)
+                  for name in pieces[0][1] if name != "node_index"}
+    cell_data = {name: scatter([cd[name] for _, _, cd in pieces], cells, n_cells)
+                 for name in pieces[0][2] if name != "cell_index"}
+    arrays = {"Points": scatter([a["Points"].reshape(-1, 3) for a, _, _ in pieces], nodes,
+                                n_points)}
+    # Each cell's nodes, renumbered to the one-process points, in the one-process cell order.
+    conn = [None] * n_cells
+    types = np.zeros(n_cells, np.uint8)
+    for (a, _, _), at_nodes, at_cells in zip(pieces, nodes, cells):
+        starts = np.concatenate(([0], a["offsets"][:-1]))
+        for k, c in enumerate(at_cells):
+            conn[c] = at_nodes[a["connectivity"][starts[k]:a["offsets"][k]]]
+            types[c] = a["types"][k]
+    arrays["connectivity"] = np.concatenate(conn) if conn else np.zeros(0, np.int64)
+    arrays["offsets"] = np.cumsum([len(c) for c in conn]).astype(np.int64)
+    arrays["types"] = types
+    for name in pieces[0][0]:
+        if name not in arrays:  # TIME
+            arrays[name] = pieces[0][0][name]
     return arrays, point_data, cell_data

@@ -19,8 +19,8 @@ std::vector<long> node_ids_of(const Model& m, const ElementBlock& b, int e) {
 
 }  // namespace
 
-MechanicalSystem::MechanicalSystem(const Model& model)
-    : model_(model), dofs_(model), assembler_(model, dofs_) {
+MechanicalSystem::MechanicalSystem(const Model& model, ElementPartition partition)
+    : model_(model), dofs_(model), assembler_(model, dofs_, partition) {
   assembler_.mass(nullptr, &lumped_nodes_);
   lumped_eq_.setZero(size());
   equation_node_.assign(size(), 0);

@@ -122,12 +122,52 @@ void build_pattern(const Model& model, const DofMap& dofs, const std::vector<std
   }
 }
 
+// The element graph (elements sharing a node are neighbours), elements numbered through the
+// blocks in order: CSR offsets and ascending neighbour lists.
+void element_graph(const Model& model, std::vector<long>& offsets, std::vector<long>& adjacency) {
+  std::vector<long> first(model.blocks.size() + 1, 0);
+  for (size_t b = 0; b < model.blocks.size(); ++b)
+    first[b + 1] = first[b] + model.blocks[b]->size();
+  std::vector<std::vector<long>> at_node(static_cast<size_t>(model.num_nodes()));
+  for (size_t b = 0; b < model.blocks.size(); ++b)
+    for (int e = 0; e < model.blocks[b]->size(); ++e)
+      for (int n : model.blocks[b]->nodes(e))
+        at_node[static_cast<size_t>(n)].push_back(first[b] + e);
+  offsets.assign(1, 0);
+  adjacency.clear();
+  std::vector<long> near;
+  for (size_t b = 0; b < model.blocks.size(); ++b)
+    for (int e = 0; e < model.blocks[b]->size(); ++e) {
+      near.clear();
+      for (int n : model.blocks[b]->nodes(e))
+        for (long other : at_node[static_cast<size_t>(n)])
+          if (other != first[b] + e) near.push_back(other);
+      std::sort(near.begin(), near.end());
+      near.erase(std::unique(near.begin(), near.end()), near.end());
+      adjacency.insert(adjacency.end(), near.begin(), near.end());
+      offsets.push_back(static_cast<long>(adjacency.size()));
+    }
+}
+
 }  // namespace
 
-Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), dofs_(dofs) {
+Assembler::Assembler(const Model& model, const DofMap& dofs, ElementPartition partition)
+    : model_(model), dofs_(dofs) {
   neq_ = dofs.num_equations();
   several_ = processes::count() > 1;
   const int rank = processes::rank();
+  // PT-Scotch on the element graph when asked for (a collective call); the row rule below
+  // when it is not, or not available.
+  std::vector<int> graph_part;
+  if (several_ && partition == ElementPartition::kScotch) {
+    std::vector<long> offsets, adjacency;
+    element_graph(model, offsets, adjacency);
+    std::string why;
+    if (processes::partition_graph(offsets, adjacency, graph_part, why))
+      partition_ = ElementPartition::kScotch;
+    else
+      partition_note_ = why, graph_part.clear();
+  }
   // The partition: an element belongs to the process that owns the row of its lowest
   // equation (rows split in contiguous even ranges, as the PETSc matrix's): with a node
   // numbering that follows the mesh (bandwidth-reduced, or row by row), a process's elements
@@ -140,15 +180,24 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
         if (const int q = dofs.equation(n, c); q >= 0) lowest = std::min(lowest, q);
     return lowest < neq_ ? processes::owner(lowest, neq_) : e % processes::count();
   };
+  std::vector<int> holder(static_cast<size_t>(model.num_nodes()), -1);  // -2: shared
+  size_t cell = 0;  // the element's index through the blocks
   for (const auto& bp : model.blocks) {
     auto& own = own_.emplace_back();
     auto& local = local_.emplace_back(bp->size(), -1);
-    for (int e = 0; e < bp->size(); ++e)
-      if (!several_ || owner(*bp, e) == rank) {
+    for (int e = 0; e < bp->size(); ++e, ++cell) {
+      const int p = !several_ ? 0 : graph_part.empty() ? owner(*bp, e) : graph_part[cell];
+      if (p == rank) {
         local[e] = static_cast<int>(own.size());
         own.push_back(e);
       }
+      for (int n : bp->nodes(e)) {
+        int& h = holder[static_cast<size_t>(n)];
+        h = (h == -1 || h == p) ? p : -2;
+      }
+    }
   }
+  shared_nodes_ = std::count(holder.begin(), holder.end(), -2);
   auto mine = [&](int block, const std::vector<int>& elems) {
     std::vector<int> kept;
     for (int e : elems)

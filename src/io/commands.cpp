@@ -200,8 +200,11 @@ void begin_results(const std::filesystem::path& dir, const std::filesystem::path
   if (std::filesystem::is_directory(dir / "frames", ec))
     for (const auto& f : std::filesystem::directory_iterator(dir / "frames", ec)) {
       const std::string name = f.path().filename().string();
-      if (name.rfind("frame_", 0) == 0 && f.path().extension() == ".vtu")
+      if (name.rfind("frame_", 0) != 0) continue;
+      if (f.path().extension() == ".vtu" || f.path().extension() == ".pvtu")
         std::filesystem::remove(f.path(), ec);
+      else if (f.is_directory(ec))  // the pieces of a run on several processes
+        std::filesystem::remove_all(f.path(), ec);
     }
 }
 
@@ -340,7 +343,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
 
   std::unique_ptr<MechanicalSystem> system;
   try {
-    system = std::make_unique<MechanicalSystem>(input.model);
+    system = std::make_unique<MechanicalSystem>(input.model, input.analysis.partition);
   } catch (const std::exception& e) {
     out.status = kExitBadInput;
     out.errors.push_back(fmt::format("{}: {}", input.file.string(), e.what()));
@@ -373,6 +376,15 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     out.status = kExitIo;
     return out;
   }
+  if (!writes && input.output.fields) try {  // this process's pieces of the frames
+      std::optional<WriterPosition> at;
+      if (resume) at = WriterPosition{.frame_times = resume->frame_times};
+      writer = std::make_unique<ResultsWriter>(input, *system, dir, at ? &*at : nullptr);
+    } catch (const OutputError& e) {
+      out.status = kExitIo;
+      out.errors.push_back(e.what());
+      return out;
+    }
   CheckpointSchedule checkpoints(input.output, input.analysis.time);
   if (const PathSettings& path = input.analysis.path;
       path.method == PathSettings::Method::kDisplacement &&
@@ -392,10 +404,16 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
         input.output.directory.string());
   if (several) {  // the partition of the elements (docs/parallel.md)
     const auto own = processes::gather(static_cast<double>(system->assembler().own_elements()));
+    const Assembler& a = system->assembler();
+    if (!opt.quiet && !a.partition_note().empty())
+      say(stderr, "velum: analysis.partition: scotch not used ({}); elements shared by rows\n",
+          a.partition_note());
     if (!opt.quiet) {
       std::string list;
       for (double n : own) list += fmt::format("{}{}", list.empty() ? "" : ", ", n);
-      say(stderr, "velum: {} processes compute {} elements each\n", own.size(), list);
+      say(stderr, "velum: {} processes compute {} elements each ({} partition, {} nodes shared)\n",
+          own.size(), list, a.partition() == ElementPartition::kScotch ? "scotch" : "rows",
+          a.shared_nodes());
     }
   }
 
@@ -417,6 +435,9 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     getrusage(RUSAGE_SELF, &usage);  // ru_maxrss: kibibytes on Linux
     summary.process_elements =
         processes::gather(static_cast<double>(system->assembler().own_elements()));
+    summary.partition =
+        system->assembler().partition() == ElementPartition::kScotch ? "scotch" : "rows";
+    summary.shared_nodes = system->assembler().shared_nodes();
     summary.process_cpu_seconds = processes::gather(cpu_seconds() - cpu_at_start);
     summary.process_memory_mb = processes::gather(static_cast<double>(usage.ru_maxrss) / 1024.0);
   };
@@ -427,7 +448,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
       if (writer) try {
           writer->write_step(snap.step);
           if (snap.step.output_time) writer->write(snap);
-          if (snap.checkpoint && checkpoints.due(snap.step))
+          if (writes && snap.checkpoint && checkpoints.due(snap.step))
             save_checkpoint(*writer, input.file, system->size(), (*snap.checkpoint)());
         } catch (const OutputError&) {
           if (!several) throw;
@@ -521,7 +542,12 @@ int run_command(const RunOptions& opt) {
   if (const int sig = InterruptGuard::signal_received())  // nothing written yet
     return sig == SIGINT ? kExitInterrupted : kExitTerminated;
   const RunOutcome out = run_model(*in, controls);
-  if (!speaks) return out.status;
+  if (!speaks) {  // the first process speaks; another one only of its own output's failure
+    if (out.status == kExitIo)
+      for (const auto& e : out.errors)
+        say(stderr, "error (process {}): {}\n", processes::rank(), e);
+    return out.status;
+  }
   for (const auto& e : out.errors) say(stderr, "error: {}\n", e);
   if (out.status == kExitInterrupted || out.status == kExitTerminated)
     say(stderr, "velum: {}; results up to there are in {}\n", out.summary.reason,

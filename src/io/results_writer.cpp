@@ -1,5 +1,7 @@
 #include "velum/io/results_writer.hpp"
 
+#include "velum/solve/processes.hpp"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -35,61 +37,6 @@ namespace {
 
 constexpr double kDeg = 180.0 / std::numbers::pi;
 
-int vtk_type(std::string_view t) {
-  if (t == "tri3") return 5;
-  if (t == "tri6") return 22;
-  if (t == "quad4") return 9;
-  if (t == "quad8") return 23;
-  if (t == "quad9") return 28;
-  if (t == "cable2") return 3;
-  return 21;  // cable3: VTK_QUADRATIC_EDGE (ends, then middle: Gmsh order)
-}
-
-// Appended raw binary: each array is a UInt64 byte count followed by the values. The arrays
-// are laid out last first: meshio (5.0) reads raw appended data by finding each array's tag
-// by its offset while rewriting the offsets of those it has read, and with ascending offsets
-// it can find a rewritten tag instead (a CorruptionError on frames with many arrays); in
-// reverse order the tag it looks for always precedes the rewritten ones.
-class Appended {
- public:
-  template <class T>
-  std::string add(const std::string& attrs, const std::vector<T>& v) {
-    const std::string tag = fmt::format("<DataArray {} format=\"appended\" offset=\"{}{}\"/>\n",
-                                        attrs, kMark, chunks_.size());
-    const std::uint64_t bytes = v.size() * sizeof(T);
-    std::string& c = chunks_.emplace_back();
-    c.reserve(sizeof bytes + bytes);
-    c.append(reinterpret_cast<const char*>(&bytes), sizeof bytes);
-    c.append(reinterpret_cast<const char*>(v.data()), bytes);
-    return tag;
-  }
-  /// `xml` with its offsets filled in, then the appended data section and the end of the file.
-  std::string finish(const std::string& xml) const {
-    std::vector<size_t> offset(chunks_.size());
-    size_t at = 0;
-    for (size_t k = chunks_.size(); k-- > 0;) offset[k] = at, at += chunks_[k].size();
-    std::string out;
-    out.reserve(xml.size() + at + 64);
-    size_t from = 0;
-    for (size_t k = 0; k < chunks_.size(); ++k) {
-      const std::string mark = fmt::format("{}{}\"", kMark, k);
-      const size_t pos = xml.find(mark, from);
-      out.append(xml, from, pos - from);
-      out += fmt::format("{}\"", offset[k]);
-      from = pos + mark.size();
-    }
-    out.append(xml, from);
-    out += "<AppendedData encoding=\"raw\">\n_";
-    for (size_t k = chunks_.size(); k-- > 0;) out += chunks_[k];
-    out += "\n</AppendedData>\n</VTKFile>\n";
-    return out;
-  }
-
- private:
-  static constexpr const char* kMark = "@";
-  std::vector<std::string> chunks_;
-};
-
 std::string json_number(double v) {
   return std::isfinite(v) ? fmt::format("{:.12g}", v) : "null";
 }
@@ -115,9 +62,19 @@ ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
                              std::filesystem::path directory, const WriterPosition* resume)
     : input_(input),
       system_(&system),
+      records_(processes::rank() == 0),
       dir_(std::move(directory)),
-      labels_(cell_labels(input.model, input.block_materials)),
-      average_(input.model) {
+      labels_(cell_labels(input.model, input.block_materials)) {
+  if (input_.output.fields) {
+    std::vector<std::vector<int>> own;
+    for (size_t b = 0; b < input_.model.blocks.size(); ++b)
+      own.push_back(system.assembler().own(static_cast<int>(b)));
+    frames_.emplace(input_, dir_, own, processes::rank(), processes::count());
+  }
+  if (!records_) {  // another process than the first: its pieces of the frames only
+    if (resume) frame_times_ = resume->frame_times;
+    return;
+  }
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec || !std::filesystem::is_directory(dir_))
@@ -171,8 +128,8 @@ ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
 }
 
 WriterPosition ResultsWriter::position() const {
-  return {.history_bytes = std::ftell(history_),
-          .steps_bytes = std::ftell(steps_),
+  return {.history_bytes = history_ ? std::ftell(history_) : 0,
+          .steps_bytes = steps_ ? std::ftell(steps_) : 0,
           .frame_times = frame_times_};
 }
 
@@ -182,7 +139,7 @@ ResultsWriter::~ResultsWriter() {
 }
 
 void ResultsWriter::write_step(const AcceptedStep& step) {
-  if (step.step == 0) return;  // the initial state is not a step
+  if (step.step == 0 || !records_) return;  // the initial state is not a step
   const std::vector<double>* r = step.report ? &step.report->residuals : nullptr;
   std::string all;
   if (r)
@@ -198,9 +155,11 @@ void ResultsWriter::write_step(const AcceptedStep& step) {
 }
 
 void ResultsWriter::write(const StepSnapshot& snap) {
+  if (!records_ && !input_.output.fields) return;
   // Positions, reactions and cells once per output time: for the history row, the frame and
-  // the summary's extremes. Under mpirun only the first process writes: the forces come from
-  // every element here, with no communication (the others are not taking part).
+  // the summary's extremes. Under mpirun every process computes them here from every element,
+  // with no communication (the first alone writes the history; each process its piece of
+  // the frame, whose averaged fields need the cells around its boundary nodes).
   const Assembler::WholeMesh whole(system_->assembler());
   const double t = snap.step.t;
   const NodePositions U = system_->displacements(t, snap.state.u);
@@ -209,9 +168,10 @@ void ResultsWriter::write(const StepSnapshot& snap) {
   NodePositions R;
   bool have_R = false;
   if (input_.output.fields) R = reactions(snap, x), have_R = true;
-  write_history_row(snap, U, V, x, R, have_R);
+  if (records_) write_history_row(snap, U, V, x, R, have_R);
   const FrameFields f = evaluate_cells(input_.model, x);
-  if (snap.step.step > 0) update_extremes(t, U, f);  // not the initial state (often unloaded)
+  // The extremes: not of the initial state (often unloaded).
+  if (records_ && snap.step.step > 0) update_extremes(t, U, f);
   if (input_.output.fields) write_frame(t, U, V, R, f);
 }
 
@@ -315,6 +275,7 @@ double ResultsWriter::gas_pressure(int i, double t, const NodePositions& x) cons
 }
 
 void ResultsWriter::write_history(const StepSnapshot& snap) {
+  if (!records_) return;
   const Assembler::WholeMesh whole(system_->assembler());  // see write()
   NodePositions U, V, x, R;
   if (!input_.output.history.empty()) {
@@ -341,34 +302,11 @@ void ResultsWriter::write_history_row(const StepSnapshot& snap, const NodePositi
 void ResultsWriter::write_frame(double t, const NodePositions& U, const NodePositions& V,
                                 const NodePositions& R, const FrameFields& f) {
   const Model& model = input_.model;
-  const NodePositions x = model.X + U;
-  const int nn = model.num_nodes();
-  const int ne = model.num_elements();
-  std::vector<std::int64_t> conn, offsets, element_id;
-  std::vector<std::int32_t> set_index, material_index;
-  std::vector<std::uint8_t> types;
-  conn.reserve(static_cast<size_t>(ne) * 4);
-  offsets.reserve(ne);
-  types.reserve(ne);
-  element_id.reserve(ne);
-  for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
-    const auto& b = model.blocks[bi];
-    const int n = b->size();
-    const std::uint8_t vt = static_cast<std::uint8_t>(vtk_type(b->type_name()));
-    for (int e = 0; e < n; ++e) {
-      for (int node : b->nodes(e)) conn.push_back(node);
-      offsets.push_back(static_cast<std::int64_t>(conn.size()));
-      types.push_back(vt);
-      element_id.push_back(input_.element_ids[bi][static_cast<size_t>(e)]);
-    }
-    set_index.insert(set_index.end(), static_cast<size_t>(n), labels_.set_of_block[bi]);
-    material_index.insert(material_index.end(), static_cast<size_t>(n),
-                          labels_.material_of_block[bi]);
-  }
-
   // The absolute pressure of the gas each element encloses (0: none).
-  std::vector<double> gas(ne, 0.0);
+  std::vector<double> gas;
   if (!model.gases.empty()) {
+    gas.assign(static_cast<size_t>(model.num_elements()), 0.0);
+    const NodePositions x = model.X + U;
     std::vector<int> first(model.blocks.size(), 0);
     for (size_t b = 1; b < model.blocks.size(); ++b)
       first[b] = first[b - 1] + model.blocks[b - 1]->size();
@@ -378,56 +316,10 @@ void ResultsWriter::write_frame(double t, const NodePositions& U, const NodePosi
         for (int e : part.elements) gas[static_cast<size_t>(first[part.block] + e)] = p;
     }
   }
-
-  auto flat = [nn](const NodePositions& M) {
-    return std::vector<double>(M.data(), M.data() + 3 * static_cast<size_t>(nn));
-  };
-  Appended app;
-  std::string xml;
-  xml += "<?xml version=\"1.0\"?>\n";
-  xml +=
-      "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-      "header_type=\"UInt64\">\n";
-  xml += "<UnstructuredGrid>\n";
-  xml += fmt::format(
-      "<FieldData>{}</FieldData>\n",
-      app.add("type=\"Float64\" Name=\"TIME\" NumberOfTuples=\"1\"", std::vector<double>{t}));
-  xml += fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", nn, ne);
-  xml += "<PointData Vectors=\"displacement\">\n";
-  xml += app.add("type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\"", flat(U));
-  xml += app.add("type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\"", flat(V));
-  xml += app.add("type=\"Float64\" Name=\"reaction\" NumberOfComponents=\"3\"", flat(R));
-  xml += app.add("type=\"Int64\" Name=\"node_id\"",
-                 std::vector<std::int64_t>(model.node_ids.begin(), model.node_ids.end()));
-  for (const CellArray& a : f.cells)
-    if (a.averaged)
-      xml += app.add(fmt::format("type=\"Float64\" Name=\"{}\"", a.name),
-                     average_.to_nodes(model, a.values));
-  xml += "</PointData>\n<CellData>\n";
-  for (const CellArray& a : f.cells)  // scalars without NumberOfComponents: (n,) in meshio
-    xml += app.add(a.components == 1
-                       ? fmt::format("type=\"Float64\" Name=\"{}\"", a.name)
-                       : fmt::format("type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"",
-                                     a.name, a.components),
-                   a.values);
-  if (!f.wrinkle_state.empty())
-    xml += app.add("type=\"Int32\" Name=\"wrinkle_state\"", f.wrinkle_state);
-  xml += app.add("type=\"Int32\" Name=\"element_set\"", set_index);
-  xml += app.add("type=\"Int32\" Name=\"material\"", material_index);
-  xml += app.add("type=\"Int64\" Name=\"element_id\"", element_id);
-  if (!model.gases.empty()) xml += app.add("type=\"Float64\" Name=\"gas_pressure\"", gas);
-  xml += "</CellData>\n<Points>\n";
-  xml += app.add("type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"", flat(model.X));
-  xml += "</Points>\n<Cells>\n";
-  xml += app.add("type=\"Int64\" Name=\"connectivity\"", conn);
-  xml += app.add("type=\"Int64\" Name=\"offsets\"", offsets);
-  xml += app.add("type=\"UInt8\" Name=\"types\"", types);
-  xml += "</Cells>\n</Piece>\n</UnstructuredGrid>\n";
-
-  const std::string name = fmt::format("frame_{:05d}.vtu", frame_times_.size());
-  write_file_atomically(dir_ / "frames" / name, app.finish(xml));
+  frames_->write(static_cast<int>(frame_times_.size()),
+                 {.t = t, .U = U, .V = V, .R = R, .f = f, .gas = gas});
   frame_times_.push_back(t);
-  write_pvd();
+  if (records_) write_pvd();
 }
 
 void ResultsWriter::write_pvd() {
@@ -435,10 +327,8 @@ void ResultsWriter::write_pvd() {
       "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" "
       "byte_order=\"LittleEndian\">\n<Collection>\n";
   for (size_t i = 0; i < frame_times_.size(); ++i)
-    s += fmt::format(
-        "  <DataSet timestep=\"{:.12g}\" group=\"\" part=\"0\" "
-        "file=\"frames/frame_{:05d}.vtu\"/>\n",
-        frame_times_[i], i);
+    s += fmt::format("  <DataSet timestep=\"{1:.12g}\" group=\"\" part=\"0\" file=\"{0}\"/>\n",
+                     frames_->file(static_cast<int>(i)), frame_times_[i]);
   s += "</Collection>\n</VTKFile>\n";
   write_file_atomically(dir_ / "results.pvd", s);
 }
@@ -467,10 +357,10 @@ void ResultsWriter::write_summary(const RunSummary& r) {
       return "[" + t + "]";
     };
     s += fmt::format(
-        "  \"processes\": {{\"count\": {}, \"elements\": {}, \"cpu_seconds\": {}, "
-        "\"peak_memory_mb\": {}}},\n",
-        r.process_elements.size(), list(r.process_elements), list(r.process_cpu_seconds),
-        list(r.process_memory_mb));
+        "  \"processes\": {{\"count\": {}, \"partition\": \"{}\", \"elements\": {}, "
+        "\"shared_nodes\": {}, \"cpu_seconds\": {}, \"peak_memory_mb\": {}}},\n",
+        r.process_elements.size(), r.partition, list(r.process_elements), r.shared_nodes,
+        list(r.process_cpu_seconds), list(r.process_memory_mb));
   }
   auto extreme = [](const char* key, const Extreme& x, const char* where) {
     if (!x.found) return fmt::format("    \"{}\": null", key);

@@ -7,7 +7,7 @@
 #include <vector>
 
 #ifdef VELUM_HAVE_PETSC
-#include <petscsys.h>
+#include <petscmat.h>
 #endif
 
 namespace velum::processes {
@@ -143,6 +143,66 @@ int owner(long k, long total) {
   // The first `extra` processes hold base + 1 items.
   const long split = extra * (base + 1);
   return static_cast<int>(k < split ? k / (base + 1) : extra + (k - split) / std::max(base, 1L));
+}
+
+bool partition_graph(const std::vector<long>& offsets, const std::vector<long>& adjacency,
+                     std::vector<int>& part, std::string& why) {
+  const long n = static_cast<long>(offsets.size()) - 1;
+  part.assign(static_cast<size_t>(std::max(n, 0L)), 0);
+#ifdef VELUM_HAVE_PETSC
+  if (my_count <= 1) return true;
+  // This process hands PETSc its contiguous share of the vertices (their rows of the graph).
+  const long base = n / my_count, extra = n % my_count;
+  const long begin = my_rank * base + std::min<long>(my_rank, extra);
+  const long end = begin + base + (my_rank < extra ? 1 : 0);
+  PetscInt *ia = nullptr, *ja = nullptr;  // MatCreateMPIAdj takes them (PETSc frees them)
+  const long edges = offsets[end] - offsets[begin];
+  bool ok = PetscMalloc1(end - begin + 1, &ia) == 0 && PetscMalloc1(std::max(edges, 1L), &ja) == 0;
+  Mat graph = nullptr;
+  MatPartitioning mp = nullptr;
+  IS mine = nullptr, gathered = nullptr;
+  if (ok) {
+    for (long v = begin; v <= end; ++v)
+      ia[v - begin] = static_cast<PetscInt>(offsets[v] - offsets[begin]);
+    for (long k = 0; k < edges; ++k) ja[k] = static_cast<PetscInt>(adjacency[offsets[begin] + k]);
+    ok = MatCreateMPIAdj(PETSC_COMM_WORLD, static_cast<PetscInt>(end - begin),
+                         static_cast<PetscInt>(n), ia, ja, nullptr, &graph) == 0;
+    if (!ok) PetscFree(ia), PetscFree(ja);
+  }
+  ok = ok && MatPartitioningCreate(PETSC_COMM_WORLD, &mp) == 0 &&
+       MatPartitioningSetAdjacency(mp, graph) == 0 && MatPartitioningSetNParts(mp, my_count) == 0;
+  if (ok && MatPartitioningSetType(mp, MATPARTITIONINGPTSCOTCH) != 0) {
+    ok = false;
+    why = "this PETSc has no PT-Scotch (MatPartitioning type ptscotch)";
+  }
+  ok = processes::all(ok);  // every process goes on, or none
+  if (ok) {
+    ok = MatPartitioningApply(mp, &mine) == 0 && ISAllGather(mine, &gathered) == 0;
+    const PetscInt* idx = nullptr;
+    PetscInt size = 0;
+    if (ok && ISGetLocalSize(gathered, &size) == 0 && size == n &&
+        ISGetIndices(gathered, &idx) == 0) {
+      for (long v = 0; v < n; ++v) part[static_cast<size_t>(v)] = static_cast<int>(idx[v]);
+      ISRestoreIndices(gathered, &idx);
+    } else {
+      ok = false;
+    }
+    ok = processes::all(ok);
+    if (!ok) why = "PT-Scotch failed to partition the element graph";
+  } else if (why.empty()) {
+    why = "PETSc could not set up the graph partition";
+  }
+  ISDestroy(&gathered);
+  ISDestroy(&mine);
+  MatPartitioningDestroy(&mp);
+  MatDestroy(&graph);
+  if (!ok) part.assign(part.size(), 0);
+  return ok;
+#else
+  (void)adjacency;
+  why = "this build has no PETSc";
+  return my_count <= 1;
+#endif
 }
 
 }  // namespace velum::processes

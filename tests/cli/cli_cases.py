@@ -304,6 +304,7 @@ CASES = [
     ("petsc_not_built", mutate(analysis__linear_solver="petsc"), {}, [], 1, ["not available in this build"]) if not HAVE_PETSC else
     ("petsc_options_without_dash", mutate(analysis__linear_solver="petsc", analysis__petsc_options="ksp_type gmres"), {}, [], 1, ["analysis.petsc_options", "begin with '-'"]),
     ("petsc_options_other_solver", mutate(analysis__petsc_options="-ksp_type gmres"), {}, [], 1, ["petsc_options apply to linear_solver: petsc only"]),
+    ("unknown_partition", mutate(analysis__partition="scoth"), {}, [], 1, ["analysis.partition", "unknown partition 'scoth'", "did you mean 'scotch'"]),
     ("unknown_linear_solver", mutate(analysis__linear_solver="superlu"), {}, [], 1, ["unknown linear solver 'superlu'"]),
     ("misspelt_linear_solver", mutate(analysis__linear_solver="mumsp"), {}, [], 1, ["unknown linear solver 'mumsp'", "did you mean 'mumps'"]),
     ("newton_zero_iterations", mutate(analysis__newton={"max_iterations": 0}), {}, [], 1, ["at least one iteration"]),

@@ -10,7 +10,9 @@ the middle, so that with two or three processes the equations of a cable's two e
 nodes on the symmetry planes, fall on different processes. Each case runs once on one process
 (no mpirun) with `linear_solver: auto`, once with `petsc`, then under `mpirun -np N` for each N;
 every history column must agree with the one-process `petsc` and `auto` runs within 1e-8 of the
-column's largest magnitude, and only one set of result files may appear. Under mpirun each
+column's largest magnitude, and only one set of result files may appear. The frames: on one
+process the one-process files; on N > 1, per frame a .pvtu naming N pieces whose cells are
+every cell once, with the one-process frame's values within 1e-8 of each field's largest. Under mpirun each
 process computes only its share of the elements: summary.json `processes.elements` must be the
 partition predicted here (which puts a boundary through a cable and the symmetry planes).
 """
@@ -20,11 +22,12 @@ import os
 import shutil
 import subprocess
 import sys
+import xml.etree.ElementTree as ET
 
 N = 6  # quad4 per side
 
 
-def model(case, solver):
+def model(case, solver, partition=None):
     h = 1.0 / N
     grid = [(i * h, j * h) for j in range(N + 1) for i in range(N + 1)]
     middle = len(grid) // 2 + 1
@@ -69,6 +72,8 @@ def model(case, solver):
         drag = ""
     # analysis.petsc_options through the command line: PORD ordering in the dynamic case.
     options = '\n  petsc_options: "-mat_mumps_icntl_7 4"' if dynamic and solver == "petsc" else ""
+    if partition:
+        options += f"\n  partition: {partition}"
     return f"""title: quarter membrane on two symmetry planes with a payload on three cables ({case})
 mesh:
   nodes: {json.dumps(nodes)}
@@ -163,6 +168,85 @@ def partition_errors(case, n):
     return errors, [own.count(r) for r in range(n)]
 
 
+def series(folder):
+    root = ET.parse(os.path.join(folder, "results.pvd")).getroot()
+    return [(float(d.get("timestep")), d.get("file")) for d in root.iter("DataSet")]
+
+
+def frame_errors(one, d, n):
+    """Frames on n processes: one process's files (n = 1), or per frame a .pvtu naming n
+    pieces frames/frame_NNNNN/frame_NNNNN_K.vtu that together hold every cell once and every
+    node, with the one-process frame's values (within 1e-8 of each field's largest value)."""
+    import meshio
+    import numpy as np
+    errors = []
+    ref, got = series(one), series(d)
+    if [t for t, _ in ref] != [t for t, _ in got]:
+        return [f"{n} processes: results.pvd times {got}, one process {ref}"]
+    expected = sorted(os.listdir(os.path.join(one, "frames")))
+    if n > 1:
+        expected = sorted(f"{os.path.splitext(f)[0]}{x}" for f in expected for x in (".pvtu", ""))
+    if sorted(os.listdir(os.path.join(d, "frames"))) != expected:
+        errors.append(f"{n} processes: frames/ holds {sorted(os.listdir(os.path.join(d, 'frames')))}"
+                      f", expected {expected}")
+    for (t, ref_file), (_, file) in zip(ref, got):
+        whole = meshio.read(os.path.join(one, ref_file))
+        if n == 1:
+            if file != ref_file:
+                errors.append(f"1 process: results.pvd names {file}, one process {ref_file}")
+            continue
+        stem = os.path.splitext(os.path.basename(ref_file))[0]
+        if file != f"frames/{stem}.pvtu":
+            errors.append(f"{n} processes: results.pvd names {file}")
+            continue
+        pvtu = os.path.join(d, file)
+        sources = [p.get("Source") for p in ET.parse(pvtu).getroot().iter("Piece")]
+        if sources != [f"{stem}/{stem}_{k}.vtu" for k in range(n)]:
+            errors.append(f"{n} processes: {file} names the pieces {sources}")
+            continue
+        pieces = [meshio.read(os.path.join(os.path.dirname(pvtu), s)) for s in sources]
+        cells = np.concatenate([np.concatenate(p.cell_data["cell_index"]) for p in pieces])
+        ncells = sum(len(b.data) for b in whole.cells)
+        if sorted(cells.tolist()) != list(range(ncells)):
+            errors.append(f"{n} processes, t = {t}: the pieces hold cells {sorted(cells)}, "
+                          f"expected each of {ncells} once")
+            continue
+        if min(len(p.cell_data["cell_index"][0]) for p in pieces) == 0:
+            errors.append(f"{n} processes, t = {t}: a piece holds no cell")
+        nodes = np.concatenate([p.point_data["node_index"] for p in pieces])
+        if set(nodes.tolist()) != set(range(len(whole.points))):
+            errors.append(f"{n} processes, t = {t}: the pieces do not hold every node")
+        whole_conn = [c for b in whole.cells for c in b.data]
+        for name, ref_blocks in whole.cell_data.items():
+            ref_values = np.concatenate(ref_blocks)
+            scale = np.nanmax(np.abs(ref_values)) if np.isfinite(ref_values).any() else 0
+            for p in pieces:
+                at = np.concatenate(p.cell_data["cell_index"])
+                values = np.concatenate(p.cell_data[name])
+                same_nan = (np.isnan(values) == np.isnan(ref_values[at])).all()
+                diff = np.nan_to_num(np.abs(values - ref_values[at]))
+                if not same_nan or diff.max(initial=0) > 1e-8 * max(scale, 1e-300):
+                    errors.append(f"{n} processes, t = {t}: cell field {name} differs")
+                    break
+        for name, ref_values in list(whole.point_data.items()) + [("Points", whole.points)]:
+            scale = np.nanmax(np.abs(ref_values)) if np.isfinite(ref_values).any() else 0
+            for p in pieces:
+                values = p.points if name == "Points" else p.point_data[name]
+                at = p.point_data["node_index"]
+                same_nan = (np.isnan(values) == np.isnan(ref_values[at])).all()
+                diff = np.nan_to_num(np.abs(values - ref_values[at]))
+                if not same_nan or diff.max(initial=0) > 1e-8 * max(scale, 1e-300):
+                    errors.append(f"{n} processes, t = {t}: point field {name} differs")
+                    break
+        for p in pieces:  # each cell's nodes, as the one-process frame's
+            at = np.concatenate(p.cell_data["cell_index"])
+            conn = [p.point_data["node_index"][c] for b in p.cells for c in b.data]
+            if any(list(c) != list(whole_conn[k]) for c, k in zip(conn, at)):
+                errors.append(f"{n} processes, t = {t}: a piece's connectivity differs")
+                break
+    return errors
+
+
 def history(path):
     with open(path) as f:
         rows = list(csv.reader(f))
@@ -235,12 +319,28 @@ def main():
         if p.stderr.count("velum: converged") != 1:
             errors.append(f"{n} processes: the console should hear one process, got:\n{p.stderr}")
         one = os.path.join(out, "one-petsc")
-        for sub in ("", "frames"):
-            mine, theirs = sorted(os.listdir(os.path.join(d, sub))), sorted(
-                os.listdir(os.path.join(one, sub)))
-            if mine != theirs:
-                errors.append(f"{n} processes: {sub or 'the folder'} holds {mine}, one process "
-                              f"wrote {theirs}")
+        mine, theirs = sorted(os.listdir(d)), sorted(os.listdir(one))
+        if mine != theirs:
+            errors.append(f"{n} processes: the folder holds {mine}, one process wrote {theirs}")
+        errors += frame_errors(one, d, n)
+    if case == "static":  # PT-Scotch's partition of the element graph (analysis.partition)
+        with open(os.path.join(out, "scotch.yaml"), "w") as f:
+            f.write(model(case, "petsc", "scotch"))
+        d = os.path.join(out, "np2-scotch")
+        p = run(["mpirun", "-np", "2", "--oversubscribe", "--bind-to", "none", velum, "run",
+                 os.path.join(out, "scotch.yaml"), "-o", d, "--threads", "1"], env)
+        got = history(os.path.join(d, "history.csv"))
+        for solver, ref in refs.items():
+            errors += compare(ref, got, f"2 processes, scotch, vs one ({solver})")
+        procs = json.load(open(os.path.join(d, "summary.json"))).get("processes", {})
+        share = procs.get("elements", [])
+        if procs.get("partition") != "scotch" or "scotch partition" not in p.stderr:
+            errors.append(f"scotch: partition {procs.get('partition')}, console:\n{p.stderr}")
+        if len(share) != 2 or min(share) == 0 or sum(share) != len(partition(case, 2)[0]):
+            errors.append(f"scotch: elements per process {share}")
+        if not procs.get("shared_nodes", 0) > 0:
+            errors.append(f"scotch: shared nodes {procs.get('shared_nodes')}")
+        errors += frame_errors(os.path.join(out, "one-petsc"), d, 2)
     if errors:
         sys.exit("FAIL:\n" + "\n".join(errors))
     rows = len(refs["petsc"][1])

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "velum/analysis/mechanical_system.hpp"
+#include "velum/assembly/element_partition.hpp"
 #include "velum/solve/linear_solver.hpp"
 #include "velum/time/path_following.hpp"
 #include "velum/time/relaxation.hpp"
@@ -63,6 +64,8 @@ struct AnalysisSettings {
       SolverKind::kAuto;  ///< auto: CHOLMOD while symmetric and definite, else UMFPACK
   /// linear_solver petsc: PETSc options over the defaults (analysis.petsc_options).
   std::string petsc_options;
+  /// Under mpirun: how the elements are shared (analysis.partition).
+  ElementPartition partition = ElementPartition::kRows;
 };
 
 struct Energies {

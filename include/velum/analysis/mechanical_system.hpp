@@ -14,7 +14,9 @@ namespace velum {
 
 class MechanicalSystem final : public SecondOrderSystem {
  public:
-  explicit MechanicalSystem(const Model& model);
+  /// `partition`: how the elements are shared under mpirun (one process: all of them).
+  explicit MechanicalSystem(const Model& model,
+                            ElementPartition partition = ElementPartition::kRows);
 
   int size() const override { return dofs_.num_equations(); }
   void evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu, double cv,

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "velum/assembly/dof_map.hpp"
+#include "velum/assembly/element_partition.hpp"
 #include "velum/element/enclosed_volume.hpp"
 
 namespace velum {
@@ -33,7 +34,9 @@ void combine_values(SparseMatrix& A, double a, const SparseMatrix* B, double b);
 
 class Assembler {
  public:
-  Assembler(const Model& model, const DofMap& dofs);
+  /// `partition`: how the elements are shared under mpirun (ignored on one process).
+  Assembler(const Model& model, const DofMap& dofs,
+            ElementPartition partition = ElementPartition::kRows);
 
   /// A matrix over the equations with the full pattern and zero values (the pattern is
   /// rebuilt from the mesh: the assembler keeps only the positions it scatters to).
@@ -75,6 +78,15 @@ class Assembler {
   int num_colors(int block) const { return static_cast<int>(colors_[block].size()); }
   /// Elements this process computes (all of them on one process).
   long own_elements() const;
+  /// Nodes held by elements of more than one process (the partition's cut; 0 on one process).
+  long shared_nodes() const { return shared_nodes_; }
+  /// The partition used (kRows when PT-Scotch was asked for but is not available; see
+  /// partition_note()).
+  ElementPartition partition() const { return partition_; }
+  /// Why the partition asked for was not used (empty when it was).
+  const std::string& partition_note() const { return partition_note_; }
+  /// The elements of block `block` this process computes, ascending.
+  const std::vector<int>& own(int block) const { return own_[static_cast<size_t>(block)]; }
 
   /// While alive, the vector results (internal, pressure, gas volume and derivatives) come
   /// from every element, on this process alone, with no communication: what the first
@@ -119,7 +131,10 @@ class Assembler {
   const DofMap& dofs_;
   int neq_ = 0;
   Eigen::Index nonzeros_ = 0;
-  bool several_ = false;                     // elements shared between processes
+  bool several_ = false;  // elements shared between processes
+  ElementPartition partition_ = ElementPartition::kRows;
+  std::string partition_note_;
+  long shared_nodes_ = 0;
   mutable bool whole_ = false;               // a WholeMesh is alive
   std::vector<std::vector<int>> own_;        // per block: this process's elements, ascending
   std::vector<std::vector<int>> local_;      // per block: element -> index into own_ (-1: not)

@@ -7,12 +7,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "velum/analysis/analysis.hpp"
 #include "velum/io/frame_fields.hpp"
+#include "velum/io/frame_writer.hpp"
 #include "velum/io/model_reader.hpp"
 
 namespace velum::io {
@@ -49,6 +51,8 @@ struct RunSummary {
   /// Under mpirun (more than one entry): per process, in rank order, the elements it
   /// computed, its CPU seconds and its peak memory (MB).
   std::vector<double> process_elements, process_cpu_seconds, process_memory_mb;
+  std::string partition;     ///< under mpirun: rows | scotch (the one used)
+  long shared_nodes = 0;     ///< under mpirun: nodes held by elements of several processes
   int form_updates = -1;     ///< form finding: reference updates (-1: not form finding)
   double form_residual = 0;  ///< form finding: residual / force scale on the found shape
   std::vector<StepSummary> analysis_steps;  ///< a staged model's steps (empty otherwise)
@@ -76,6 +80,8 @@ class ResultsWriter {
   /// Creates the directory (and frames/ when fields are on) and history.csv. `system` is the
   /// one being solved (reactions re-evaluate its external forces). With `resume`, the files
   /// already there are cut back to that position and continued. Throws OutputError.
+  /// Under mpirun the first process writes everything; the others (constructed after the
+  /// first has made the folder) write only their pieces of the frames (frame_writer.hpp).
   ResultsWriter(const ModelInput& input, MechanicalSystem& system, std::filesystem::path directory,
                 const WriterPosition* resume = nullptr);
   /// The position now (files flushed).
@@ -123,13 +129,14 @@ class ResultsWriter {
 
   const ModelInput& input_;
   MechanicalSystem* system_;
+  bool records_;  // history, steps, the .pvd series, extremes: one process, or the first
   int analysis_step_ = 0;
   std::filesystem::path dir_;
   std::FILE* history_ = nullptr;
   std::FILE* steps_ = nullptr;
   std::vector<double> frame_times_;
   CellLabels labels_;
-  NodalAverage average_;
+  std::optional<FrameWriter> frames_;  // with fields on
   Extreme max_stress_, max_force_per_length_, max_displacement_, min_cable_force_, max_cable_force_;
 };
 

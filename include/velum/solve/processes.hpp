@@ -5,6 +5,7 @@
 // process and every call here is trivial.
 #pragma once
 
+#include <string>
 #include <vector>
 
 namespace velum::processes {
@@ -38,5 +39,12 @@ std::vector<double> gather(double value);
 /// The process that owns item k of `total` split into count() contiguous, even ranges (as
 /// PETSc splits rows).
 int owner(long k, long total);
+/// A partition of a graph (vertices 0 .. n − 1, the neighbours of v at
+/// adjacency[offsets[v] .. offsets[v + 1]), ascending, without v) into count() parts by
+/// PT-Scotch through PETSc's MatPartitioning: part[v] on every process, the same. A collective
+/// call; every process passes the same graph. False, with `why`, on every process when the
+/// partitioner is not available (or failed).
+bool partition_graph(const std::vector<long>& offsets, const std::vector<long>& adjacency,
+                     std::vector<int>& part, std::string& why);
 
 }  // namespace velum::processes

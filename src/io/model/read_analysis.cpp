@@ -53,7 +53,7 @@ std::optional<std::string> bad_column_name(const std::string& name) {
 void Reader::parse_analysis(const Node& a) {
   if (!check_map(a, "analysis",
                  {"type", "integrator", "time", "newton", "damping", "linear_solver", "relaxation",
-                  "predictor", "path", "petsc_options", "form_finding"}))
+                  "predictor", "path", "petsc_options", "partition", "form_finding"}))
     return;
   AnalysisSettings& s = in_.analysis;
   if (auto t = text(a, "type", "analysis", false)) {
@@ -253,6 +253,15 @@ void Reader::parse_analysis(const Node& a) {
                         suggestion(*ls, {"auto", "cholmod", "umfpack", "klu", "mumps", "petsc"})));
       }
     }
+  }
+  if (auto pa = text(a, "partition", "analysis", false)) {
+    if (*pa == "rows")
+      s.partition = ElementPartition::kRows;
+    else if (*pa == "scotch")
+      s.partition = ElementPartition::kScotch;
+    else
+      error(a["partition"], "analysis.partition",
+            fmt::format("unknown partition '{}'{}", *pa, suggestion(*pa, {"rows", "scotch"})));
   }
   if (auto po = text(a, "petsc_options", "analysis", false)) {
     s.petsc_options = *po;
