@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace velum {
@@ -86,13 +88,18 @@ class EnergyAccount {
     }
     E.external_work += dW;
     work_scale_ += std::abs(dW);
+    // v·Mv once per step, kept for the next step's damping work (was three products).
     const double alpha = sys_.model().rayleigh_mass;
-    if (alpha != 0)
-      E.damping += 0.5 * st.h * alpha *
-                   (cur.v.dot(sys_.mass_times(cur.v)) + v_prev_.dot(sys_.mass_times(v_prev_)));
-    E.kinetic = dynamic_ ? sys_.kinetic_energy(cur.v) : 0.0;
+    const bool need = alpha != 0 || dynamic_;
+    const double vmv = need ? cur.v.dot(sys_.mass_times(cur.v)) : 0.0;
+    if (alpha != 0) {
+      if (std::isnan(vmv_prev_)) vmv_prev_ = v_prev_.dot(sys_.mass_times(v_prev_));
+      E.damping += 0.5 * st.h * alpha * (vmv + vmv_prev_);
+    }
+    E.kinetic = dynamic_ && cur.v.squaredNorm() != 0 ? 0.5 * vmv : 0.0;  // kinetic_energy()
     E.strain = sys_.strain_energy(st.t, cur.u);
     U_prev_ = U, F_prev_ = F, v_prev_ = cur.v;
+    vmv_prev_ = need ? vmv : kUnknown;
     return U;
   }
   /// Kinetic + strain + damping energy, changes since the start.
@@ -118,6 +125,7 @@ class EnergyAccount {
       at = take(m, at, P->data(), n);
     }
     v_prev_.resize(static_cast<Eigen::Index>(m.at(at)));
+    vmv_prev_ = kUnknown;
     return take(m, at, v_prev_.data(), v_prev_.size());
   }
 
@@ -137,6 +145,8 @@ class EnergyAccount {
   bool dynamic_, prescribed_;
   NodePositions U_prev_, F_prev_, R_prev_;
   VecX v_prev_;
+  static constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
+  double vmv_prev_ = kUnknown;  ///< v_prev_ · M v_prev_, once known
   double held0_ = 0, work_scale_ = 0;
 };
 

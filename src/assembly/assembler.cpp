@@ -327,8 +327,9 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
     const int nchunks = (static_cast<int>(list.size()) + kChunk - 1) / kChunk;
     // A parallel region costs a fork and a barrier (and spin-waiting threads on a loaded
     // machine): below a few thousand element-dofs² of work per colour it costs more than it
-    // saves, so small colours run on the calling thread.
-    const bool parallel = nchunks >= kMinParallelChunks;
+    // saves, so small colours run on the calling thread; so does every colour on one thread
+    // (libgomp enters even a one-thread region through the kernel).
+    const bool parallel = threads > 1 && nchunks >= kMinParallelChunks;
 #pragma omp parallel if (parallel)
     {
       ElementBuffers& buf = buffers_[omp_get_thread_num()];

@@ -95,8 +95,8 @@ class MechanicalSystem final : public SecondOrderSystem {
   NodePositions gas_gradient_;
   VecX gas_gradient_eq_;
   LowRankJacobian low_rank_;
-  std::vector<double> block_pressure_;  ///< whole-block pressures at the evaluated time
-  VecX fred_, mv_, x_eq_, noise_eq_;
+  std::vector<double> block_pressure_;      ///< whole-block pressures at the evaluated time
+  VecX fred_, mv_, mvv_, x_eq_, noise_eq_;  ///< mv_ = M a, mvv_ = M v (evaluate)
   double force_scale_ = 0, residual_noise_ = 0;
   bool drag_ = false;
 };

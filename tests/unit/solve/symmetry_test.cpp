@@ -1,6 +1,7 @@
 // The symmetry test that picks LDLᵀ or LU: structural and numerical, without a position map.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <vector>
 
 #include "solve/symmetry.hpp"
@@ -55,6 +56,28 @@ TEST(SymmetryCheck, RejectsAMissingTransposeOnEitherSide) {
     EXPECT_FALSE(c.map(A)) << i << "," << j;
     EXPECT_FALSE(c.symmetric(A));
   }
+}
+
+// symmetric() stops at the first pair that decides: the same answer as the full walk, whether
+// the deciding pair comes first or last, and with an infinite entry.
+TEST(SymmetryCheck, EarlyStopGivesTheFullWalksAnswer) {
+  for (const auto& [i, j] : {std::pair{1, 0}, std::pair{4, 1}}) {
+    for (const double d : {1e-12, 1e-8, 1.0}) {
+      auto t = symmetric_entries();
+      t.emplace_back(i, j, d);
+      const SparseMatrix A = from(5, t);
+      SymmetryCheck c;
+      ASSERT_TRUE(c.map(A));
+      EXPECT_EQ(c.symmetric(A), c.asymmetry(A) <= SymmetryCheck::kTolerance) << i << j << d;
+      EXPECT_EQ(c.symmetric(A), d < 1e-9) << i << "," << j << " " << d;
+    }
+  }
+  auto t = symmetric_entries();
+  t.emplace_back(2, 2, std::numeric_limits<double>::infinity());
+  const SparseMatrix A = from(5, t);
+  SymmetryCheck c;
+  ASSERT_TRUE(c.map(A));
+  EXPECT_EQ(c.symmetric(A), c.asymmetry(A) <= SymmetryCheck::kTolerance);
 }
 
 }  // namespace
