@@ -438,6 +438,7 @@ CASES = [
     ("msh_data_size_4", with_mesh_file("m.msh"), {"m.msh": msh_edit("2.2 0 8", "2.2 0 4")}, [], 1, ["m.msh:2: data size 4 (8 expected)"]),
     ("msh_unknown_element_type", with_mesh_file("m.msh"), {"m.msh": msh_edit("\n4 3 2 1 1 1 5 9 8\n", "\n4 77 2 1 1 1 5 9 8\n")}, [], 1, ["m.msh:27: element 4: unknown Gmsh element type 77"]),
     ("msh_element_extra_node", with_mesh_file("m.msh"), {"m.msh": msh_edit("\n4 3 2 1 1 1 5 9 8\n", "\n4 3 2 1 1 1 5 9 8 2\n")}, [], 1, ["m.msh:27: element 4 (quad4) has more than its 4 nodes"]),
+    ("msh_element_undefined_node", with_mesh_file("m.msh"), {"m.msh": msh_edit("\n4 3 2 1 1 1 5 9 8\n", "\n4 3 2 1 1 1 5 99 8\n")}, [], 1, ["m.msh: element 4 (quad4) refers to node 99, which $Nodes does not define"]),
     ("msh_node_tag_zero", with_mesh_file("m.msh"), {"m.msh": msh_edit("\n1 0 0 0\n", "\n0 0 0 0\n")}, [], 1, ["m.msh:12: node tag 0 is out of range"]),
     ("msh_node_letter", with_mesh_file("m.msh"), {"m.msh": msh_edit("\n2 1 0 0\n", "\n2 1 x 0\n")}, [], 1, ["m.msh:13: a node coordinate: 'x' is not a number"]),
     ("msh_stray_text", with_mesh_file("m.msh"), {"m.msh": msh_edit("$EndNodes\n", "$EndNodes\nhello\n")}, [], 1, ["m.msh:22: unexpected 'hello' between sections"]),

@@ -15,6 +15,7 @@
 #include <set>
 #include <sstream>
 #include <string_view>
+#include <unordered_set>
 
 #include "msh_input.hpp"
 #include "velum/io/mesh_data.hpp"
@@ -142,6 +143,20 @@ MeshData mesh_of(MshContents& c, const std::string& name) {
       throw MeshFileError(fmt::format("{}: node {} has a non-finite coordinate ({}, {}, {})", name,
                                       n.id, n.x.x(), n.x.y(), n.x.z()));
   mesh.nodes = std::move(c.nodes);
+  // A .msh file is self-contained: every node an element names is in its $Nodes (checked here,
+  // once, so that no later use of an element or node set meets an undefined node).
+  std::unordered_set<long> defined;
+  defined.reserve(mesh.nodes.size());
+  for (const auto& n : mesh.nodes) defined.insert(n.id);
+  for (const auto& b : c.elements) {
+    const std::size_t per = static_cast<std::size_t>(msh::element_type(b.type)->nodes);
+    for (std::size_t k = 0; k < b.nodes.size(); ++k)
+      if (!defined.count(b.nodes[k]))
+        throw MeshFileError(
+            fmt::format("{}: element {} ({}) refers to node {}, which $Nodes does "
+                        "not define",
+                        name, b.tags[k / per], msh::element_type(b.type)->name, b.nodes[k]));
+  }
 
   // A membrane model has no volumes: volume elements are refused, not dropped unseen.
   std::size_t volumes = 0;
