@@ -13,6 +13,7 @@
 
 #include "mumps_solver.hpp"
 #include "ordering.hpp"
+#include "supernodal_lu.hpp"
 #include "symmetry.hpp"
 #include "velum/solve/petsc_solver.hpp"
 
@@ -235,6 +236,61 @@ class Klu final : public LinearSolver {
   long full_factorizations_ = 0;
 };
 
+// `auto`'s LU of small unsymmetric matrices: the supernodal LU (dense kernels, rows exchanged
+// only within a supernode's diagonal block) and KLU, with full pivoting, for a factorisation
+// the supernodal LU refuses (a zero pivot, a multiplier over 1e3, pivots spanning over 1e12:
+// supernodal_lu.hpp). A refused factorisation costs about one supernodal factorisation more
+// than KLU alone, so after a refusal the next 1, 2, 4 ... 64 factorisations go to KLU
+// directly before the supernodal LU is tried again; a success resets the count.
+class SupernodalOrKlu final : public LinearSolver {
+ public:
+  std::string_view name() const override { return active_ ? active_->name() : fast_.name(); }
+  bool symmetric_only() const override { return false; }
+  bool analyze(const SparseMatrix& A) override {
+    fast_analyzed_ = fast_.analyze(A);
+    klu_ = std::make_unique<Klu>();
+    klu_analyzed_ = false;
+    skip_ = 0;
+    backoff_ = 1;
+    active_ = nullptr;
+    return true;
+  }
+  bool factorize(const SparseMatrix& A) override {
+    if (skip_ > 0) {
+      --skip_;
+    } else if (fast_analyzed_) {
+      active_ = &fast_;
+      if (fast_.factorize(A)) {
+        backoff_ = 1;
+        return true;
+      }
+      ++refusals_;
+      skip_ = backoff_;
+      backoff_ = std::min(2 * backoff_, 64);
+    }
+    if (!klu_analyzed_) klu_analyzed_ = klu_->analyze(A);
+    active_ = klu_.get();
+    return klu_analyzed_ && klu_->factorize(A);
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    return active_ && active_->solve(b, x);
+  }
+  std::string status() const override {
+    if (!active_ || active_ == &fast_) return fast_.status();
+    const std::string s = klu_->status();
+    return s.empty() || fast_.status().empty() ? s : fast_.status() + "; then " + s;
+  }
+  long refusals() const { return refusals_; }
+
+ private:
+  SupernodalLu fast_;
+  std::unique_ptr<Klu> klu_ = std::make_unique<Klu>();
+  LinearSolver* active_ = nullptr;
+  bool fast_analyzed_ = false, klu_analyzed_ = false;
+  int skip_ = 0, backoff_ = 1;
+  long refusals_ = 0;
+};
+
 // Numerically symmetric matrices (|A − Aᵀ| <= 1e-10 |A|, tested at every factorisation): MUMPS's
 // LDLᵀ, definite or not (pivoting only once a pivot comes out negative); without MUMPS in the
 // build, CHOLMOD, with LU while the matrix is indefinite. Unsymmetric matrices: KLU with its
@@ -307,7 +363,7 @@ class AutoSolver final : public LinearSolver {
     lu_analyzed_ = false;
   }
   std::unique_ptr<LinearSolver> make_lu() const {
-    if (small_) return std::make_unique<Klu>();
+    if (small_) return std::make_unique<SupernodalOrKlu>();
     return std::make_unique<UmfPack>();
   }
   static constexpr Eigen::Index kKluLimit = 6000;
