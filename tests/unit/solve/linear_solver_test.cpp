@@ -78,10 +78,10 @@ TEST(Solver, AutoPicksTheSymmetricFactorisationWhenItCan) {
   ASSERT_LT(solve_residual(*s, grid_matrix(20, 0.0, 0.0)), 1e-12);
   EXPECT_EQ(s->analyses(), 1) << "one pattern, one analysis at this level";
   EXPECT_EQ(s->factorizations(), 4);
-  // A large unsymmetric matrix: UMFPACK.
+  // A larger unsymmetric matrix: the supernodal LU too (UMFPACK above 125,000 equations).
   auto large = make_linear_solver(SolverKind::kAuto);
   ASSERT_LT(solve_residual(*large, grid_matrix(80, 0.0, 0.3)), 1e-10);
-  EXPECT_EQ(large->name(), "umfpack");
+  EXPECT_EQ(large->name(), "supernodal-lu");
 }
 
 // MUMPS factorises a symmetric matrix without pivoting first. Here the first pivot of each

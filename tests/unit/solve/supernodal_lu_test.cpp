@@ -29,9 +29,10 @@ SparseMatrix membrane_matrix(int nx, int ny, unsigned seed, int drop = 0, double
   std::vector<Eigen::Triplet<double>> t;
   std::vector<double> column_sum(n, 0.0);
   for (int a = 0; a < nodes; ++a)
-    for (int b = 0; b < nodes; ++b) {
-      const int ax = a % nx, ay = a / nx, bx = b % nx, by = b / nx;
-      if (std::abs(ax - bx) > 1 || std::abs(ay - by) > 1) continue;
+    for (int d = 0; d < 9; ++d) {
+      const int bx = a % nx + d % 3 - 1, by = a / nx + d / 3 - 1;
+      if (bx < 0 || bx >= nx || by < 0 || by >= ny) continue;
+      const int b = bx + nx * by;
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
           const int r = index[3 * a + i], c = index[3 * b + j];
@@ -134,6 +135,27 @@ TEST(SupernodalLu, RefusesAPivotOutsideItsBlockAndAutoFallsBackToKlu) {
     EXPECT_LE(relative_residual(good, x, b), 1e-13);
   }
   EXPECT_EQ(automatic->name(), "supernodal-lu");
+}
+
+// Above 6,000 equations the factorisation with full pivoting is UMFPACK's.
+TEST(SupernodalLu, AutoFallsBackToUmfpackAboveKlusSize) {
+  SparseMatrix A = membrane_matrix(46, 45, 13);
+  ASSERT_GT(A.rows(), 6000);
+  SupernodalLu lu;
+  ASSERT_TRUE(lu.refactorize(A));
+  const SupernodalStructure& st = lu.structure();
+  std::vector<char> in_first(A.rows(), 0);
+  for (int k = st.first[0]; k < st.first[1]; ++k) in_first[st.order[k]] = 1;
+  for (int j = 0; j < A.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+      if (in_first[it.row()] && in_first[j]) it.valueRef() = 0.0;
+  auto automatic = make_linear_solver(SolverKind::kAuto);
+  ASSERT_TRUE(automatic->refactorize(A)) << automatic->status();
+  EXPECT_EQ(automatic->name(), "umfpack");
+  const Eigen::VectorXd b = rhs(A.rows());
+  Eigen::VectorXd x;
+  ASSERT_TRUE(automatic->solve(b, x));
+  EXPECT_LE(relative_residual(A, x, b), 1e-13);
 }
 
 TEST(SupernodalLu, SingularMatrixIsReportedNeverSolved) {
