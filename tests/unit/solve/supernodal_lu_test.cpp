@@ -70,7 +70,10 @@ TEST(SupernodalLu, SolvesMembraneMatricesLikeKluAndDenseLu) {
     auto klu = make_linear_solver(SolverKind::kKlu);
     ASSERT_TRUE(klu->refactorize(A) && klu->solve(b, y));
     EXPECT_LE((x - y).norm(), 1e-11 * y.norm());
-    const Eigen::VectorXd dense = Eigen::MatrixXd(A).partialPivLu().solve(b);
+    // Row-major: libgmsh, linked into this test program, has its own (differently aligned)
+    // PartialPivLU<MatrixXd>, and the dynamic linker would give it this program's copy.
+    using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    const Eigen::VectorXd dense = RowMajorMatrix(A).partialPivLu().solve(b);
     EXPECT_LE((x - dense).norm(), 1e-11 * dense.norm());
     // Supernodes at least node-sized where no equation was removed, and some wider.
     const SupernodalStructure& st = lu.structure();
