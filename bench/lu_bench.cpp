@@ -68,3 +68,34 @@ void BM_Solve(benchmark::State& state) {
 BENCHMARK(BM_Solve)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 }  // namespace
+
+// The supernodal LU with other amalgamation rules: 0 fundamental supernodes only, 1 the
+// default (CHOLMOD's), 2 looser, 3 any supernode up to 16 columns absorbs its child.
+void BM_Amalgamation(benchmark::State& state) {
+  const SparseMatrix* A = matrix();
+  if (!A) {
+    state.SkipWithError("VELUM_LU_MATRIX names no Matrix Market file");
+    return;
+  }
+  Amalgamation relax;
+  switch (state.range(0)) {
+    case 0:
+      relax = {0, 0, 0, 0, 0.0, 0.0, 0.0};
+      break;
+    case 2:
+      relax = {8, 32, 96, 256, 0.9, 0.2, 0.1};
+      break;
+    case 3:
+      relax = {16, 32, 64, 256, 0.8, 0.1, 0.05};
+      break;
+    default:
+      break;
+  }
+  SupernodalLu lu(relax);
+  if (!lu.refactorize(*A)) state.SkipWithError("factorisation failed");
+  for (auto _ : state) benchmark::DoNotOptimize(lu.factorize(*A));
+  state.counters["mflop"] = lu.structure().flops * 1e-6;
+  state.counters["supernodes"] = lu.structure().supernodes();
+  state.counters["panel_MB"] = 8e-6 * static_cast<double>(lu.structure().values);
+}
+BENCHMARK(BM_Amalgamation)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
