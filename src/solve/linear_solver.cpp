@@ -13,6 +13,7 @@
 
 #include "mumps_solver.hpp"
 #include "ordering.hpp"
+#include "supernodal_lu.hpp"
 #include "symmetry.hpp"
 #include "velum/solve/petsc_solver.hpp"
 
@@ -235,13 +236,75 @@ class Klu final : public LinearSolver {
   long full_factorizations_ = 0;
 };
 
+// `auto`'s LU of unsymmetric matrices: the supernodal LU (dense kernels, rows exchanged only
+// within a supernode's diagonal block) and, for a factorisation it refuses (a zero pivot, a
+// multiplier over 1e3, pivots spanning over 1e12: supernodal_lu.hpp), a factorisation with
+// full pivoting: KLU up to kKluLimit equations, UMFPACK above. A refused factorisation costs
+// one supernodal factorisation on top of the fallback's, so after a refusal the next 1, 2, 4
+// ... 64 factorisations go to the fallback directly before the supernodal LU is tried again;
+// a success resets the count.
+class SupernodalLuWithFallback final : public LinearSolver {
+ public:
+  static constexpr Eigen::Index kKluLimit = 6000;
+
+  std::string_view name() const override { return active_ ? active_->name() : fast_.name(); }
+  bool symmetric_only() const override { return false; }
+  bool analyze(const SparseMatrix& A) override {
+    fast_analyzed_ = fast_.analyze(A);
+    if (A.rows() <= kKluLimit)
+      fallback_ = std::make_unique<Klu>();
+    else
+      fallback_ = std::make_unique<UmfPack>();
+    fallback_analyzed_ = false;
+    skip_ = 0;
+    backoff_ = 1;
+    active_ = nullptr;
+    return true;
+  }
+  bool factorize(const SparseMatrix& A) override {
+    if (skip_ > 0) {
+      --skip_;
+    } else if (fast_analyzed_) {
+      active_ = &fast_;
+      if (fast_.factorize(A)) {
+        backoff_ = 1;
+        return true;
+      }
+      ++refusals_;
+      skip_ = backoff_;
+      backoff_ = std::min(2 * backoff_, 64);
+    }
+    if (!fallback_analyzed_) fallback_analyzed_ = fallback_->analyze(A);
+    active_ = fallback_.get();
+    return fallback_analyzed_ && fallback_->factorize(A);
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    return active_ && active_->solve(b, x);
+  }
+  std::string status() const override {
+    if (!active_ || active_ == &fast_) return fast_.status();
+    const std::string s = fallback_->status();
+    return s.empty() || fast_.status().empty() ? s : fast_.status() + "; then " + s;
+  }
+  long refusals() const { return refusals_; }
+
+ private:
+  SupernodalLu fast_;
+  std::unique_ptr<LinearSolver> fallback_;
+  LinearSolver* active_ = nullptr;
+  bool fast_analyzed_ = false, fallback_analyzed_ = false;
+  int skip_ = 0, backoff_ = 1;
+  long refusals_ = 0;
+};
+
 // Numerically symmetric matrices (|A − Aᵀ| <= 1e-10 |A|, tested at every factorisation): MUMPS's
 // LDLᵀ, definite or not (pivoting only once a pivot comes out negative); without MUMPS in the
-// build, CHOLMOD, with LU while the matrix is indefinite. Unsymmetric matrices: KLU with its
-// pivot order reused up to kKluLimit equations, UMFPACK above (the C9 canopy's Jacobian, 2,021
-// equations: a KLU refactorisation 5.4 ms against UMFPACK's 8.5 to 9.2; the full canopy, 7,980:
-// 43 ms against 46 to 51; at 30,492 KLU, a scalar left-looking code, takes 441 ms for 834
-// MFlop while the multifrontal codes use the BLAS: docs/performance.md, section 10). A
+// build, CHOLMOD, with LU while the matrix is indefinite. Unsymmetric matrices: the supernodal
+// LU (KLU or UMFPACK when it refuses a factorisation) up to kSupernodalLimit equations, UMFPACK
+// above. CPU ms per factorisation of C9 canopy Jacobians (docs/performance.md, section 13):
+// 2,021 equations 0.98 (KLU's refactorisation 3.4, UMFPACK 4.9); 7,980: 6.3 (KLU 31, UMFPACK
+// 25); 30,492: 46 (KLU 262, UMFPACK 132); 119,868: 281 (UMFPACK 1,050); the limit is the
+// largest size measured, not a crossover. A
 // follower-pressure load stiffness is unsymmetric element by element, but on a surface whose
 // boundary is held (a clamped or closed membrane) the assembled sum is symmetric, and a symmetric
 // factorisation stores one triangle.
@@ -252,7 +315,7 @@ class AutoSolver final : public LinearSolver {
   bool analyze(const SparseMatrix& A) override {
     check_.map(A);
     sym_analyzed_ = chol_analyzed_ = lu_analyzed_ = false;
-    small_ = A.rows() <= kKluLimit;
+    small_ = A.rows() <= kSupernodalLimit;
     lu_ = make_lu();
     return true;
   }
@@ -307,16 +370,16 @@ class AutoSolver final : public LinearSolver {
     lu_analyzed_ = false;
   }
   std::unique_ptr<LinearSolver> make_lu() const {
-    if (small_) return std::make_unique<Klu>();
+    if (small_) return std::make_unique<SupernodalLuWithFallback>();
     return std::make_unique<UmfPack>();
   }
-  static constexpr Eigen::Index kKluLimit = 6000;
+  static constexpr Eigen::Index kSupernodalLimit = 125000;
 
   SymmetryCheck check_;
   std::unique_ptr<LinearSolver> sym_ = make_mumps_solver(true);  ///< null without MUMPS
   std::unique_ptr<LinearSolver> chol_ = std::make_unique<Cholmod>(false);
   std::unique_ptr<LinearSolver> lu_;
-  bool small_ = true;  ///< LU by KLU (else UMFPACK)
+  bool small_ = true;  ///< LU by the supernodal LU (else UMFPACK)
   LinearSolver* active_ = nullptr;
   bool sym_analyzed_ = false, chol_analyzed_ = false, lu_analyzed_ = false;
   int skip_ = 0, backoff_ = 1;  ///< LU factorisations before CHOLMOD is tried again

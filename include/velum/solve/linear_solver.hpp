@@ -16,7 +16,9 @@ using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 /// kAuto: while the matrix is numerically symmetric (|A - Aᵀ| <= 1e-10 |A|, checked at every
 /// factorisation) MUMPS's LDLᵀ (without MUMPS in the build: CHOLMOD while it is positive
-/// definite), otherwise KLU up to 6,000 equations and UMFPACK above. kMumps: LDLᵀ when
+/// definite), otherwise the supernodal LU (rows exchanged within supernodes only; KLU or, above
+/// 6,000 equations, UMFPACK for a factorisation it refuses) up to 125,000 equations and
+/// UMFPACK above. kMumps: LDLᵀ when
 /// symmetric, LU otherwise. kCholmod throws std::invalid_argument on an unsymmetric matrix.
 /// kPetsc: PETSc (MUMPS by default) on one or several MPI processes (petsc_solver.hpp).
 enum class SolverKind { kAuto, kCholmod, kUmfpack, kKlu, kMumps, kPetsc };

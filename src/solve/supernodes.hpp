@@ -1,0 +1,58 @@
+// The symbolic part of a supernodal LU of a structurally symmetric matrix: the fill-reducing
+// order (METIS nested dissection of the node graph, then a postorder of the elimination tree),
+// the column counts of L, the supernodes (columns whose L structure nests, relaxed by
+// amalgamation), their dense panels for L and Uᵀ (the same structure), the place in the
+// panels of each stored entry of A, and where each supernode's update goes. Made once per
+// pattern; the numeric factorisation (supernodal_lu.hpp) allocates nothing.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "velum/solve/linear_solver.hpp"
+
+namespace velum {
+
+/// When a supernode absorbs its child (CHOLMOD's rule, nrelax / zrelax): always up to
+/// `always` columns, up to `small` columns while under `small_zeros` of its panel are
+/// explicit zeros, up to `medium` under `medium_zeros`, any width under `zeros`; never wider
+/// than `widest`.
+struct Amalgamation {
+  int always = 4, small = 16, medium = 48, widest = 256;
+  double small_zeros = 0.8, medium_zeros = 0.1, zeros = 0.05;
+};
+
+struct SupernodalStructure {
+  struct Target {        ///< a supernode that one supernode's update reaches
+    int supernode;       ///< the target
+    int begin, end;      ///< the source's below rows [begin, end) are the target's columns
+    std::ptrdiff_t rel;  ///< relative[rel + i - begin]: row position in the target's L panel
+  };                     ///< of the source's below row i, for i in [begin, below count)
+
+  int n = 0;
+  std::vector<int> order;               ///< order[k] = the equation eliminated k-th
+  std::vector<int> first;               ///< columns of supernode s: [first[s], first[s+1])
+  std::vector<int> below_begin;         ///< rows below s: rows[below_begin[s] .. below_begin[s+1])
+  std::vector<int> rows;                ///< in elimination order, ascending
+  std::vector<std::ptrdiff_t> l_panel;  ///< (width + below) x width, column-major: L and the
+                                        ///< whole diagonal block
+  std::vector<std::ptrdiff_t> u_panel;  ///< below x width, column-major: U's rows, transposed
+  std::ptrdiff_t values = 0;            ///< size of the panels together
+  std::vector<std::ptrdiff_t> entry;    ///< A's k-th stored value -> its place in the panels
+  std::vector<int> target_begin;        ///< targets of s: targets[target_begin[s] .. [s+1])
+  std::vector<Target> targets;
+  std::vector<int> relative;
+  int widest = 0, most_below = 0;  ///< largest width and below count (work sizes)
+  double flops = 0;                ///< of one numeric factorisation
+
+  int supernodes() const { return static_cast<int>(first.size()) - 1; }
+  int width(int s) const { return first[s + 1] - first[s]; }
+  int below(int s) const { return below_begin[s + 1] - below_begin[s]; }
+};
+
+/// position[i] = the pivot position of equation i (nested_dissection), or empty for the
+/// natural order. The pattern read is that of A + Aᵀ.
+SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<int>& position,
+                                       const Amalgamation& relax = {});
+
+}  // namespace velum
