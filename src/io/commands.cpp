@@ -376,7 +376,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     out.status = kExitIo;
     return out;
   }
-  if (!writes && input.output.fields) try {  // this process's pieces of the frames
+  // Another process's writer: its part of the history's values and its pieces of the frames.
+  if (!writes) try {
       std::optional<WriterPosition> at;
       if (resume) at = WriterPosition{.frame_times = resume->frame_times};
       writer = std::make_unique<ResultsWriter>(input, *system, dir, at ? &*at : nullptr);

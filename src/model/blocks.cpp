@@ -163,14 +163,14 @@ class MembraneBlock final : public ElementBlock {
     return A / t0_;
   }
 
-  double strain_energy(const NodePositions& x) const override {
+  double strain_energy(std::span<const int> elements, const NodePositions& x) const override {
     double U = 0;
-    for (int e = 0; e < size(); ++e)
-      U += K::strain_energy(points_[e], policy_, gather<kN>(x, nodes(e)));
+    for (int e : elements) U += K::strain_energy(points_[e], policy_, gather<kN>(x, nodes(e)));
     return U;
   }
-  int first_inverted(const NodePositions& from, const NodePositions& to) const override {
-    for (int e = 0; e < size(); ++e)
+  int first_inverted(std::span<const int> elements, const NodePositions& from,
+                     const NodePositions& to) const override {
+    for (int e : elements)
       if (!K::keeps_orientation(points_[e], gather<kN>(from, nodes(e)), gather<kN>(to, nodes(e))))
         return e;
     return -1;
@@ -329,14 +329,14 @@ class CableBlock final : public ElementBlock {
     out = (density() * area_) * K::mass(points_[e]);
   }
   double measure(int e) const override { return K::length(points_[e]); }
-  double strain_energy(const NodePositions& x) const override {
+  double strain_energy(std::span<const int> elements, const NodePositions& x) const override {
     double U = 0;
-    for (int e = 0; e < size(); ++e)
-      U += K::strain_energy(points_[e], law_, gather<kN>(x, nodes(e)));
+    for (int e : elements) U += K::strain_energy(points_[e], law_, gather<kN>(x, nodes(e)));
     return U;
   }
-  int first_inverted(const NodePositions& from, const NodePositions& to) const override {
-    for (int e = 0; e < size(); ++e)
+  int first_inverted(std::span<const int> elements, const NodePositions& from,
+                     const NodePositions& to) const override {
+    for (int e : elements)
       if (!K::keeps_orientation(points_[e], gather<kN>(from, nodes(e)), gather<kN>(to, nodes(e))))
         return e;
     return -1;

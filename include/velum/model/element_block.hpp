@@ -64,10 +64,13 @@ class ElementBlock {
   virtual void mass(int e, double* M) const = 0;
   /// Reference measure (area for membranes, length for cables) of element e.
   virtual double measure(int e) const = 0;
-  virtual double strain_energy(const NodePositions& x) const = 0;
-  /// The first element that turns inside out between configurations `from` and `to` (a
-  /// surface normal or a line's axis reversing, or collapsing to zero, at a point), or -1.
-  virtual int first_inverted(const NodePositions& from, const NodePositions& to) const = 0;
+  /// Strain energy of the listed elements (summed in their order).
+  virtual double strain_energy(std::span<const int> elements, const NodePositions& x) const = 0;
+  /// The first of the listed elements (ascending) that turns inside out between configurations
+  /// `from` and `to` (a surface normal or a line's axis reversing, or collapsing to zero, at a
+  /// point), or -1.
+  virtual int first_inverted(std::span<const int> elements, const NodePositions& from,
+                             const NodePositions& to) const = 0;
   virtual ElementOutput output(int e, const NodePositions& x) const = 0;
   /// Natural coordinates of the reference point P inside element e, if it lies there
   /// (membranes; used to locate history points). Returns false otherwise.
