@@ -349,6 +349,11 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     out.errors.push_back(fmt::format("{}: {}", input.file.string(), e.what()));
     return out;
   }
+  // Each process keeps the section data of the elements it computes only (its output reads
+  // no other: results_writer.cpp), so that the memory per process falls with the processes.
+  if (several)
+    for (size_t b = 0; b < input.model.blocks.size(); ++b)
+      input.model.blocks[b]->keep_only(system->assembler().own(static_cast<int>(b)));
   if (several && input.analysis.solver != SolverKind::kPetsc) {
     out.status = kExitBadInput;
     out.errors.push_back(
