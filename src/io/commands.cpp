@@ -452,8 +452,17 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     const auto observe = [&](const StepSnapshot& snap) {
       bool written = true;
       if (writer) try {
-          writer->write_step(snap.step);
+          // Under mpirun write() is a collective call: every process makes it, even the first
+          // after failing to write steps.csv (the failure is raised after it).
+          std::exception_ptr steps_failure;
+          try {
+            writer->write_step(snap.step);
+          } catch (const OutputError&) {
+            if (!several) throw;
+            steps_failure = std::current_exception();
+          }
           if (snap.step.output_time) writer->write(snap);
+          if (steps_failure) std::rethrow_exception(steps_failure);
           if (writes && snap.checkpoint && checkpoints.due(snap.step))
             save_checkpoint(*writer, input.file, system->size(), (*snap.checkpoint)());
         } catch (const OutputError&) {
