@@ -98,14 +98,25 @@ bool MechanicalSystem::has_drag() const {
 
 void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* Kload, bool fused) {
   Fext_.setZero(3, model_.num_nodes());
+  // A process's share (Assembler::LocalShare): the nodal terms of the nodes it keeps only.
+  const bool share = assembler_.local_share();
   for (const auto& pl : model_.point_loads) {
     const Vec3 f = pl.force * model_.function_value(pl.function, t);
-    for (int n : pl.nodes) Fext_.col(n) += f;
+    for (int n : pl.nodes)
+      if (!share || assembler_.keeps_node(n)) Fext_.col(n) += f;
   }
+  auto add_whole = [&](double c, const NodePositions& F) {
+    if (!share) {
+      Fext_ += c * F;
+      return;
+    }
+    for (int n = 0; n < model_.num_nodes(); ++n)
+      if (assembler_.keeps_node(n)) Fext_.col(n) += c * F.col(n);
+  };
   for (size_t i = 0; i < edge_forces_.size(); ++i)
-    Fext_ += model_.function_value(model_.edge_loads[i].function, t) * edge_forces_[i];
+    add_whole(model_.function_value(model_.edge_loads[i].function, t), edge_forces_[i]);
   for (size_t i = 0; i < gravity_forces_.size(); ++i)
-    Fext_ += model_.function_value(model_.gravity[i].function, t) * gravity_forces_[i];
+    add_whole(model_.function_value(model_.gravity[i].function, t), gravity_forces_[i]);
   for (size_t i = 0; i < model_.pressures.size(); ++i) {
     const auto& pl = model_.pressures[i];
     if (fused && assembler_.covers_block(static_cast<int>(i))) continue;
@@ -139,7 +150,8 @@ void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* 
     V_ = velocities(v);
     for (const auto& m : model_.masses) {
       const double c = 0.5 * m.drag_rho * m.drag_cd_area;
-      if (c > 0) Fext_.col(m.node) -= c * V_.col(m.node).norm() * V_.col(m.node);
+      if (c > 0 && (!share || assembler_.keeps_node(m.node)))
+        Fext_.col(m.node) -= c * V_.col(m.node).norm() * V_.col(m.node);
     }
   }
 }
@@ -291,7 +303,9 @@ NodePositions MechanicalSystem::reactions(double t, const VecX& u, const VecX& v
 double MechanicalSystem::strain_energy(double t, const VecX& u) const {
   const NodePositions x = model_.X + displacements(t, u);
   double U = 0;
-  for (const auto& b : model_.blocks) U += b->strain_energy(x);
+  for (size_t b = 0; b < model_.blocks.size(); ++b)
+    U += model_.blocks[b]->strain_energy(assembler_.own(static_cast<int>(b)), x);
+  if (processes::count() > 1) processes::sum(&U, 1);  // each process's elements
   return U;
 }
 
@@ -299,14 +313,28 @@ std::string MechanicalSystem::inverted_element(double t_from, const VecX& u_from
                                                const VecX& u_to) const {
   const NodePositions from = model_.X + displacements(t_from, u_from);
   const NodePositions to = model_.X + displacements(t_to, u_to);
+  // Each process checks its own elements; the first inverted one in the model's order (over
+  // the processes: the smallest cell index) is named on every process alike.
+  long first = model_.num_elements(), cell = 0;
+  for (size_t b = 0; b < model_.blocks.size(); ++b) {
+    const int e = model_.blocks[b]->first_inverted(assembler_.own(static_cast<int>(b)), from, to);
+    if (e >= 0) {
+      first = cell + e;
+      break;
+    }
+    cell += model_.blocks[b]->size();
+  }
+  if (processes::count() > 1) first = processes::min(first);
+  cell = 0;
   for (const auto& b : model_.blocks) {
-    const int e = b->first_inverted(from, to);
-    if (e < 0) continue;
+    const long e = first - cell;
+    cell += b->size();
+    if (e >= b->size()) continue;
     return fmt::format(
         "{} element {} of set '{}' (nodes {}) turns inside out between t = {:.6g} and "
         "{:.6g}",
-        b->type_name(), e + 1, b->set_name(), fmt::join(node_ids_of(model_, *b, e), " "), t_from,
-        t_to);
+        b->type_name(), e + 1, b->set_name(),
+        fmt::join(node_ids_of(model_, *b, static_cast<int>(e)), " "), t_from, t_to);
   }
   return {};
 }

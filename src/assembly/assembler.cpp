@@ -181,6 +181,7 @@ Assembler::Assembler(const Model& model, const DofMap& dofs, ElementPartition pa
     return lowest < neq_ ? processes::owner(lowest, neq_) : e % processes::count();
   };
   std::vector<int> holder(static_cast<size_t>(model.num_nodes()), -1);  // -2: shared
+  std::vector<int> lowest(static_cast<size_t>(model.num_nodes()), 0);   // the lowest holder
   size_t cell = 0;  // the element's index through the blocks
   for (const auto& bp : model.blocks) {
     auto& own = own_.emplace_back();
@@ -193,11 +194,20 @@ Assembler::Assembler(const Model& model, const DofMap& dofs, ElementPartition pa
       }
       for (int n : bp->nodes(e)) {
         int& h = holder[static_cast<size_t>(n)];
+        int& low = lowest[static_cast<size_t>(n)];
+        low = h == -1 ? p : std::min(low, p);
         h = (h == -1 || h == p) ? p : -2;
       }
     }
   }
   shared_nodes_ = std::count(holder.begin(), holder.end(), -2);
+  if (several_) {
+    node_kept_.assign(holder.size(), 0);
+    for (size_t n = 0; n < holder.size(); ++n) {
+      node_kept_[n] = holder[n] == -1 ? rank == 0 : lowest[n] == rank;
+      if (holder[n] == -2) shared_list_.push_back(static_cast<int>(n));
+    }
+  }
   auto mine = [&](int block, const std::vector<int>& elems) {
     std::vector<int> kept;
     for (int e : elems)
@@ -216,11 +226,6 @@ Assembler::Assembler(const Model& model, const DofMap& dofs, ElementPartition pa
     const auto& b = *model.blocks[bi];
     const int nd = b.dofs_per_element();
     colors_.push_back(color_elements(b, own_[bi], model.num_nodes()));
-    if (several_) {
-      std::vector<int> all(b.size());
-      for (int e = 0; e < b.size(); ++e) all[e] = e;
-      colors_all_.push_back(color_elements(b, all, model.num_nodes()));
-    }
     std::vector<int> map(own_[bi].size() * nd * nd);
     for (size_t k = 0; k < own_[bi].size(); ++k) {
       eqs.clear();
@@ -237,7 +242,6 @@ Assembler::Assembler(const Model& model, const DofMap& dofs, ElementPartition pa
   for (const auto& p : model.pressures) {
     const auto& b = *model.blocks[p.block];
     pressure_colors_.push_back(color_elements(b, mine(p.block, p.elements), model.num_nodes()));
-    if (several_) pressure_colors_all_.push_back(color_elements(b, p.elements, model.num_nodes()));
     std::vector<char> seen(b.size(), 0);
     int distinct = 0;
     for (int e : p.elements) distinct += seen[e] ? 0 : (seen[e] = 1);
@@ -251,7 +255,6 @@ Assembler::Assembler(const Model& model, const DofMap& dofs, ElementPartition pa
       GasPart gp;
       gp.own = mine(part.block, part.elements);
       gp.colors = color_elements(b, gp.own, model.num_nodes());
-      if (several_) gp.colors_all = color_elements(b, part.elements, model.num_nodes());
       gp.kernel = make_surface_volume_kernel(b.type_name());
       parts.push_back(std::move(gp));
     }
@@ -266,6 +269,25 @@ long Assembler::own_elements() const {
 
 void Assembler::reduce(NodePositions& F) const {
   if (shared()) processes::sum(F.data(), static_cast<long>(F.size()));
+}
+
+void Assembler::sum_at_shared_nodes(std::span<const std::pair<double*, int>> arrays) const {
+  if (!several_) return;
+  size_t per_node = 0;
+  for (const auto& a : arrays) per_node += static_cast<size_t>(a.second);
+  std::vector<double> packed;
+  packed.reserve(per_node * shared_list_.size());
+  for (const auto& [data, m] : arrays)
+    for (int n : shared_list_)
+      packed.insert(packed.end(), data + static_cast<size_t>(n) * m,
+                    data + static_cast<size_t>(n + 1) * m);
+  processes::sum(packed.data(), static_cast<long>(packed.size()));
+  const double* from = packed.data();
+  for (const auto& [data, m] : arrays)
+    for (int n : shared_list_) {
+      std::copy(from, from + m, data + static_cast<size_t>(n) * m);
+      from += m;
+    }
 }
 
 void combine_values(SparseMatrix& A, double a, const SparseMatrix* B, double b) {
@@ -383,7 +405,7 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
     const auto& b = *model_.blocks[bi];
     const double p = bi < block_pressure.size() ? block_pressure[bi] : 0.0;
     run(
-        static_cast<int>(bi), several_ && whole_ ? colors_all_[bi] : colors_[bi],
+        static_cast<int>(bi), colors_[bi],
         [&](std::span<const int> elems, double* r, double* Ke) { b.internal(elems, x, r, Ke); },
         [&](std::span<const int> elems, double* f, double* Kp) {
           if (p == 0) return false;
@@ -405,7 +427,7 @@ void Assembler::pressure(int i, double p, const NodePositions& x, NodePositions&
   if (shared()) scratch_.setZero(3, model_.num_nodes());
   // Forces add to Fext; the load stiffness enters the residual r = f_int − f_ext negated.
   run(
-      load.block, several_ && whole_ ? pressure_colors_all_[i] : pressure_colors_[i],
+      load.block, pressure_colors_[i],
       [&](std::span<const int> elems, double* r, double* Ke) {
         if (load.fixed_direction)
           b.directed_pressure(elems, x, p, load.direction, load.projected, r, Ke);
@@ -423,10 +445,9 @@ double Assembler::gas_volume(int i, const NodePositions& x) const {
   const auto& gas = model_.gases[i];
   double V = 0;
   for (size_t k = 0; k < gas.parts.size(); ++k)
-    V += gas_parts_[i][k].kernel->volume(whole_ ? gas.parts[k].elements : gas_parts_[i][k].own,
-                                         model_.blocks[gas.parts[k].block]->connectivity(), x,
-                                         gas.origin);
-  if (shared()) processes::sum(&V, 1);
+    V += gas_parts_[i][k].kernel->volume(
+        gas_parts_[i][k].own, model_.blocks[gas.parts[k].block]->connectivity(), x, gas.origin);
+  if (several_) processes::sum(&V, 1);  // summed even in a LocalShare (p(V) is not linear)
   return V;
 }
 
@@ -440,7 +461,7 @@ void Assembler::gas_derivatives(int i, const NodePositions& x, double scale, Nod
     const auto& part = gas_parts_[i][k];
     // The residual r = f_int − f_ext holds −scale ∂²V/∂x²: the kernel scales, run negates.
     run(
-        block, several_ && whole_ ? part.colors_all : part.colors,
+        block, part.colors,
         [&](std::span<const int> elems, double* a, double* H) {
           part.kernel->derivatives(elems, conn, x, gas.origin, scale, a, H);
         },

@@ -349,6 +349,11 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     out.errors.push_back(fmt::format("{}: {}", input.file.string(), e.what()));
     return out;
   }
+  // Each process keeps the section data of the elements it computes only (its output reads
+  // no other: results_writer.cpp), so that the memory per process falls with the processes.
+  if (several)
+    for (size_t b = 0; b < input.model.blocks.size(); ++b)
+      input.model.blocks[b]->keep_only(system->assembler().own(static_cast<int>(b)));
   if (several && input.analysis.solver != SolverKind::kPetsc) {
     out.status = kExitBadInput;
     out.errors.push_back(
@@ -376,7 +381,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     out.status = kExitIo;
     return out;
   }
-  if (!writes && input.output.fields) try {  // this process's pieces of the frames
+  // Another process's writer: its part of the history's values and its pieces of the frames.
+  if (!writes) try {
       std::optional<WriterPosition> at;
       if (resume) at = WriterPosition{.frame_times = resume->frame_times};
       writer = std::make_unique<ResultsWriter>(input, *system, dir, at ? &*at : nullptr);
@@ -446,8 +452,17 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     const auto observe = [&](const StepSnapshot& snap) {
       bool written = true;
       if (writer) try {
-          writer->write_step(snap.step);
+          // Under mpirun write() is a collective call: every process makes it, even the first
+          // after failing to write steps.csv (the failure is raised after it).
+          std::exception_ptr steps_failure;
+          try {
+            writer->write_step(snap.step);
+          } catch (const OutputError&) {
+            if (!several) throw;
+            steps_failure = std::current_exception();
+          }
           if (snap.step.output_time) writer->write(snap);
+          if (steps_failure) std::rethrow_exception(steps_failure);
           if (writes && snap.checkpoint && checkpoints.due(snap.step))
             save_checkpoint(*writer, input.file, system->size(), (*snap.checkpoint)());
         } catch (const OutputError&) {

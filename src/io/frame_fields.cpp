@@ -57,7 +57,8 @@ void put(CellArray& a, size_t k, const Vec3& v) {
 
 }  // namespace
 
-FrameFields evaluate_cells(const Model& model, const NodePositions& x) {
+FrameFields evaluate_cells(const Model& model, const NodePositions& x,
+                           const std::vector<std::vector<int>>& own) {
   const size_t ne = static_cast<size_t>(model.num_elements());
   const bool wrinkling = std::any_of(model.blocks.begin(), model.blocks.end(),
                                      [](const auto& b) { return b->tension_field(); });
@@ -72,18 +73,22 @@ FrameFields evaluate_cells(const Model& model, const NodePositions& x) {
   if (wrinkling) f.wrinkle_state.assign(ne, 0);
   auto& c = f.cells;
   size_t base = 0;
-  for (const auto& b : model.blocks) {
-    const int n = b->size();
-    const ElementBlock& blk = *b;
+  for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
+    const ElementBlock& blk = *model.blocks[bi];
+    const int n = blk.size();
+    const std::vector<int>& mine = own[bi];
+    const int count = static_cast<int>(mine.size());
     if (blk.kind() == ElementKind::kCable) {
 #pragma omp parallel for schedule(static)
-      for (int e = 0; e < n; ++e)
-        put(c[kCableForce], base + static_cast<size_t>(e), blk.output(e, x).cable_force);
+      for (int i = 0; i < count; ++i)
+        put(c[kCableForce], base + static_cast<size_t>(mine[i]),
+            blk.output(mine[i], x).cable_force);
       base += static_cast<size_t>(n);
       continue;
     }
 #pragma omp parallel for schedule(static)
-    for (int e = 0; e < n; ++e) {
+    for (int i = 0; i < count; ++i) {
+      const int e = mine[i];
       const ElementOutput o = blk.output(e, x);
       const MembraneStress& s = o.stress;
       const size_t k = base + static_cast<size_t>(e);
@@ -137,34 +142,42 @@ CellLabels cell_labels(const Model& model, const std::vector<std::string>& block
   return l;
 }
 
-NodalAverage::NodalAverage(const Model& model)
+NodalAverage::NodalAverage(const Model& model, const std::vector<std::vector<int>>& own)
     : cell_weight(static_cast<size_t>(model.num_elements()), 0.0),
       node_weight(static_cast<size_t>(model.num_nodes()), 0.0) {
-  size_t k = 0;
-  for (const auto& b : model.blocks) {
-    const bool membrane = b->kind() == ElementKind::kMembrane;
-    for (int e = 0; e < b->size(); ++e, ++k) {
-      if (!membrane) continue;
-      cell_weight[k] = b->measure(e);
-      for (int node : b->nodes(e)) node_weight[static_cast<size_t>(node)] += cell_weight[k];
-    }
+  size_t first = 0;  // the block's first cell
+  for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
+    const auto& b = model.blocks[bi];
+    if (b->kind() == ElementKind::kMembrane)
+      for (int e : own[bi]) {
+        const size_t k = first + static_cast<size_t>(e);
+        cell_weight[k] = b->measure(e);
+        for (int node : b->nodes(e)) node_weight[static_cast<size_t>(node)] += cell_weight[k];
+      }
+    first += static_cast<size_t>(b->size());
   }
 }
 
-std::vector<double> NodalAverage::to_nodes(const Model& model,
-                                           const std::vector<double>& cell) const {
+std::vector<double> NodalAverage::sums(const Model& model, const std::vector<std::vector<int>>& own,
+                                       const std::vector<double>& cell) const {
   std::vector<double> sum(node_weight.size(), 0.0);
-  size_t k = 0;
-  for (const auto& b : model.blocks) {
-    for (int e = 0; e < b->size(); ++e, ++k) {
+  size_t first = 0;
+  for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
+    const auto& b = model.blocks[bi];
+    for (int e : own[bi]) {
+      const size_t k = first + static_cast<size_t>(e);
       if (cell_weight[k] == 0) continue;
       const double wv = cell_weight[k] * cell[k];
       for (int node : b->nodes(e)) sum[static_cast<size_t>(node)] += wv;
     }
+    first += static_cast<size_t>(b->size());
   }
+  return sum;
+}
+
+void NodalAverage::divide(std::vector<double>& sum) const {
   for (size_t n = 0; n < sum.size(); ++n)
     sum[n] = node_weight[n] > 0 ? sum[n] / node_weight[n] : kAbsent;
-  return sum;
 }
 
 }  // namespace velum::io

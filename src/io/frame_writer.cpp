@@ -74,15 +74,26 @@ std::string frame_name(int index) {
 
 }  // namespace
 
+namespace {
+std::vector<std::vector<int>> own_elements(const Model& model, const Assembler& assembler) {
+  std::vector<std::vector<int>> own;
+  for (size_t b = 0; b < model.blocks.size(); ++b)
+    own.push_back(assembler.own(static_cast<int>(b)));
+  return own;
+}
+}  // namespace
+
 FrameWriter::FrameWriter(const ModelInput& input, std::filesystem::path results,
-                         const std::vector<std::vector<int>>& own, int rank, int pieces)
+                         const Assembler& assembler, int rank, int pieces)
     : input_(input),
       dir_(std::move(results)),
       rank_(rank),
       pieces_(pieces),
       labels_(cell_labels(input.model, input.block_materials)),
-      average_(input.model) {
+      own_(own_elements(input.model, assembler)),
+      average_(input.model, own_) {
   const Model& model = input.model;
+  const auto& own = own_;
   const int nn = model.num_nodes();
   // The piece's nodes: those of its elements; on the first process also the nodes no element
   // holds, so that the pieces together hold every node.
@@ -118,6 +129,23 @@ FrameWriter::FrameWriter(const ModelInput& input, std::filesystem::path results,
     }
     first += b->size();
   }
+}
+
+std::vector<std::vector<double>> FrameWriter::average_to_nodes(const FrameFields& f,
+                                                               const Assembler& assembler) const {
+  if (!weights_complete_) {  // on first use: the constructor is not a collective call
+    const std::pair<double*, int> weights[] = {{average_.node_weight.data(), 1}};
+    assembler.sum_at_shared_nodes(weights);
+    weights_complete_ = true;
+  }
+  std::vector<std::vector<double>> out;
+  for (const CellArray& a : f.cells)
+    if (a.averaged) out.push_back(average_.sums(input_.model, own_, a.values));
+  std::vector<std::pair<double*, int>> arrays;
+  for (auto& sum : out) arrays.emplace_back(sum.data(), 1);
+  assembler.sum_at_shared_nodes(arrays);
+  for (auto& sum : out) average_.divide(sum);
+  return out;
 }
 
 std::string FrameWriter::file(int index) const {
@@ -166,10 +194,11 @@ void FrameWriter::write(int index, const FrameValues& v) const {
   xml += app.add("type=\"Float64\" Name=\"reaction\" NumberOfComponents=\"3\"", points(v.R));
   xml += app.add("type=\"Int64\" Name=\"node_id\"", at_nodes(model.node_ids));
   if (piece) xml += app.add("type=\"Int64\" Name=\"node_index\"", nodes_);
+  size_t averaged = 0;
   for (const CellArray& a : v.f.cells)
     if (a.averaged)
       xml += app.add(fmt::format("type=\"Float64\" Name=\"{}\"", a.name),
-                     at_nodes(average_.to_nodes(model, a.values)));
+                     at_nodes(v.averaged[averaged++]));
   const std::string point_arrays = app.declared();
   xml += "</PointData>\n<CellData>\n";
   for (const CellArray& a : v.f.cells)  // scalars without NumberOfComponents: (n,) in meshio

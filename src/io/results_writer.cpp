@@ -4,9 +4,11 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <system_error>
 
@@ -65,12 +67,8 @@ ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
       records_(processes::rank() == 0),
       dir_(std::move(directory)),
       labels_(cell_labels(input.model, input.block_materials)) {
-  if (input_.output.fields) {
-    std::vector<std::vector<int>> own;
-    for (size_t b = 0; b < input_.model.blocks.size(); ++b)
-      own.push_back(system.assembler().own(static_cast<int>(b)));
-    frames_.emplace(input_, dir_, own, processes::rank(), processes::count());
-  }
+  if (input_.output.fields)
+    frames_.emplace(input_, dir_, system.assembler(), processes::rank(), processes::count());
   if (!records_) {  // another process than the first: its pieces of the frames only
     if (resume) frame_times_ = resume->frame_times;
     return;
@@ -155,30 +153,59 @@ void ResultsWriter::write_step(const AcceptedStep& step) {
 }
 
 void ResultsWriter::write(const StepSnapshot& snap) {
-  if (!records_ && !input_.output.fields) return;
   // Positions, reactions and cells once per output time: for the history row, the frame and
-  // the summary's extremes. Under mpirun every process computes them here from every element,
-  // with no communication (the first alone writes the history; each process its piece of
-  // the frame, whose averaged fields need the cells around its boundary nodes).
-  const Assembler::WholeMesh whole(system_->assembler());
+  // the summary's extremes. Under mpirun each process computes the cells of its own elements
+  // and its share of the reactions, completed at the nodes it shares with other processes;
+  // the history's values are reduced to the first process, which writes them (every process
+  // takes part: the collective calls all come before any file is written, so that an output
+  // error on one process leaves none of them waiting).
+  const Assembler& assembler = system_->assembler();
   const double t = snap.step.t;
   const NodePositions U = system_->displacements(t, snap.state.u);
   const NodePositions V = system_->velocities(snap.state.v);
   const NodePositions x = input_.model.X + U;
   NodePositions R;
-  bool have_R = false;
-  if (input_.output.fields) R = reactions(snap, x), have_R = true;
-  if (records_) write_history_row(snap, U, V, x, R, have_R);
-  const FrameFields f = evaluate_cells(input_.model, x);
+  if (input_.output.fields || needs_reactions()) R = reactions(snap, x);
+  const std::vector<double> row = history_row(snap, U, V, x, R);
+  const std::vector<std::vector<int>>& own = frames_ ? frames_->own() : own_elements();
+  const FrameFields f = evaluate_cells(input_.model, x, own);
   // The extremes: not of the initial state (often unloaded).
-  if (records_ && snap.step.step > 0) update_extremes(t, U, f);
-  if (input_.output.fields) write_frame(t, U, V, R, f);
+  if (snap.step.step > 0) update_extremes(t, U, f, own);
+  std::vector<std::vector<double>> averaged;
+  std::vector<double> gas;
+  if (input_.output.fields) {
+    averaged = frames_->average_to_nodes(f, assembler);
+    gas = gas_per_cell(t, x);
+  }
+  if (records_) write_history_row(snap, row);
+  if (input_.output.fields) write_frame(t, U, V, R, f, averaged, gas);
+}
+
+const std::vector<std::vector<int>>& ResultsWriter::own_elements() {
+  if (own_.empty())
+    for (size_t b = 0; b < input_.model.blocks.size(); ++b)
+      own_.push_back(system_->assembler().own(static_cast<int>(b)));
+  return own_;
+}
+
+bool ResultsWriter::needs_reactions() const {
+  for (const auto& h : input_.output.history)
+    if (h.quantity == HistoryEntry::Quantity::kReaction) return true;
+  return false;
 }
 
 NodePositions ResultsWriter::reactions(const StepSnapshot& snap, const NodePositions& x) const {
-  NodePositions Fint;
-  system_->assembler().internal(x, Fint, nullptr);
-  NodePositions R = Fint - system_->external_forces(snap.step.t, snap.state.u, snap.state.v);
+  // This process's share of internal minus external force (its elements, the nodal loads of
+  // the nodes it keeps), completed at the shared nodes: whole at every node of its piece.
+  const Assembler& a = system_->assembler();
+  NodePositions Fint, R;
+  {
+    const Assembler::LocalShare share(a);
+    a.internal(x, Fint, nullptr);
+    R = Fint - system_->external_forces(snap.step.t, snap.state.u, snap.state.v);
+  }
+  const std::pair<double*, int> parts[] = {{R.data(), 3}};
+  a.sum_at_shared_nodes(parts);
   const DofMap& d = system_->dofs();
   for (int n = 0; n < input_.model.num_nodes(); ++n) {
     Vec3 local = d.to_local(n, R.col(n));
@@ -189,19 +216,60 @@ NodePositions ResultsWriter::reactions(const StepSnapshot& snap, const NodePosit
   return R;
 }
 
-void ResultsWriter::update_extremes(double t, const NodePositions& U, const FrameFields& f) {
+void ResultsWriter::update_extremes(double t, const NodePositions& U, const FrameFields& f,
+                                    const std::vector<std::vector<int>>& own) {
   const Model& model = input_.model;
-  size_t k = 0;
+  // The extremes over this process's cells (in the model's order, the first of equal values
+  // kept), then over the processes on the first.
+  Extreme stress, force_per_length, min_cable, max_cable;
+  std::array<long, 4> cell{};
+  auto offer = [&](Extreme& x, long& at, double v, long id, size_t k, bool larger) {
+    const bool was = x.found;
+    const double before = x.value;
+    x.offer(v, id, t, larger);
+    if (x.found && (!was || x.value != before)) at = static_cast<long>(k);  // replaced
+  };
+  size_t first = 0;
   for (size_t b = 0; b < model.blocks.size(); ++b) {
     const auto& ids = input_.element_ids[b];
-    for (int e = 0; e < model.blocks[b]->size(); ++e, ++k) {
+    for (int e : own[b]) {
+      const size_t k = first + static_cast<size_t>(e);
       const long id = ids[static_cast<size_t>(e)];
-      max_stress_.offer(f.cells[kTrueStressMax].values[k], id, t, true);
-      max_force_per_length_.offer(f.cells[kForcePerLengthMax].values[k], id, t, true);
-      min_cable_force_.offer(f.cells[kCableForce].values[k], id, t, false);
-      max_cable_force_.offer(f.cells[kCableForce].values[k], id, t, true);
+      offer(stress, cell[0], f.cells[kTrueStressMax].values[k], id, k, true);
+      offer(force_per_length, cell[1], f.cells[kForcePerLengthMax].values[k], id, k, true);
+      offer(min_cable, cell[2], f.cells[kCableForce].values[k], id, k, false);
+      offer(max_cable, cell[3], f.cells[kCableForce].values[k], id, k, true);
+    }
+    first += static_cast<size_t>(model.blocks[b]->size());
+  }
+  const Extreme* local[] = {&stress, &force_per_length, &min_cable, &max_cable};
+  Extreme* running[] = {&max_stress_, &max_force_per_length_, &min_cable_force_, &max_cable_force_};
+  const bool larger[] = {true, true, false, true};
+  if (processes::count() == 1) {
+    for (int i = 0; i < 4; ++i)
+      if (local[i]->found) running[i]->offer(local[i]->value, local[i]->id, t, larger[i]);
+  } else {
+    std::vector<double> mine;  // per extreme: value (NaN: none), id, cell
+    for (int i = 0; i < 4; ++i)
+      mine.insert(mine.end(),
+                  {local[i]->found ? local[i]->value : std::numeric_limits<double>::quiet_NaN(),
+                   static_cast<double>(local[i]->id), static_cast<double>(cell[i])});
+    const std::vector<double> all = processes::gather(mine);
+    if (!records_) return;
+    for (int i = 0; i < 4; ++i) {
+      // The best over the processes; of equal values the first cell in the model's order.
+      double best = std::numeric_limits<double>::quiet_NaN(), id = 0, at = 0;
+      for (size_t p = 0; p < all.size() / mine.size(); ++p) {
+        const double* v = all.data() + p * mine.size() + 3 * i;
+        if (std::isnan(v[0])) continue;
+        if (std::isnan(best) || (larger[i] ? v[0] > best : v[0] < best) ||
+            (v[0] == best && v[2] < at))
+          best = v[0], id = v[1], at = v[2];
+      }
+      running[i]->offer(best, static_cast<long>(id), t, larger[i]);
     }
   }
+  if (!records_) return;
   for (int n = 0; n < model.num_nodes(); ++n)
     max_displacement_.offer(U.col(n).norm(), model.node_ids[static_cast<size_t>(n)], t, true);
 }
@@ -220,30 +288,34 @@ void ResultsWriter::write_legend() const {
 
 double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& snap,
                                     const NodePositions& U, const NodePositions& V,
-                                    const NodePositions& x, NodePositions& R, bool& have_R) {
+                                    const NodePositions& x, const NodePositions& R) {
   using Q = HistoryEntry::Quantity;
   const Model& model = input_.model;
+  const Assembler& a = system_->assembler();
+  // Under mpirun this process's part of the value, summed over the processes by the caller:
+  // a value of the replicated state from the first process alone, a point's stress from the
+  // process computing its element, a reaction from the processes keeping its nodes.
+  const bool first = processes::rank() == 0;
   switch (h.quantity) {
     case Q::kDisplacement:
-      return U(h.component, h.node);
+      return first ? U(h.component, h.node) : 0.0;
     case Q::kVelocity:
-      return V(h.component, h.node);
+      return first ? V(h.component, h.node) : 0.0;
     case Q::kPosition:
-      return model.X(h.component, h.node) + U(h.component, h.node);
+      return first ? model.X(h.component, h.node) + U(h.component, h.node) : 0.0;
     case Q::kReaction: {
-      if (!have_R) {
-        R = reactions(snap, x);
-        have_R = true;
-      }
       double sum = 0;
-      for (int n : h.nodes) sum += R(h.component, n);
+      for (int n : h.nodes)
+        if (a.keeps_node(n)) sum += R(h.component, n);
       return sum;
     }
     case Q::kFiberAngleChange: {
-      const double a = model.blocks[h.block]->output_at(h.element, h.xi, x).fiber_angle_change;
-      return h.degrees ? a * kDeg : a;
+      if (!a.owns(h.block, h.element)) return 0.0;
+      const double angle = model.blocks[h.block]->output_at(h.element, h.xi, x).fiber_angle_change;
+      return h.degrees ? angle * kDeg : angle;
     }
     case Q::kStress: {
+      if (!a.owns(h.block, h.element)) return 0.0;
       const MembraneStress s = model.blocks[h.block]->output_at(h.element, h.xi, x);
       switch (h.component) {
         case 0:
@@ -255,15 +327,19 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
       }
     }
     case Q::kKineticEnergy:
-      return snap.energy.kinetic;
+      return first ? snap.energy.kinetic : 0.0;
     case Q::kStrainEnergy:
-      return snap.energy.strain;
+      return first ? snap.energy.strain : 0.0;
     case Q::kExternalWork:
-      return snap.energy.external_work;
-    case Q::kGasVolume:
-      return system_->assembler().gas_volume(h.load, x);
-    case Q::kGasPressure:
-      return gas_pressure(h.load, snap.step.t, x);
+      return first ? snap.energy.external_work : 0.0;
+    case Q::kGasVolume: {
+      const double volume = a.gas_volume(h.load, x);  // collective: every process
+      return first ? volume : 0.0;
+    }
+    case Q::kGasPressure: {
+      const double p = gas_pressure(h.load, snap.step.t, x);  // collective
+      return first ? p : 0.0;
+    }
   }
   return 0;
 }
@@ -274,50 +350,60 @@ double ResultsWriter::gas_pressure(int i, double t, const NodePositions& x) cons
                       input_.model.function_value(gas.amount, t));
 }
 
+std::vector<double> ResultsWriter::gas_per_cell(double t, const NodePositions& x) const {
+  // The absolute pressure of the gas each element encloses (0: none).
+  const Model& model = input_.model;
+  std::vector<double> gas;
+  if (model.gases.empty()) return gas;
+  gas.assign(static_cast<size_t>(model.num_elements()), 0.0);
+  std::vector<int> first(model.blocks.size(), 0);
+  for (size_t b = 1; b < model.blocks.size(); ++b)
+    first[b] = first[b - 1] + model.blocks[b - 1]->size();
+  for (size_t i = 0; i < model.gases.size(); ++i) {
+    const double p = gas_pressure(static_cast<int>(i), t, x);
+    for (const auto& part : model.gases[i].parts)
+      for (int e : part.elements) gas[static_cast<size_t>(first[part.block] + e)] = p;
+  }
+  return gas;
+}
+
 void ResultsWriter::write_history(const StepSnapshot& snap) {
-  if (!records_) return;
-  const Assembler::WholeMesh whole(system_->assembler());  // see write()
   NodePositions U, V, x, R;
   if (!input_.output.history.empty()) {
     U = system_->displacements(snap.step.t, snap.state.u);
     V = system_->velocities(snap.state.v);
     x = input_.model.X + U;
+    if (needs_reactions()) R = reactions(snap, x);
   }
-  bool have_R = false;
-  write_history_row(snap, U, V, x, R, have_R);
+  const std::vector<double> row = history_row(snap, U, V, x, R);
+  if (records_) write_history_row(snap, row);
 }
 
-void ResultsWriter::write_history_row(const StepSnapshot& snap, const NodePositions& U,
-                                      const NodePositions& V, const NodePositions& x,
-                                      NodePositions& R, bool& have_R) {
+std::vector<double> ResultsWriter::history_row(const StepSnapshot& snap, const NodePositions& U,
+                                               const NodePositions& V, const NodePositions& x,
+                                               const NodePositions& R) {
+  std::vector<double> row;
+  row.reserve(input_.output.history.size());
+  for (const auto& h : input_.output.history) row.push_back(history_value(h, snap, U, V, x, R));
+  if (processes::count() > 1) processes::sum(row.data(), static_cast<long>(row.size()));
+  return row;
+}
+
+void ResultsWriter::write_history_row(const StepSnapshot& snap, const std::vector<double>& values) {
   std::string row = fmt::format("{:.12g}", snap.step.t);
   if (!input_.steps.empty()) row += fmt::format(",{}", analysis_step_);
-  for (const auto& h : input_.output.history)
-    row += fmt::format(",{:.12g}", history_value(h, snap, U, V, x, R, have_R));
+  for (double v : values) row += fmt::format(",{:.12g}", v);
   row += "\n";
   if (std::fputs(row.c_str(), history_) < 0 || std::fflush(history_) != 0)
     throw OutputError(fmt::format("cannot write {}", (dir_ / "history.csv").string()));
 }
 
 void ResultsWriter::write_frame(double t, const NodePositions& U, const NodePositions& V,
-                                const NodePositions& R, const FrameFields& f) {
-  const Model& model = input_.model;
-  // The absolute pressure of the gas each element encloses (0: none).
-  std::vector<double> gas;
-  if (!model.gases.empty()) {
-    gas.assign(static_cast<size_t>(model.num_elements()), 0.0);
-    const NodePositions x = model.X + U;
-    std::vector<int> first(model.blocks.size(), 0);
-    for (size_t b = 1; b < model.blocks.size(); ++b)
-      first[b] = first[b - 1] + model.blocks[b - 1]->size();
-    for (size_t i = 0; i < model.gases.size(); ++i) {
-      const double p = gas_pressure(static_cast<int>(i), t, x);
-      for (const auto& part : model.gases[i].parts)
-        for (int e : part.elements) gas[static_cast<size_t>(first[part.block] + e)] = p;
-    }
-  }
+                                const NodePositions& R, const FrameFields& f,
+                                const std::vector<std::vector<double>>& averaged,
+                                const std::vector<double>& gas) {
   frames_->write(static_cast<int>(frame_times_.size()),
-                 {.t = t, .U = U, .V = V, .R = R, .f = f, .gas = gas});
+                 {.t = t, .U = U, .V = V, .R = R, .f = f, .averaged = averaged, .gas = gas});
   frame_times_.push_back(t);
   if (records_) write_pvd();
 }

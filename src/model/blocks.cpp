@@ -110,10 +110,10 @@ class MembraneBlock final : public ElementBlock {
       const int e = elements[i];
       const auto xe = gather<kN>(x, nodes(e));
       if (Kout) {
-        K::force_tangent(points_[e], policy_, xe, re,
+        K::force_tangent(points_[slot(e)], policy_, xe, re,
                          *reinterpret_cast<typename K::Matrix*>(Kout + i * K::kDofs * K::kDofs));
       } else {
-        K::force(points_[e], policy_, xe, re);
+        K::force(points_[slot(e)], policy_, xe, re);
       }
       Eigen::Map<typename K::Vector>(r + i * K::kDofs) = re;
     }
@@ -127,10 +127,10 @@ class MembraneBlock final : public ElementBlock {
       const auto xe = gather<kN>(x, nodes(e));
       if (Kout) {
         K::pressure_force_tangent(
-            points_[e], xe, p, fe,
+            points_[slot(e)], xe, p, fe,
             *reinterpret_cast<typename K::Matrix*>(Kout + i * K::kDofs * K::kDofs));
       } else {
-        K::pressure_force(points_[e], xe, p, fe);
+        K::pressure_force(points_[slot(e)], xe, p, fe);
       }
       Eigen::Map<typename K::Vector>(f + i * K::kDofs) = fe;
     }
@@ -144,10 +144,10 @@ class MembraneBlock final : public ElementBlock {
       const auto xe = gather<kN>(x, nodes(e));
       if (Kout) {
         K::directed_pressure_force_tangent(
-            points_[e], xe, p, d, projected, fe,
+            points_[slot(e)], xe, p, d, projected, fe,
             *reinterpret_cast<typename K::Matrix*>(Kout + i * K::kDofs * K::kDofs));
       } else {
-        K::directed_pressure_force(points_[e], xe, p, d, projected, fe);
+        K::directed_pressure_force(points_[slot(e)], xe, p, d, projected, fe);
       }
       Eigen::Map<typename K::Vector>(f + i * K::kDofs) = fe;
     }
@@ -155,25 +155,41 @@ class MembraneBlock final : public ElementBlock {
 
   void mass(int e, double* M) const override {
     Eigen::Map<typename K::NodeMatrix> out(M);
-    out = density() * K::mass(points_[e]);  // recomputed: a static run never asks
+    out = density() * K::mass(points_[slot(e)]);  // recomputed: a static run never asks
   }
   double measure(int e) const override {
     double A = 0;
-    for (const auto& p : points_[e].at) A += p.t0dA;
+    for (const auto& p : points_[slot(e)].at) A += p.t0dA;
     return A / t0_;
   }
 
-  double strain_energy(const NodePositions& x) const override {
+  double strain_energy(std::span<const int> elements, const NodePositions& x) const override {
     double U = 0;
-    for (int e = 0; e < size(); ++e)
-      U += K::strain_energy(points_[e], policy_, gather<kN>(x, nodes(e)));
+    for (int e : elements)
+      U += K::strain_energy(points_[slot(e)], policy_, gather<kN>(x, nodes(e)));
     return U;
   }
-  int first_inverted(const NodePositions& from, const NodePositions& to) const override {
-    for (int e = 0; e < size(); ++e)
-      if (!K::keeps_orientation(points_[e], gather<kN>(from, nodes(e)), gather<kN>(to, nodes(e))))
+  int first_inverted(std::span<const int> elements, const NodePositions& from,
+                     const NodePositions& to) const override {
+    for (int e : elements)
+      if (!K::keeps_orientation(points_[slot(e)], gather<kN>(from, nodes(e)),
+                                gather<kN>(to, nodes(e))))
         return e;
     return -1;
+  }
+
+  void keep_only(std::span<const int> elements) override {
+    std::vector<typename K::Points> points;
+    decltype(Xref_) Xref;
+    points.reserve(elements.size());
+    Xref.reserve(elements.size());
+    for (int e : elements) {
+      points.push_back(points_[slot(e)]);
+      Xref.push_back(Xref_[slot(e)]);
+    }
+    points_ = std::move(points);  // the others' storage freed
+    Xref_ = std::move(Xref);
+    set_kept(elements);
   }
 
   ElementOutput output(int e, const NodePositions& x) const override {
@@ -248,7 +264,7 @@ class MembraneBlock final : public ElementBlock {
   }
 
  private:
-  const Eigen::Matrix<double, 3, kN>& Xref_cols(int e) const { return Xref_[e]; }
+  const Eigen::Matrix<double, 3, kN>& Xref_cols(int e) const { return Xref_[slot(e)]; }
 
   double t0_;
   std::optional<SheetAxes> axes_;  // the section's axes; none: the default per element
@@ -308,10 +324,10 @@ class CableBlock final : public ElementBlock {
       const int e = elements[i];
       const auto xe = gather<kN>(x, nodes(e));
       if (Kout) {
-        K::force_tangent(points_[e], law_, xe, re,
+        K::force_tangent(points_[slot(e)], law_, xe, re,
                          *reinterpret_cast<typename K::Matrix*>(Kout + i * K::kDofs * K::kDofs));
       } else {
-        K::force(points_[e], law_, xe, re);
+        K::force(points_[slot(e)], law_, xe, re);
       }
       Eigen::Map<typename K::Vector>(r + i * K::kDofs) = re;
     }
@@ -326,24 +342,32 @@ class CableBlock final : public ElementBlock {
   }
   void mass(int e, double* M) const override {
     Eigen::Map<typename K::NodeMatrix> out(M);
-    out = (density() * area_) * K::mass(points_[e]);
+    out = (density() * area_) * K::mass(points_[slot(e)]);
   }
-  double measure(int e) const override { return K::length(points_[e]); }
-  double strain_energy(const NodePositions& x) const override {
+  double measure(int e) const override { return K::length(points_[slot(e)]); }
+  double strain_energy(std::span<const int> elements, const NodePositions& x) const override {
     double U = 0;
-    for (int e = 0; e < size(); ++e)
-      U += K::strain_energy(points_[e], law_, gather<kN>(x, nodes(e)));
+    for (int e : elements) U += K::strain_energy(points_[slot(e)], law_, gather<kN>(x, nodes(e)));
     return U;
   }
-  int first_inverted(const NodePositions& from, const NodePositions& to) const override {
-    for (int e = 0; e < size(); ++e)
-      if (!K::keeps_orientation(points_[e], gather<kN>(from, nodes(e)), gather<kN>(to, nodes(e))))
+  int first_inverted(std::span<const int> elements, const NodePositions& from,
+                     const NodePositions& to) const override {
+    for (int e : elements)
+      if (!K::keeps_orientation(points_[slot(e)], gather<kN>(from, nodes(e)),
+                                gather<kN>(to, nodes(e))))
         return e;
     return -1;
   }
+  void keep_only(std::span<const int> elements) override {
+    std::vector<typename K::Points> points;
+    points.reserve(elements.size());
+    for (int e : elements) points.push_back(points_[slot(e)]);
+    points_ = std::move(points);  // the others' storage freed
+    set_kept(elements);
+  }
   ElementOutput output(int e, const NodePositions& x) const override {
     ElementOutput out;
-    out.cable_force = K::true_force(points_[e], law_, gather<kN>(x, nodes(e)));
+    out.cable_force = K::true_force(points_[slot(e)], law_, gather<kN>(x, nodes(e)));
     return out;
   }
   bool locate(int, const Vec3&, std::array<double, 2>&) const override { return false; }

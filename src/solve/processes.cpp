@@ -138,6 +138,29 @@ std::vector<double> gather(double value) {
   return {value};
 }
 
+std::vector<double> gather(const std::vector<double>& values) {
+#ifdef VELUM_HAVE_PETSC
+  if (my_count > 1) {
+    const int n = static_cast<int>(values.size());
+    std::vector<double> all(my_rank == 0 ? values.size() * static_cast<size_t>(my_count) : 0);
+    MPI_Gather(values.data(), n, MPI_DOUBLE, all.data(), n, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
+    return all;
+  }
+#endif
+  return values;
+}
+
+long min(long value) {
+#ifdef VELUM_HAVE_PETSC
+  if (my_count > 1) {
+    long out = value;
+    MPI_Allreduce(&value, &out, 1, MPI_LONG, MPI_MIN, PETSC_COMM_WORLD);
+    return out;
+  }
+#endif
+  return value;
+}
+
 int owner(long k, long total) {
   const long base = total / my_count, extra = total % my_count;
   // The first `extra` processes hold base + 1 items.

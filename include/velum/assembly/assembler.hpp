@@ -14,6 +14,7 @@
 #include <Eigen/SparseCore>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "velum/assembly/dof_map.hpp"
@@ -88,21 +89,39 @@ class Assembler {
   /// The elements of block `block` this process computes, ascending.
   const std::vector<int>& own(int block) const { return own_[static_cast<size_t>(block)]; }
 
-  /// While alive, the vector results (internal, pressure, gas volume and derivatives) come
-  /// from every element, on this process alone, with no communication: what the first
-  /// process's output needs (the other processes do not take part in writing). No matrix
-  /// then.
-  class WholeMesh {
+  /// Whether element e of block `block` is one this process computes.
+  bool owns(int block, int e) const { return local_[static_cast<size_t>(block)][e] >= 0; }
+  /// Whether this process adds node n's nodal terms (point loads, point masses' drag, the
+  /// whole-model vectors of gravity and edge loads) to its share of a sum over the processes:
+  /// the lowest process whose elements hold n, or the first when no element does. Every
+  /// node on one process.
+  bool keeps_node(int n) const { return node_kept_.empty() || node_kept_[n] != 0; }
+  /// Nodes held by elements of more than one process, ascending (empty on one process).
+  const std::vector<int>& shared_node_list() const { return shared_list_; }
+  /// Completes per-node partial sums at the shared nodes: each array holds `per_node`
+  /// consecutive values per node (a 3 x nodes NodePositions: 3), this process's share; on
+  /// return the shared nodes' entries hold the sum over the processes (the same bits on
+  /// every process), the other entries are untouched. One reduction of the shared nodes'
+  /// values only. A collective call; nothing on one process.
+  void sum_at_shared_nodes(std::span<const std::pair<double*, int>> arrays) const;
+
+  /// While alive, the vector results of internal, pressure and gas_derivatives are this
+  /// process's share (its own elements; the nodal terms a caller adds belong to the nodes it
+  /// keeps_node), not summed over the processes: what the output completes itself at the
+  /// shared nodes only. gas_volume stays summed (collective). No matrix then.
+  class LocalShare {
    public:
-    explicit WholeMesh(const Assembler& a) : a_(a), was_(a.whole_) { a.whole_ = true; }
-    ~WholeMesh() { a_.whole_ = was_; }
-    WholeMesh(const WholeMesh&) = delete;
-    WholeMesh& operator=(const WholeMesh&) = delete;
+    explicit LocalShare(const Assembler& a) : a_(a), was_(a.share_only_) { a.share_only_ = true; }
+    ~LocalShare() { a_.share_only_ = was_; }
+    LocalShare(const LocalShare&) = delete;
+    LocalShare& operator=(const LocalShare&) = delete;
 
    private:
     const Assembler& a_;
     bool was_;
   };
+  /// Whether a LocalShare is alive on several processes (nodal terms: keeps_node only).
+  bool local_share() const { return several_ && share_only_; }
 
  private:
   struct Colored {
@@ -123,9 +142,9 @@ class Assembler {
   };
 
   using Colors = std::vector<std::vector<int>>;
-  // Sums a vector over the processes (nothing on one process or for the whole mesh).
+  // Sums a vector over the processes (nothing on one process or for a local share).
   void reduce(NodePositions& F) const;
-  bool shared() const { return several_ && !whole_; }
+  bool shared() const { return several_ && !share_only_; }
 
   const Model& model_;
   const DofMap& dofs_;
@@ -135,15 +154,17 @@ class Assembler {
   ElementPartition partition_ = ElementPartition::kRows;
   std::string partition_note_;
   long shared_nodes_ = 0;
-  mutable bool whole_ = false;               // a WholeMesh is alive
-  std::vector<std::vector<int>> own_;        // per block: this process's elements, ascending
-  std::vector<std::vector<int>> local_;      // per block: element -> index into own_ (-1: not)
-  std::vector<Colors> colors_, colors_all_;  // per block: own elements, every element
-  std::vector<std::vector<int>> scatter_;    // per block: own x dofs² positions
-  std::vector<Colors> pressure_colors_, pressure_colors_all_;  // per pressure load
-  std::vector<char> covers_block_;                             // per pressure load
+  mutable bool share_only_ = false;        // a LocalShare is alive
+  std::vector<std::vector<int>> own_;      // per block: this process's elements, ascending
+  std::vector<std::vector<int>> local_;    // per block: element -> index into own_ (-1: not)
+  std::vector<char> node_kept_;            // per node: keeps_node (empty on one process)
+  std::vector<int> shared_list_;           // shared_node_list()
+  std::vector<Colors> colors_;             // per block: own elements
+  std::vector<std::vector<int>> scatter_;  // per block: own x dofs² positions
+  std::vector<Colors> pressure_colors_;    // per pressure load
+  std::vector<char> covers_block_;         // per pressure load
   struct GasPart {
-    Colors colors, colors_all;
+    Colors colors;
     std::vector<int> own;  // its elements this process computes
     std::unique_ptr<SurfaceVolumeKernel> kernel;
   };

@@ -56,8 +56,11 @@ struct FrameFields {
   std::vector<std::int32_t> wrinkle_state;  ///< when a section wrinkles: 0 taut, 1, 2; cables 0
 };
 
-/// The cell values of `model` at current positions x (threads over the elements of a block).
-FrameFields evaluate_cells(const Model& model, const NodePositions& x);
+/// The cell values of `model` at current positions x (threads over the elements of a block):
+/// those of the elements `own` lists (per block, ascending: every element on one process),
+/// NaN (wrinkle_state 0) at the others.
+FrameFields evaluate_cells(const Model& model, const NodePositions& x,
+                           const std::vector<std::vector<int>>& own);
 
 /// The labels of the integer cell fields `element_set` and `material`: each block's value is
 /// an index into these names (model order of first appearance).
@@ -67,14 +70,19 @@ struct CellLabels {
 };
 CellLabels cell_labels(const Model& model, const std::vector<std::string>& block_materials);
 
-/// Reference-area weights of every membrane cell for averaging to nodes, and their sum at each
-/// node (0 at nodes no membrane touches).
+/// Reference-area weights of the membrane cells `own` lists (per block, ascending) for
+/// averaging to nodes, and their sum at each node (0 at nodes none of them touches). Under
+/// mpirun node_weight is this process's share until the owner completes it at the shared
+/// nodes (Assembler::sum_at_shared_nodes), as the sums below.
 struct NodalAverage {
   std::vector<double> cell_weight, node_weight;
-  explicit NodalAverage(const Model& model);
-  /// Point values of a scalar cell array: the area-weighted mean over the membrane cells
-  /// holding the node (corner and mid-side nodes alike); NaN where no membrane does.
-  std::vector<double> to_nodes(const Model& model, const std::vector<double>& cell) const;
+  NodalAverage(const Model& model, const std::vector<std::vector<int>>& own);
+  /// The area-weighted sums at the nodes of a scalar cell array over the `own` cells.
+  std::vector<double> sums(const Model& model, const std::vector<std::vector<int>>& own,
+                           const std::vector<double>& cell) const;
+  /// Sums (complete) to point values: the area-weighted mean over the membrane cells holding
+  /// the node (corner and mid-side nodes alike); NaN where no membrane does.
+  void divide(std::vector<double>& sum) const;
 };
 
 }  // namespace velum::io

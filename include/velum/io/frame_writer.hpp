@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "velum/assembly/assembler.hpp"
 #include "velum/io/frame_fields.hpp"
 #include "velum/io/model_reader.hpp"
 
@@ -24,15 +25,24 @@ struct FrameValues {
   const NodePositions& V;  ///< velocities
   const NodePositions& R;  ///< reactions
   const FrameFields& f;
+  /// Point values of f's averaged arrays, in their order (FrameWriter::average_to_nodes).
+  const std::vector<std::vector<double>>& averaged;
   const std::vector<double>& gas;  ///< per cell: absolute gas pressure (empty: no gas)
 };
 
 class FrameWriter {
  public:
-  /// `own`: per block, the elements this process writes, ascending (every element on one
-  /// process); `rank` of `pieces` processes. `results` is the results folder.
-  FrameWriter(const ModelInput& input, std::filesystem::path results,
-              const std::vector<std::vector<int>>& own, int rank, int pieces);
+  /// The piece of the elements `assembler` computes (every element on one process); `rank`
+  /// of `pieces` processes. `results` is the results folder.
+  FrameWriter(const ModelInput& input, std::filesystem::path results, const Assembler& assembler,
+              int rank, int pieces);
+  /// The point values of f's averaged cell arrays (in their order), complete at this piece's
+  /// nodes: this process's cells' sums, completed at the nodes shared with other processes
+  /// (their sums only are exchanged). A collective call.
+  std::vector<std::vector<double>> average_to_nodes(const FrameFields& f,
+                                                    const Assembler& assembler) const;
+  /// Per block, the elements of this piece, ascending.
+  const std::vector<std::vector<int>>& own() const { return own_; }
   /// Writes this process's file of frame `index` (and on the first of several processes the
   /// .pvtu). Throws OutputError.
   void write(int index, const FrameValues& v) const;
@@ -44,7 +54,9 @@ class FrameWriter {
   std::filesystem::path dir_;  // results folder
   int rank_, pieces_;
   CellLabels labels_;
-  NodalAverage average_;
+  std::vector<std::vector<int>> own_;
+  mutable NodalAverage average_;  // node weights completed on first use
+  mutable bool weights_complete_ = false;
   // The piece's topology (fixed): its nodes (model indices, ascending) and cells (indices in
   // the one-process cell order) with their connectivity in piece-local node numbers.
   std::vector<std::int64_t> nodes_, cells_;

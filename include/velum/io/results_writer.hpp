@@ -93,7 +93,7 @@ class ResultsWriter {
   /// Writes the history row and, with fields on, a frame for an output time; updates the
   /// extremes of summary.json.
   void write(const StepSnapshot& snap);
-  /// One history row (no frame).
+  /// One history row (no frame). Under mpirun a collective call, as write().
   void write_history(const StepSnapshot& snap);
   /// One row of steps.csv (iterations and the residual norm before each solve, and after the
   /// last, of an accepted step; space-separated), flushed.
@@ -111,19 +111,31 @@ class ResultsWriter {
   int frames() const { return static_cast<int>(frame_times_.size()); }
 
  private:
-  /// Absolute pressure of gas chamber i at time t and positions x.
+  /// Absolute pressure of gas chamber i at time t and positions x (collective).
   double gas_pressure(int i, double t, const NodePositions& x) const;
+  /// Per cell, the absolute pressure of the gas it encloses (empty: no gas; collective).
+  std::vector<double> gas_per_cell(double t, const NodePositions& x) const;
+  /// This process's part of history entry h (history_row sums the parts; collective for gas).
   double history_value(const HistoryEntry& h, const StepSnapshot& snap, const NodePositions& U,
-                       const NodePositions& V, const NodePositions& x, NodePositions& R,
-                       bool& have_R);
-  /// The history row at positions U, V, x; reactions R computed on first need (have_R).
-  void write_history_row(const StepSnapshot& snap, const NodePositions& U, const NodePositions& V,
-                         const NodePositions& x, NodePositions& R, bool& have_R);
-  /// Internal minus external force at the supported components (zero elsewhere), 3 x nodes.
+                       const NodePositions& V, const NodePositions& x, const NodePositions& R);
+  /// The history values at positions U, V, x and reactions R (when needs_reactions()),
+  /// summed over the processes (the same bits on every one). A collective call.
+  std::vector<double> history_row(const StepSnapshot& snap, const NodePositions& U,
+                                  const NodePositions& V, const NodePositions& x,
+                                  const NodePositions& R);
+  void write_history_row(const StepSnapshot& snap, const std::vector<double>& values);
+  bool needs_reactions() const;
+  /// Internal minus external force at the supported components (zero elsewhere), 3 x nodes:
+  /// complete at the nodes of this process's elements (and the nodes it keeps). Collective.
   NodePositions reactions(const StepSnapshot& snap, const NodePositions& x) const;
   void write_frame(double t, const NodePositions& U, const NodePositions& V, const NodePositions& R,
-                   const FrameFields& f);
-  void update_extremes(double t, const NodePositions& U, const FrameFields& f);
+                   const FrameFields& f, const std::vector<std::vector<double>>& averaged,
+                   const std::vector<double>& gas);
+  /// The summary's extremes over the cells `own` lists, reduced to the first (collective).
+  void update_extremes(double t, const NodePositions& U, const FrameFields& f,
+                       const std::vector<std::vector<int>>& own);
+  /// Per block, this process's elements (without fields: no frame writer holds them).
+  const std::vector<std::vector<int>>& own_elements();
   void write_legend() const;
   void write_pvd();
 
@@ -137,6 +149,7 @@ class ResultsWriter {
   std::vector<double> frame_times_;
   CellLabels labels_;
   std::optional<FrameWriter> frames_;  // with fields on
+  std::vector<std::vector<int>> own_;  // own_elements()
   Extreme max_stress_, max_force_per_length_, max_displacement_, min_cable_force_, max_cable_force_;
 };
 

@@ -4,6 +4,7 @@
 // caller-provided buffers (the assembler scatters them; blocks never see global storage).
 #pragma once
 
+#include <cassert>
 #include <memory>
 #include <span>
 #include <string>
@@ -64,10 +65,13 @@ class ElementBlock {
   virtual void mass(int e, double* M) const = 0;
   /// Reference measure (area for membranes, length for cables) of element e.
   virtual double measure(int e) const = 0;
-  virtual double strain_energy(const NodePositions& x) const = 0;
-  /// The first element that turns inside out between configurations `from` and `to` (a
-  /// surface normal or a line's axis reversing, or collapsing to zero, at a point), or -1.
-  virtual int first_inverted(const NodePositions& from, const NodePositions& to) const = 0;
+  /// Strain energy of the listed elements (summed in their order).
+  virtual double strain_energy(std::span<const int> elements, const NodePositions& x) const = 0;
+  /// The first of the listed elements (ascending) that turns inside out between configurations
+  /// `from` and `to` (a surface normal or a line's axis reversing, or collapsing to zero, at a
+  /// point), or -1.
+  virtual int first_inverted(std::span<const int> elements, const NodePositions& from,
+                             const NodePositions& to) const = 0;
   virtual ElementOutput output(int e, const NodePositions& x) const = 0;
   /// Natural coordinates of the reference point P inside element e, if it lies there
   /// (membranes; used to locate history points). Returns false otherwise.
@@ -88,14 +92,34 @@ class ElementBlock {
   /// Whether the section carries a prestress.
   virtual bool prestressed() const = 0;
 
+  /// Keeps the section data (integration points, reference geometry) of the listed elements
+  /// only (ascending), freeing the others': under mpirun a process computes its own elements
+  /// only (docs/parallel.md). Afterwards only the listed elements may be asked for anything
+  /// but their nodes; on_reference still builds every element.
+  virtual void keep_only(std::span<const int> elements) = 0;
+  /// Whether element e's section data is held (every element until keep_only).
+  bool holds(int e) const { return slot_.empty() || slot_[static_cast<size_t>(e)] >= 0; }
+
  protected:
   ElementBlock(std::string set_name, std::vector<int> connectivity, double density)
       : set_name_(std::move(set_name)), connectivity_(std::move(connectivity)), density_(density) {}
+  /// Where element e's section data is stored (e itself until keep_only).
+  int slot(int e) const {
+    assert(holds(e) && "an element whose section data this process does not hold");
+    return slot_.empty() ? e : slot_[static_cast<size_t>(e)];
+  }
+  /// Records that the section data of `elements` (ascending) now sits at 0, 1, ...
+  void set_kept(std::span<const int> elements) {
+    slot_.assign(static_cast<size_t>(size()), -1);
+    for (size_t i = 0; i < elements.size(); ++i)
+      slot_[static_cast<size_t>(elements[i])] = static_cast<int>(i);
+  }
 
  private:
   std::string set_name_;
   std::vector<int> connectivity_;
   double density_;
+  std::vector<int> slot_;  // element -> its section data (-1: not held); empty: itself
 };
 
 /// Diagnostics of a block's set-up: the worst element found, for validation messages.
