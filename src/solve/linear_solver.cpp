@@ -13,6 +13,7 @@
 
 #include "mumps_solver.hpp"
 #include "ordering.hpp"
+#include "supernodal_cholesky.hpp"
 #include "supernodal_lu.hpp"
 #include "symmetry.hpp"
 #include "velum/solve/petsc_solver.hpp"
@@ -297,9 +298,12 @@ class SupernodalLuWithFallback final : public LinearSolver {
   long refusals_ = 0;
 };
 
-// Numerically symmetric matrices (|A − Aᵀ| <= 1e-10 |A|, tested at every factorisation): MUMPS's
-// LDLᵀ, definite or not (pivoting only once a pivot comes out negative); without MUMPS in the
-// build, CHOLMOD, with LU while the matrix is indefinite. Unsymmetric matrices: the supernodal
+// Numerically symmetric matrices (|A − Aᵀ| <= 1e-10 |A|, tested at every factorisation): the
+// supernodal Cholesky while the matrix is positive definite, MUMPS's LDLᵀ (which gives the
+// inertia) for a matrix it refuses and, backing off, for the next 1, 2, 4 ... 64 (Hencky quad4
+// n = 130, 151,970 equations: 10.4 to 11.6 s CPU for the run against 15.9 to 18.9 with MUMPS
+// alone, docs/performance.md section 14); without MUMPS in the build, CHOLMOD, with LU while
+// the matrix is indefinite. Unsymmetric matrices: the supernodal
 // LU (KLU or UMFPACK when it refuses a factorisation) up to kSupernodalLimit equations, UMFPACK
 // above. CPU ms per factorisation of C9 canopy Jacobians (docs/performance.md, section 13):
 // 2,021 equations 0.98 (KLU's refactorisation 3.4, UMFPACK 4.9); 7,980: 6.3 (KLU 31, UMFPACK
@@ -314,7 +318,9 @@ class AutoSolver final : public LinearSolver {
   bool symmetric_only() const override { return false; }
   bool analyze(const SparseMatrix& A) override {
     check_.map(A);
-    sym_analyzed_ = chol_analyzed_ = lu_analyzed_ = false;
+    sym_analyzed_ = chol_analyzed_ = lu_analyzed_ = spd_analyzed_ = false;
+    spd_skip_ = 0;
+    spd_backoff_ = 1;
     small_ = A.rows() <= kSupernodalLimit;
     lu_ = make_lu();
     return true;
@@ -322,6 +328,7 @@ class AutoSolver final : public LinearSolver {
   bool factorize(const SparseMatrix& A) override {
     if (check_.symmetric(A)) {
       if (sym_) {
+        if (supernodal_cholesky(A)) return true;
         if (!sym_analyzed_) sym_analyzed_ = sym_->analyze(A);
         release_lu();
         active_ = sym_.get();
@@ -344,6 +351,29 @@ class AutoSolver final : public LinearSolver {
   int negative_pivots() const override { return active_ ? active_->negative_pivots() : -1; }
 
  private:
+  // The supernodal Cholesky while the matrix is positive definite; after a refusal (a pivot not
+  // positive: indefinite or singular), MUMPS's LDLᵀ, which gives the inertia, for the next 1,
+  // 2, 4 ... 64 factorisations before the Cholesky is tried again (a success resets the count).
+  bool supernodal_cholesky(const SparseMatrix& A) {
+    if (spd_skip_ > 0) {
+      --spd_skip_;
+      return false;
+    }
+    if (!spd_analyzed_) spd_analyzed_ = spd_.analyze(A);
+    active_ = &spd_;
+    if (spd_analyzed_ && spd_.factorize(A)) {
+      spd_backoff_ = 1;
+      release_lu();
+      if (sym_analyzed_) {  // one factorisation in memory at a time
+        sym_ = make_mumps_solver(true);
+        sym_analyzed_ = false;
+      }
+      return true;
+    }
+    spd_skip_ = spd_backoff_;
+    spd_backoff_ = std::min(2 * spd_backoff_, 64);
+    return false;
+  }
   // Without MUMPS: after an indefinite matrix, CHOLMOD is tried again after 1, 2, 4 ... 64
   // factorisations with LU (a static inflation is indefinite while the sheet is slack).
   bool cholesky(const SparseMatrix& A) {
@@ -377,6 +407,9 @@ class AutoSolver final : public LinearSolver {
 
   SymmetryCheck check_;
   std::unique_ptr<LinearSolver> sym_ = make_mumps_solver(true);  ///< null without MUMPS
+  SupernodalCholesky spd_;  ///< with MUMPS in the build; CHOLMOD's role without
+  bool spd_analyzed_ = false;
+  int spd_skip_ = 0, spd_backoff_ = 1;  ///< MUMPS factorisations before spd_ is tried again
   std::unique_ptr<LinearSolver> chol_ = std::make_unique<Cholmod>(false);
   std::unique_ptr<LinearSolver> lu_;
   bool small_ = true;  ///< LU by the supernodal LU (else UMFPACK)

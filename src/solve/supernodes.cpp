@@ -102,7 +102,8 @@ void walk_rows(const UpperPattern& up, const std::vector<int>& parent, Visit&& v
 }  // namespace
 
 SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<int>& position,
-                                       const Amalgamation& relax) {
+                                       const Amalgamation& relax, Factor factor) {
+  const bool lu = factor == Factor::kLu;
   SupernodalStructure st;
   const int n = st.n = static_cast<int>(A.cols());
   std::vector<int> pos = position;
@@ -188,17 +189,21 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
     });
   }
 
-  // Panels, each supernode's L then Uᵀ.
+  // Panels, each supernode's L then Uᵀ (LU). Flops: the diagonal block's factorisation, the
+  // triangular solve(s) of the rows below, the update (Cholesky: its lower triangle).
   st.l_panel.resize(ns);
-  st.u_panel.resize(ns);
+  if (lu) st.u_panel.resize(ns);
   for (int s = 0; s < ns; ++s) {
     const std::ptrdiff_t w = st.width(s), m = st.below(s);
     st.l_panel[s] = st.values;
-    st.u_panel[s] = st.values + (w + m) * w;
-    st.values += (2 * m + w) * w;
+    if (lu) st.u_panel[s] = st.values + (w + m) * w;
+    st.values += (lu ? 2 * m + w : m + w) * w;
     st.widest = std::max(st.widest, st.width(s));
     st.most_below = std::max(st.most_below, st.below(s));
-    st.flops += 2.0 / 3.0 * w * w * w + 2.0 * m * w * w + 2.0 * double(m) * m * w;
+    if (lu)
+      st.flops += 2.0 / 3.0 * w * w * w + 2.0 * m * w * w + 2.0 * double(m) * m * w;
+    else
+      st.flops += 1.0 / 3.0 * w * w * w + double(m) * w * w + double(m) * (m + 1) * w;
   }
   // Row position of global row r in supernode t's L panel.
   auto place = [&](int t, int r) -> int {
@@ -218,6 +223,8 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
         const int t = snode_of[c];
         st.entry[k] = st.l_panel[t] + place(t, r) +
                       std::ptrdiff_t(c - st.first[t]) * (st.width(t) + st.below(t));
+      } else if (!lu) {
+        st.entry[k] = -1;
       } else {
         const int t = snode_of[r];
         st.entry[k] = st.u_panel[t] + (place(t, c) - st.width(t)) +

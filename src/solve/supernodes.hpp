@@ -1,9 +1,10 @@
 // The symbolic part of a supernodal LU of a structurally symmetric matrix: the fill-reducing
 // order (METIS nested dissection of the node graph, then a postorder of the elimination tree),
 // the column counts of L, the supernodes (columns whose L structure nests, relaxed by
-// amalgamation), their dense panels for L and Uᵀ (the same structure), the place in the
-// panels of each stored entry of A, and where each supernode's update goes. Made once per
-// pattern; the numeric factorisation (supernodal_lu.hpp) allocates nothing.
+// amalgamation), their dense panels for L and Uᵀ (the same structure; L alone for a Cholesky
+// factorisation), the place in the panels of each stored entry of A, and where each
+// supernode's update goes. Made once per pattern; the numeric factorisations
+// (supernodal_lu.hpp, supernodal_cholesky.hpp) allocate nothing.
 #pragma once
 
 #include <cstddef>
@@ -37,13 +38,15 @@ struct SupernodalStructure {
   std::vector<std::ptrdiff_t> l_panel;  ///< (width + below) x width, column-major: L and the
                                         ///< whole diagonal block
   std::vector<std::ptrdiff_t> u_panel;  ///< below x width, column-major: U's rows, transposed
+                                        ///< (empty for a Cholesky factorisation)
   std::ptrdiff_t values = 0;            ///< size of the panels together
   std::vector<std::ptrdiff_t> entry;    ///< A's k-th stored value -> its place in the panels
+                                        ///< (-1: above the diagonal blocks, in Cholesky)
   std::vector<int> target_begin;        ///< targets of s: targets[target_begin[s] .. [s+1])
   std::vector<Target> targets;
   std::vector<int> relative;
   int widest = 0, most_below = 0;  ///< largest width and below count (work sizes)
-  double flops = 0;                ///< of one numeric factorisation
+  double flops = 0;                ///< of one numeric factorisation (LU or Cholesky)
 
   int supernodes() const { return static_cast<int>(first.size()) - 1; }
   int width(int s) const { return first[s + 1] - first[s]; }
@@ -51,8 +54,10 @@ struct SupernodalStructure {
 };
 
 /// position[i] = the pivot position of equation i (nested_dissection), or empty for the
-/// natural order. The pattern read is that of A + Aᵀ.
+/// natural order. The pattern read is that of A + Aᵀ. Factor::kCholesky: L's panels only (A's
+/// entries above the diagonal blocks are not read), and Cholesky's flop count.
+enum class Factor { kLu, kCholesky };
 SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<int>& position,
-                                       const Amalgamation& relax = {});
+                                       const Amalgamation& relax = {}, Factor factor = Factor::kLu);
 
 }  // namespace velum

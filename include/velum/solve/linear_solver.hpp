@@ -15,10 +15,10 @@ namespace velum {
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 /// kAuto: while the matrix is numerically symmetric (|A - Aᵀ| <= 1e-10 |A|, checked at every
-/// factorisation) MUMPS's LDLᵀ (without MUMPS in the build: CHOLMOD while it is positive
-/// definite), otherwise the supernodal LU (rows exchanged within supernodes only; KLU or, above
-/// 6,000 equations, UMFPACK for a factorisation it refuses) up to 125,000 equations and
-/// UMFPACK above. kMumps: LDLᵀ when
+/// factorisation) a supernodal Cholesky while it is positive definite and MUMPS's LDLᵀ when
+/// it is not (without MUMPS in the build: CHOLMOD while it is positive definite), otherwise the
+/// supernodal LU (rows exchanged within supernodes only; KLU or, above 6,000 equations, UMFPACK for
+/// a factorisation it refuses) up to 125,000 equations and UMFPACK above. kMumps: LDLᵀ when
 /// symmetric, LU otherwise. kCholmod throws std::invalid_argument on an unsymmetric matrix.
 /// kPetsc: PETSc (MUMPS by default) on one or several MPI processes (petsc_solver.hpp).
 enum class SolverKind { kAuto, kCholmod, kUmfpack, kKlu, kMumps, kPetsc };

@@ -1,0 +1,170 @@
+// The supernodal Cholesky (src/solve/supernodal_cholesky.hpp) on symmetric matrices built like
+// membrane stiffnesses: three equations per node of a quad mesh, every equation of a node
+// coupled with every equation of the nodes that share an element with it, some equations
+// removed (constrained components). Positive definite ones against a dense LLᵀ and CHOLMOD;
+// an indefinite one refused and solved by `auto` through MUMPS's LDLᵀ with its inertia; a
+// singular one refused.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <random>
+#include <vector>
+
+#include "solve/supernodal_cholesky.hpp"
+#include "velum/solve/linear_solver.hpp"
+
+namespace velum {
+namespace {
+
+using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// An nx x ny grid of nodes, quad4 elements, 3 equations per node (every `drop`-th equation
+// removed when drop > 0), symmetric random values in [-1, 1] off the diagonal, each diagonal
+// entry its row's off-diagonal sum plus `margin`: diagonally dominant, so positive definite
+// for margin > 0.
+SparseMatrix spd_membrane_matrix(int nx, int ny, unsigned seed, int drop = 0, double margin = 1.0) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const int nodes = nx * ny;
+  std::vector<int> index(3 * nodes, -1);
+  int n = 0;
+  for (int e = 0; e < 3 * nodes; ++e)
+    if (drop == 0 || e % drop != drop - 1) index[e] = n++;
+  std::vector<Eigen::Triplet<double>> t;
+  std::vector<double> row_sum(n, 0.0);
+  for (int a = 0; a < nodes; ++a)
+    for (int d = 0; d < 9; ++d) {
+      const int bx = a % nx + d % 3 - 1, by = a / nx + d / 3 - 1;
+      if (bx < 0 || bx >= nx || by < 0 || by >= ny) continue;
+      const int b = bx + nx * by;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          const int r = index[3 * a + i], c = index[3 * b + j];
+          if (r < 0 || c < 0 || r >= c) continue;
+          const double v = u(rng);
+          t.emplace_back(r, c, v);
+          t.emplace_back(c, r, v);
+          row_sum[r] += std::abs(v);
+          row_sum[c] += std::abs(v);
+        }
+    }
+  for (int c = 0; c < n; ++c) t.emplace_back(c, c, row_sum[c] + margin);
+  SparseMatrix A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  A.makeCompressed();
+  return A;
+}
+
+double relative_residual(const SparseMatrix& A, const Eigen::VectorXd& x,
+                         const Eigen::VectorXd& b) {
+  return (A * x - b).norm() / (A.norm() * x.norm());
+}
+
+Eigen::VectorXd rhs(Eigen::Index n) {
+  return Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
+}
+
+TEST(SupernodalCholesky, SolvesMembraneMatricesLikeDenseLltAndCholmod) {
+  for (const int drop : {0, 7}) {
+    const SparseMatrix A = spd_membrane_matrix(14, 11, 3, drop);
+    SupernodalCholesky chol;
+    ASSERT_TRUE(chol.refactorize(A)) << chol.status();
+    EXPECT_EQ(chol.negative_pivots(), 0);
+    Eigen::VectorXd x, y;
+    const Eigen::VectorXd b = rhs(A.rows());
+    ASSERT_TRUE(chol.solve(b, x));
+    EXPECT_LE(relative_residual(A, x, b), 1e-13);
+    auto cholmod = make_linear_solver(SolverKind::kCholmod);
+    ASSERT_TRUE(cholmod->refactorize(A) && cholmod->solve(b, y));
+    EXPECT_LE((x - y).norm(), 1e-11 * y.norm());
+    // Row-major: libgmsh, linked into this test program, has its own Eigen instantiations.
+    const Eigen::VectorXd dense = RowMajorMatrix(A).llt().solve(b);
+    EXPECT_LE((x - dense).norm(), 1e-11 * dense.norm());
+    // Supernodes at least node-sized where no equation was removed; L's panels only.
+    const SupernodalStructure& st = chol.structure();
+    EXPECT_LT(st.supernodes(), A.rows() / 3 + 1);
+    EXPECT_TRUE(st.u_panel.empty());
+    EXPECT_GT(st.flops, 0.0);
+  }
+}
+
+TEST(SupernodalCholesky, RefactorisesNewValuesOnTheSamePattern) {
+  const SparseMatrix A = spd_membrane_matrix(12, 9, 5, 5);
+  const SparseMatrix C = spd_membrane_matrix(12, 9, 6, 5, 0.1);
+  ASSERT_EQ(A.nonZeros(), C.nonZeros());
+  SupernodalCholesky chol;
+  const Eigen::VectorXd b = rhs(A.rows());
+  Eigen::VectorXd x;
+  ASSERT_TRUE(chol.refactorize(A));
+  ASSERT_TRUE(chol.solve(b, x));
+  EXPECT_LE(relative_residual(A, x, b), 1e-13);
+  ASSERT_TRUE(chol.refactorize(C));
+  ASSERT_TRUE(chol.solve(b, x));
+  EXPECT_LE(relative_residual(C, x, b), 1e-13);
+  EXPECT_EQ(chol.analyses(), 1);
+}
+
+// A shift between two eigenvalues makes the matrix indefinite with a known inertia: the
+// Cholesky refuses it, `auto` factorises it with MUMPS's LDLᵀ and reports the negative
+// eigenvalues; for a positive definite matrix it returns to the Cholesky after its pause.
+TEST(SupernodalCholesky, RefusesAnIndefiniteMatrixAndAutoGivesItsInertia) {
+  const SparseMatrix good = spd_membrane_matrix(10, 9, 11, 4);
+  const Eigen::VectorXd lambda =
+      Eigen::SelfAdjointEigenSolver<RowMajorMatrix>(RowMajorMatrix(good)).eigenvalues();
+  const int negative = 7;
+  const double shift = 0.5 * (lambda[negative - 1] + lambda[negative]);
+  SparseMatrix A = good;
+  for (int j = 0; j < A.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+      if (it.row() == j) it.valueRef() -= shift;
+  SupernodalCholesky chol;
+  EXPECT_FALSE(chol.refactorize(A));
+  EXPECT_NE(chol.status().find("not positive definite"), std::string::npos) << chol.status();
+  EXPECT_EQ(chol.negative_pivots(), -1);
+  const Eigen::VectorXd b = rhs(A.rows());
+  Eigen::VectorXd x;
+  EXPECT_FALSE(chol.solve(b, x));
+  auto automatic = make_linear_solver(SolverKind::kAuto);
+  ASSERT_TRUE(automatic->refactorize(good));
+  if (!have_mumps()) GTEST_SKIP() << "the Cholesky's fallback in `auto` is MUMPS's LDLᵀ";
+  EXPECT_EQ(automatic->name(), "supernodal-cholesky");
+  EXPECT_EQ(automatic->negative_pivots(), 0);
+  ASSERT_TRUE(automatic->refactorize(A)) << automatic->status();
+  EXPECT_EQ(automatic->name(), "mumps");
+  EXPECT_EQ(automatic->negative_pivots(), negative);
+  ASSERT_TRUE(automatic->solve(b, x));
+  EXPECT_LE(relative_residual(A, x, b), 1e-13);
+  // Back-off: the next factorisation goes to MUMPS directly, the one after to the Cholesky.
+  for (const char* expected : {"mumps", "supernodal-cholesky", "supernodal-cholesky"}) {
+    ASSERT_TRUE(automatic->refactorize(good));
+    EXPECT_EQ(automatic->name(), expected);
+    EXPECT_EQ(automatic->negative_pivots(), 0);
+    ASSERT_TRUE(automatic->solve(b, x));
+    EXPECT_LE(relative_residual(good, x, b), 1e-13);
+  }
+}
+
+TEST(SupernodalCholesky, SingularMatrixIsReportedNeverSolved) {
+  SparseMatrix A = spd_membrane_matrix(8, 8, 2);
+  // Equation 17 a copy of equation 16 (the same node, so the same pattern): positive
+  // semi-definite, rank deficient.
+  RowMajorMatrix M(A);
+  M.row(17) = M.row(16);
+  M.col(17) = M.col(16);
+  for (int j = 0; j < A.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it) it.valueRef() = M(it.row(), j);
+  SupernodalCholesky chol;
+  EXPECT_FALSE(chol.refactorize(A));
+  EXPECT_FALSE(chol.status().empty());
+  Eigen::VectorXd x;
+  EXPECT_FALSE(chol.solve(rhs(A.rows()), x));
+  // A zero column and row.
+  for (int j = 0; j < A.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+      if (it.row() == 17 || j == 17) it.valueRef() = 0.0;
+  EXPECT_FALSE(chol.refactorize(A));
+  EXPECT_NE(chol.status().find("not positive definite"), std::string::npos) << chol.status();
+}
+
+}  // namespace
+}  // namespace velum
