@@ -17,16 +17,6 @@ namespace {
 using Panel = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
 using Segment = Eigen::Map<Eigen::VectorXd>;
 
-// As in supernodal_lu.cpp: Eigen's products on the calling thread only (panels this small lose
-// more to OpenMP's barriers than they gain), Eigen's default restored afterwards.
-class SerialEigen {
- public:
-  SerialEigen() { Eigen::setNbThreads(1); }
-  ~SerialEigen() { Eigen::setNbThreads(0); }
-  SerialEigen(const SerialEigen&) = delete;
-  SerialEigen& operator=(const SerialEigen&) = delete;
-};
-
 }  // namespace
 
 bool SupernodalCholesky::analyze(const SparseMatrix& A) {

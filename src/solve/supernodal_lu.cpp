@@ -16,19 +16,6 @@ namespace {
 using Panel = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
 using Segment = Eigen::Map<Eigen::VectorXd>;
 
-// Eigen splits a matrix product over OpenMP threads when the program has several: on panels
-// this small (a few dozen rows) that costs more than it saves (on the C9 canopy's Jacobian,
-// with two threads allowed, 2.9 ms of CPU per factorisation against 1.0 with one, most of it
-// in libgomp's barriers). The factorisation runs on the calling thread; Eigen's default
-// (follow OpenMP) is restored after it.
-class SerialEigen {
- public:
-  SerialEigen() { Eigen::setNbThreads(1); }
-  ~SerialEigen() { Eigen::setNbThreads(0); }
-  SerialEigen(const SerialEigen&) = delete;
-  SerialEigen& operator=(const SerialEigen&) = delete;
-};
-
 }  // namespace
 
 bool SupernodalLu::analyze(const SparseMatrix& A) {

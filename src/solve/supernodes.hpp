@@ -7,6 +7,8 @@
 // (supernodal_lu.hpp, supernodal_cholesky.hpp) allocate nothing.
 #pragma once
 
+#include <Eigen/Core>
+
 #include <cstddef>
 #include <vector>
 
@@ -59,5 +61,18 @@ struct SupernodalStructure {
 enum class Factor { kLu, kCholesky };
 SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<int>& position,
                                        const Amalgamation& relax = {}, Factor factor = Factor::kLu);
+
+// Eigen splits a matrix product over OpenMP threads when the program has several: on panels
+// this small (a few dozen rows) that costs more than it saves (on the C9 canopy's Jacobian,
+// with two threads allowed, 2.9 ms of CPU per factorisation against 1.0 with one, most of it
+// in libgomp's barriers). The supernodal factorisations and solves run on the calling thread
+// while one of these lives; Eigen's default (follow OpenMP) is restored after it.
+class SerialEigen {
+ public:
+  SerialEigen() { Eigen::setNbThreads(1); }
+  ~SerialEigen() { Eigen::setNbThreads(0); }
+  SerialEigen(const SerialEigen&) = delete;
+  SerialEigen& operator=(const SerialEigen&) = delete;
+};
 
 }  // namespace velum
