@@ -237,6 +237,28 @@ class Klu final : public LinearSolver {
   long full_factorizations_ = 0;
 };
 
+// A fast path that may refuse a matrix (a Cholesky meeting an indefinite one, an LU whose
+// pivots must leave their block): a refusal costs the fast attempt on top of the fallback's
+// factorisation, so after one the next 1, 2, 4 ... 64 factorisations skip it; a success
+// resets the count.
+class BackOff {
+ public:
+  /// Whether this factorisation skips the fast path (counting it).
+  bool skip() {
+    if (skip_ == 0) return false;
+    --skip_;
+    return true;
+  }
+  void succeeded() { backoff_ = 1; }
+  void refused() {
+    skip_ = backoff_;
+    backoff_ = std::min(2 * backoff_, 64);
+  }
+
+ private:
+  int skip_ = 0, backoff_ = 1;
+};
+
 // `auto`'s LU of unsymmetric matrices: the supernodal LU (dense kernels, rows exchanged only
 // within a supernode's diagonal block) and, for a factorisation it refuses (a zero pivot, a
 // multiplier over 1e3, pivots spanning over 1e12: supernodal_lu.hpp), a factorisation with
@@ -257,23 +279,19 @@ class SupernodalLuWithFallback final : public LinearSolver {
     else
       fallback_ = std::make_unique<UmfPack>();
     fallback_analyzed_ = false;
-    skip_ = 0;
-    backoff_ = 1;
+    backoff_ = BackOff{};
     active_ = nullptr;
     return true;
   }
   bool factorize(const SparseMatrix& A) override {
-    if (skip_ > 0) {
-      --skip_;
-    } else if (fast_analyzed_) {
+    if (!backoff_.skip() && fast_analyzed_) {
       active_ = &fast_;
       if (fast_.factorize(A)) {
-        backoff_ = 1;
+        backoff_.succeeded();
         return true;
       }
       ++refusals_;
-      skip_ = backoff_;
-      backoff_ = std::min(2 * backoff_, 64);
+      backoff_.refused();
     }
     if (!fallback_analyzed_) fallback_analyzed_ = fallback_->analyze(A);
     active_ = fallback_.get();
@@ -294,7 +312,7 @@ class SupernodalLuWithFallback final : public LinearSolver {
   std::unique_ptr<LinearSolver> fallback_;
   LinearSolver* active_ = nullptr;
   bool fast_analyzed_ = false, fallback_analyzed_ = false;
-  int skip_ = 0, backoff_ = 1;
+  BackOff backoff_;
   long refusals_ = 0;
 };
 
@@ -319,8 +337,7 @@ class AutoSolver final : public LinearSolver {
   bool analyze(const SparseMatrix& A) override {
     check_.map(A);
     sym_analyzed_ = chol_analyzed_ = lu_analyzed_ = spd_analyzed_ = false;
-    spd_skip_ = 0;
-    spd_backoff_ = 1;
+    spd_backoff_ = BackOff{};
     small_ = A.rows() <= kSupernodalLimit;
     lu_ = make_lu();
     return true;
@@ -355,14 +372,11 @@ class AutoSolver final : public LinearSolver {
   // positive: indefinite or singular), MUMPS's LDLᵀ, which gives the inertia, for the next 1,
   // 2, 4 ... 64 factorisations before the Cholesky is tried again (a success resets the count).
   bool supernodal_cholesky(const SparseMatrix& A) {
-    if (spd_skip_ > 0) {
-      --spd_skip_;
-      return false;
-    }
+    if (spd_backoff_.skip()) return false;
     if (!spd_analyzed_) spd_analyzed_ = spd_.analyze(A);
     active_ = &spd_;
     if (spd_analyzed_ && spd_.factorize(A)) {
-      spd_backoff_ = 1;
+      spd_backoff_.succeeded();
       release_lu();
       if (sym_analyzed_) {  // one factorisation in memory at a time
         sym_ = make_mumps_solver(true);
@@ -370,26 +384,21 @@ class AutoSolver final : public LinearSolver {
       }
       return true;
     }
-    spd_skip_ = spd_backoff_;
-    spd_backoff_ = std::min(2 * spd_backoff_, 64);
+    spd_backoff_.refused();
     return false;
   }
   // Without MUMPS: after an indefinite matrix, CHOLMOD is tried again after 1, 2, 4 ... 64
   // factorisations with LU (a static inflation is indefinite while the sheet is slack).
   bool cholesky(const SparseMatrix& A) {
-    if (skip_ > 0) {
-      --skip_;
-      return false;
-    }
+    if (backoff_.skip()) return false;
     if (!chol_analyzed_) chol_analyzed_ = chol_->analyze(A);
     if (chol_analyzed_ && chol_->factorize(A)) {
       active_ = chol_.get();
-      backoff_ = 1;
+      backoff_.succeeded();
       release_lu();
       return true;
     }
-    skip_ = backoff_;
-    backoff_ = std::min(2 * backoff_, 64);
+    backoff_.refused();
     chol_ = std::make_unique<Cholmod>(false);
     chol_analyzed_ = false;
     return false;
@@ -409,13 +418,13 @@ class AutoSolver final : public LinearSolver {
   std::unique_ptr<LinearSolver> sym_ = make_mumps_solver(true);  ///< null without MUMPS
   SupernodalCholesky spd_;  ///< with MUMPS in the build; CHOLMOD's role without
   bool spd_analyzed_ = false;
-  int spd_skip_ = 0, spd_backoff_ = 1;  ///< MUMPS factorisations before spd_ is tried again
+  BackOff spd_backoff_;  ///< MUMPS factorisations before spd_ is tried again
   std::unique_ptr<LinearSolver> chol_ = std::make_unique<Cholmod>(false);
   std::unique_ptr<LinearSolver> lu_;
   bool small_ = true;  ///< LU by the supernodal LU (else UMFPACK)
   LinearSolver* active_ = nullptr;
   bool sym_analyzed_ = false, chol_analyzed_ = false, lu_analyzed_ = false;
-  int skip_ = 0, backoff_ = 1;  ///< LU factorisations before CHOLMOD is tried again
+  BackOff backoff_;  ///< LU factorisations before CHOLMOD is tried again
 };
 
 }  // namespace
