@@ -49,6 +49,17 @@ SparseMatrix membrane_matrix(int nx, int ny, unsigned seed, int drop = 0, double
   return A;
 }
 
+// Sets the entries of A coupling the equations of the first supernode of st (kept in the
+// pattern) to 0, and their diagonal to `diagonal`: with 0 its pivots can only come from rows
+// of other supernodes; with a tiny value its multipliers grow without bound.
+void set_first_diagonal_block(const SupernodalStructure& st, double diagonal, SparseMatrix& A) {
+  std::vector<char> in_first(A.rows(), 0);
+  for (int k = st.first[0]; k < st.first[1]; ++k) in_first[st.order[k]] = 1;
+  for (int j = 0; j < A.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+      if (in_first[it.row()] && in_first[j]) it.valueRef() = it.row() == j ? diagonal : 0.0;
+}
+
 double relative_residual(const SparseMatrix& A, const Eigen::VectorXd& x,
                          const Eigen::VectorXd& b) {
   return (A * x - b).norm() / (A.norm() * x.norm());
@@ -108,12 +119,7 @@ TEST(SupernodalLu, RefusesAPivotOutsideItsBlockAndAutoFallsBackToKlu) {
   SparseMatrix A = membrane_matrix(10, 9, 11, 4);
   SupernodalLu lu;
   ASSERT_TRUE(lu.refactorize(A));
-  const SupernodalStructure& st = lu.structure();
-  std::vector<char> in_first(A.rows(), 0);
-  for (int k = st.first[0]; k < st.first[1]; ++k) in_first[st.order[k]] = 1;
-  for (int j = 0; j < A.outerSize(); ++j)
-    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
-      if (in_first[it.row()] && in_first[j]) it.valueRef() = 0.0;
+  set_first_diagonal_block(lu.structure(), 0.0, A);
   EXPECT_FALSE(lu.refactorize(A));
   EXPECT_NE(lu.status().find("zero pivot"), std::string::npos) << lu.status();
   const Eigen::VectorXd b = rhs(A.rows());
@@ -125,9 +131,7 @@ TEST(SupernodalLu, RefusesAPivotOutsideItsBlockAndAutoFallsBackToKlu) {
   ASSERT_TRUE(automatic->solve(b, x));
   EXPECT_LE(relative_residual(A, x, b), 1e-13);
   // A large multiplier (a tiny diagonal block against the rows below it) is refused too.
-  for (int j = 0; j < A.outerSize(); ++j)
-    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
-      if (in_first[it.row()] && in_first[j] && it.row() == j) it.valueRef() = 1e-6;
+  set_first_diagonal_block(lu.structure(), 1e-6, A);
   EXPECT_FALSE(lu.refactorize(A));
   EXPECT_GT(lu.largest_multiplier(), SupernodalLu::kMultiplierLimit);
   // The matrix as it was: `auto` returns to the supernodal LU after its pause.
@@ -146,12 +150,7 @@ TEST(SupernodalLu, AutoFallsBackToUmfpackAboveKlusSize) {
   ASSERT_GT(A.rows(), 6000);
   SupernodalLu lu;
   ASSERT_TRUE(lu.refactorize(A));
-  const SupernodalStructure& st = lu.structure();
-  std::vector<char> in_first(A.rows(), 0);
-  for (int k = st.first[0]; k < st.first[1]; ++k) in_first[st.order[k]] = 1;
-  for (int j = 0; j < A.outerSize(); ++j)
-    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
-      if (in_first[it.row()] && in_first[j]) it.valueRef() = 0.0;
+  set_first_diagonal_block(lu.structure(), 0.0, A);
   auto automatic = make_linear_solver(SolverKind::kAuto);
   ASSERT_TRUE(automatic->refactorize(A)) << automatic->status();
   EXPECT_EQ(automatic->name(), "umfpack");
