@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "membrane_grid.hpp"
 #include "solve/supernodal_lu.hpp"
 #include "velum/solve/linear_solver.hpp"
 
@@ -21,27 +22,15 @@ namespace {
 SparseMatrix membrane_matrix(int nx, int ny, unsigned seed, int drop = 0, double dominance = 0.5) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const int nodes = nx * ny;
-  std::vector<int> index(3 * nodes, -1);
-  int n = 0;
-  for (int e = 0; e < 3 * nodes; ++e)
-    if (drop == 0 || e % drop != drop - 1) index[e] = n++;
+  const MembraneGrid grid(nx, ny, drop);
+  const int n = grid.n;
   std::vector<Eigen::Triplet<double>> t;
   std::vector<double> column_sum(n, 0.0);
-  for (int a = 0; a < nodes; ++a)
-    for (int d = 0; d < 9; ++d) {
-      const int bx = a % nx + d % 3 - 1, by = a / nx + d / 3 - 1;
-      if (bx < 0 || bx >= nx || by < 0 || by >= ny) continue;
-      const int b = bx + nx * by;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          const int r = index[3 * a + i], c = index[3 * b + j];
-          if (r < 0 || c < 0 || r == c) continue;
-          const double v = u(rng);
-          t.emplace_back(r, c, v);
-          column_sum[c] += std::abs(v);
-        }
-    }
+  grid.for_each_coupling([&](int r, int c) {
+    const double v = u(rng);
+    t.emplace_back(r, c, v);
+    column_sum[c] += std::abs(v);
+  });
   for (int c = 0; c < n; ++c) t.emplace_back(c, c, dominance * column_sum[c] + 1.0);
   SparseMatrix A(n, n);
   A.setFromTriplets(t.begin(), t.end());
