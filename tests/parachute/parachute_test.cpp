@@ -146,24 +146,31 @@ std::vector<double> centreline_stresses(const std::string& args) {
 }
 
 TEST(C9, CentrelineStressesConvergeUnderRefinement) {
-  // 1x, 2x and 4x the elements of the paper's mesh (2 x 11, 2 x 22, 4 x 22 per gore); compare
-  // the maximum principal stress at the 12 element-corner stations shared by all meshes
-  // (each printed, vent to skirt, for the log: docs/parachute.md discusses them).
-  const auto s1 = centreline_stresses("--across 2 --along 11");
-  const auto s2 = centreline_stresses("--across 2 --along 22");
-  const auto s4 = centreline_stresses("--across 4 --along 22");
-  auto at = [](const std::vector<double>& s, int i, int of) { return s[i * (s.size() - 1) / of]; };
-  double d12 = 0, d24 = 0, ref = 0;
-  for (int i = 0; i <= 11; ++i) {
-    std::cout << "station " << i << ": " << at(s1, i, 11) << " " << at(s2, i, 11) << " "
-              << at(s4, i, 11) << "\n";
-    d12 += std::pow(at(s1, i, 11) - at(s2, i, 11), 2);
-    d24 += std::pow(at(s2, i, 11) - at(s4, i, 11), 2);
-    ref += std::pow(at(s4, i, 11), 2);
+  // The paper's gore (2 x 11 quad9) resolves the radius but not the bulge of the gore between
+  // its seams: refining along the radius (2 x 11 -> 2 x 22) moves the centreline stresses by
+  // 2 %, refining across the gore (2 -> 4 -> 8 elements at 22 along) by 16 % and then 3 %
+  // (docs/parachute.md). So the check refines across the gore at 22 along, where the error
+  // lives: the same 45 centreline nodes in every mesh, each printed, vent to skirt. The
+  // second refinement must change the stresses less than half as much as the first (a
+  // second-order element would give a quarter). The wrinkled canopy of 8 across needs
+  // generalized-alpha's strongest damping of the high modes (rho_inf = 0.6 blows up at 0.42 s);
+  // the settled state does not depend on it, so all three meshes use rho_inf = 0.
+  const std::string damped = " --along 22 --rho-inf 0";
+  const auto s2 = centreline_stresses("--across 2" + damped);
+  const auto s4 = centreline_stresses("--across 4" + damped);
+  const auto s8 = centreline_stresses("--across 8" + damped);
+  ASSERT_EQ(s2.size(), s4.size());
+  ASSERT_EQ(s2.size(), s8.size());
+  double d24 = 0, d48 = 0, ref = 0;
+  for (size_t i = 0; i < s2.size(); ++i) {
+    std::cout << "station " << i << ": " << s2[i] << " " << s4[i] << " " << s8[i] << "\n";
+    d24 += std::pow(s2[i] - s4[i], 2);
+    d48 += std::pow(s4[i] - s8[i], 2);
+    ref += std::pow(s8[i], 2);
   }
-  std::cout << "C9 refinement: relative change 1x->2x " << std::sqrt(d12 / ref) << ", 2x->4x "
-            << std::sqrt(d24 / ref) << "\n";
-  EXPECT_LT(d24, d12);
+  std::cout << "C9 refinement across the gore: relative change 2->4 " << std::sqrt(d24 / ref)
+            << ", 4->8 " << std::sqrt(d48 / ref) << "\n";
+  EXPECT_LT(std::sqrt(d48), 0.5 * std::sqrt(d24));
 }
 
 }  // namespace
