@@ -39,13 +39,16 @@ BENCHMARK(BM_AssembleTangent)
     ->UseRealTime();
 
 // Arguments: elements per side, solver (0 cholmod, 1 umfpack, 2 klu, 3 mumps, 4 the
-// supernodal Cholesky). Time per factorisation; analysis and one solve are reported as
-// counters, and for the supernodal Cholesky its flops (`gflop`) and rate (`gflops`, against
-// the CPU time).
+// supernodal Cholesky, 5 the same without its tree split), threads. Time per factorisation;
+// analysis and one solve are reported as counters, and for the supernodal Cholesky its flops
+// (`gflop`) and rate (`gflops`, per second of wall time), with its tree split's shares (`top_share`
+// of the flops in the top, `group_share` of the groups' flops in group 1).
 void BM_Factorize(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
-  const SolverKind kind = std::array{SolverKind::kCholmod, SolverKind::kUmfpack, SolverKind::kKlu,
-                                     SolverKind::kMumps, SolverKind::kAuto}[state.range(1)];
+  omp_set_num_threads(static_cast<int>(state.range(2)));
+  const SolverKind kind =
+      std::array{SolverKind::kCholmod, SolverKind::kUmfpack, SolverKind::kKlu,
+                 SolverKind::kMumps,   SolverKind::kAuto,    SolverKind::kAuto}[state.range(1)];
   if (kind == SolverKind::kMumps && !have_mumps()) {
     state.SkipWithError("built without MUMPS");
     return;
@@ -58,6 +61,8 @@ void BM_Factorize(benchmark::State& state) {
   std::unique_ptr<LinearSolver> solver;
   if (state.range(1) == 4)
     solver = std::make_unique<SupernodalCholesky>();
+  else if (state.range(1) == 5)  // without the tree split
+    solver = std::make_unique<SupernodalCholesky>(Amalgamation{}, 1e300);
   else
     solver = make_linear_solver(kind);
   auto t0 = std::chrono::steady_clock::now();
@@ -77,10 +82,14 @@ void BM_Factorize(benchmark::State& state) {
     state.counters["gflop"] = chol->structure().flops * 1e-9;
     state.counters["gflops"] = benchmark::Counter(chol->structure().flops * 1e-9,
                                                   benchmark::Counter::kIsIterationInvariantRate);
+    const TreeSplit& split = chol->split();  // the tree split's share of the flops
+    state.counters["top_share"] = split.flops[2] / chol->structure().flops;
+    state.counters["group_share"] = split.flops[1] / std::max(1.0, split.flops[0] + split.flops[1]);
   }
+  omp_set_num_threads(omp_get_num_procs());
 }
 BENCHMARK(BM_Factorize)
-    ->ArgsProduct({{50, 100, 200, 225}, {0, 1, 2, 3, 4}})
+    ->ArgsProduct({{50, 100, 200, 225}, {0, 1, 2, 3, 4, 5}, {1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

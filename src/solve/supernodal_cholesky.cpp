@@ -1,6 +1,7 @@
 #include "supernodal_cholesky.hpp"
 
 #include <fmt/format.h>
+#include <omp.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -17,15 +18,48 @@ namespace {
 using Panel = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
 using Segment = Eigen::Map<Eigen::VectorXd>;
 
+// The top's dense work is cut into blocks of these many rows (the triangular solve) and
+// columns (the update), whichever thread takes them.
+constexpr int kRowBlock = 96;
+constexpr int kColumnBlock = 48;
+// Clearing and loading the panels: chunks of this many values.
+constexpr std::ptrdiff_t kClearChunk = 1 << 16;
+
+// Lc[rel[i]] −= W[i] for i in [j, m). rel ascends: when its span is the row count, the rows
+// are contiguous in the target (a parent with the same rows, usually) and the loop vectorises.
+inline void subtract_column(double* Lc, const double* W, const int* rel, int j, int m) {
+  if (rel[m - 1] - rel[j] == m - 1 - j) {
+    double* d = Lc + rel[j];
+    const double* u = W + j;
+    for (int i = 0; i < m - j; ++i) d[i] -= u[i];
+  } else {
+    for (int i = j; i < m; ++i) Lc[rel[i]] -= W[i];
+  }
+}
+
+// The threads that share a factorisation: two groups of subtrees, more help with the top.
+int threads_for(std::size_t works) {
+  return std::max(1, std::min(static_cast<int>(works), omp_get_max_threads()));
+}
+
 }  // namespace
 
 bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   factorized_ = false;
   st_ = analyse_supernodes(A, nested_dissection(A), relax_, Factor::kCholesky);
+  splits_ = st_.flops >= split_flops_;
+  split_ = splits_ ? split_tree(st_) : TreeSplit{};
   values_.assign(static_cast<std::size_t>(st_.values), 0.0);
-  update_.assign(static_cast<std::size_t>(st_.most_below) * st_.most_below, 0.0);
-  gather_.assign(static_cast<std::size_t>(std::max(st_.most_below, 1)), 0.0);
+  top_copy_.assign(static_cast<std::size_t>(split_.top_values), 0.0);
   y_.assign(static_cast<std::size_t>(st_.n), 0.0);
+  top_y_.assign(splits_ ? static_cast<std::size_t>(st_.n) : 0, 0.0);
+  // Two threads' work spaces at least, whatever the count now (it may grow before factorize).
+  work_.resize(splits_ ? std::max(2, omp_get_max_threads()) : 1);
+  const std::size_t mb = static_cast<std::size_t>(std::max(st_.most_below, 1));
+  for (Work& w : work_) {
+    w.update.assign(mb * mb, 0.0);
+    w.gather.assign(mb, 0.0);
+  }
   status_.clear();
   return true;
 }
@@ -37,17 +71,34 @@ bool SupernodalCholesky::factorize(const SparseMatrix& A) {
     return false;
   }
   SerialEigen serial;
-  std::fill(values_.begin(), values_.end(), 0.0);
-  const double* a = A.valuePtr();
-  for (std::size_t k = 0; k < st_.entry.size(); ++k)
-    if (const std::ptrdiff_t e = st_.entry[k]; e >= 0) values_[e] = a[k];
-  smallest_pivot_ = std::numeric_limits<double>::infinity();
-  largest_pivot_ = 0;
-  for (int s = 0; s < st_.supernodes(); ++s) {
-    if (!factor_supernode(s)) return false;
-    scatter_update(s);
+  for (Work& w : work_) {
+    w.smallest = std::numeric_limits<double>::infinity();
+    w.largest = 0;
+    w.failed = false;
+    w.status.clear();
   }
-  pivot_ratio_ = smallest_pivot_ / largest_pivot_;
+  if (splits_) {
+    load(A);
+    factorize_split();
+  } else {
+    load(A);
+    Work& w = work_[0];
+    for (int s = 0; s < st_.supernodes() && !w.failed; ++s) {
+      if (!factor_diagonal(s, w)) break;
+      solve_below(s, 0, st_.below(s));
+      scatter_update(s, w, nullptr);
+    }
+  }
+  double smallest = std::numeric_limits<double>::infinity(), largest = 0;
+  for (const Work& w : work_) {
+    if (w.failed) {
+      status_ = w.status;
+      return false;
+    }
+    smallest = std::min(smallest, w.smallest);
+    largest = std::max(largest, w.largest);
+  }
+  pivot_ratio_ = smallest / largest;
   if (!(pivot_ratio_ >= kSmallestPivotRatio)) {
     status_ =
         fmt::format("supernodal Cholesky: pivots span {:.1e} (nearly singular)", pivot_ratio_);
@@ -57,8 +108,27 @@ bool SupernodalCholesky::factorize(const SparseMatrix& A) {
   return factorized_ = true;
 }
 
-// Cholesky of the diagonal block (its lower triangle), then L's rows below: A21 L11⁻ᵀ.
-bool SupernodalCholesky::factor_supernode(int s) {
+// The panels cleared and A's lower triangle placed in them (by chunks on the threads there are:
+// each value is written once, whichever thread writes it).
+void SupernodalCholesky::load(const SparseMatrix& A) {
+  const std::ptrdiff_t n = st_.values, nnz = static_cast<std::ptrdiff_t>(st_.entry.size());
+  const double* a = A.valuePtr();
+  double* v = values_.data();
+  const std::ptrdiff_t* entry = st_.entry.data();
+  const int threads = splits_ ? threads_for(work_.size()) : 1;
+#pragma omp parallel num_threads(threads)
+  {
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t c = 0; c < n; c += kClearChunk)
+      std::fill(v + c, v + std::min(n, c + kClearChunk), 0.0);
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t k = 0; k < nnz; ++k)
+      if (const std::ptrdiff_t e = entry[k]; e >= 0) v[e] = a[k];
+  }
+}
+
+// Cholesky of the diagonal block (its lower triangle).
+bool SupernodalCholesky::factor_diagonal(int s, Work& work) {
   const int f = st_.first[s], w = st_.width(s), m = st_.below(s);
   double* l = values_.data() + st_.l_panel[s];
   Panel D(l, w, w, Eigen::OuterStride<>(w + m));
@@ -67,42 +137,169 @@ bool SupernodalCholesky::factor_supernode(int s) {
   for (int k = 0; k < (failed >= 0 ? static_cast<int>(failed) + 1 : w); ++k) {
     const double d = D(k, k);
     if (failed == k || !std::isfinite(d) || !(d > 0)) {
-      status_ = fmt::format(
+      work.status = fmt::format(
           "supernodal Cholesky: pivot {} in column {} (supernode {}): not positive definite",
           failed == k ? "<= 0" : fmt::format("{}", d * d), f + k, s);
+      work.failed = true;
       return false;
     }
-    smallest_pivot_ = std::min(smallest_pivot_, d * d);
-    largest_pivot_ = std::max(largest_pivot_, d * d);
+    work.smallest = std::min(work.smallest, d * d);
+    work.largest = std::max(work.largest, d * d);
   }
-  if (m == 0) return true;
-  Panel Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
-  D.triangularView<Eigen::Lower>().transpose().solveInPlace<Eigen::OnTheRight>(Lb);
   return true;
 }
 
+// L's rows [begin, end) below the diagonal block: A21 L11⁻ᵀ.
+void SupernodalCholesky::solve_below(int s, int begin, int end) {
+  if (end <= begin) return;
+  const int w = st_.width(s), m = st_.below(s);
+  double* l = values_.data() + st_.l_panel[s];
+  const Panel D(l, w, w, Eigen::OuterStride<>(w + m));
+  Panel Lb(l + w + begin, end - begin, w, Eigen::OuterStride<>(w + m));
+  D.triangularView<Eigen::Lower>().transpose().solveInPlace<Eigen::OnTheRight>(Lb);
+}
+
 // A22 −= L21 L21ᵀ (its lower triangle) into the L panels of the supernodes that own the rows
-// below s: by columns, the diagonal and below.
-void SupernodalCholesky::scatter_update(int s) {
+// below s: by columns, the diagonal and below. With `top_copy`, what goes to the top's panels
+// goes to their copy there instead.
+void SupernodalCholesky::scatter_update(int s, Work& work, double* top_copy) {
   const int w = st_.width(s), m = st_.below(s);
   if (m == 0) return;
   double* l = values_.data() + st_.l_panel[s];
   const Panel Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
-  Eigen::Map<Eigen::MatrixXd> W(update_.data(), m, m);
+  Eigen::Map<Eigen::MatrixXd> W(work.update.data(), m, m);
   W.triangularView<Eigen::Lower>() = Lb * Lb.transpose();
   const int* b = st_.rows.data() + st_.below_begin[s];
   for (int g = st_.target_begin[s]; g < st_.target_begin[s + 1]; ++g) {
     const SupernodalStructure::Target& tg = st_.targets[g];
     const int t = tg.supernode, ft = st_.first[t];
     const std::ptrdiff_t ldl = st_.width(t) + st_.below(t);
-    double* L = values_.data() + st_.l_panel[t];
+    double* L = top_copy && split_.top_offset[t] >= 0 ? top_copy + split_.top_offset[t]
+                                                      : values_.data() + st_.l_panel[t];
     const int* rel = st_.relative.data() + tg.rel - tg.begin;
     for (int j = tg.begin; j < tg.end; ++j) {
       double* Lc = L + (b[j] - ft) * ldl;
-      const double* Wj = update_.data() + std::ptrdiff_t(j) * m;
-      for (int i = j; i < m; ++i) Lc[rel[i]] -= Wj[i];
+      const double* Wj = work.update.data() + std::ptrdiff_t(j) * m;
+      subtract_column(Lc, Wj, rel, j, m);
     }
   }
+}
+
+// The update's columns [begin, end) (the rows from begin down, a rectangle: the few entries
+// above the diagonal are computed and not used) into the panels they reach. Different columns
+// reach different panel columns: threads may take different column blocks of one supernode.
+void SupernodalCholesky::update_columns(int s, int begin, int end, Work& work) {
+  const int w = st_.width(s), m = st_.below(s);
+  const double* l = values_.data() + st_.l_panel[s];
+  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> Lb(l + w, m, w,
+                                                                      Eigen::OuterStride<>(w + m));
+  const int rows = m - begin;
+  Eigen::Map<Eigen::MatrixXd> W(work.update.data(), rows, end - begin);
+  W.noalias() = Lb.bottomRows(rows) * Lb.middleRows(begin, end - begin).transpose();
+  const int* b = st_.rows.data() + st_.below_begin[s];
+  for (int g = st_.target_begin[s]; g < st_.target_begin[s + 1]; ++g) {
+    const SupernodalStructure::Target& tg = st_.targets[g];
+    if (tg.end <= begin || tg.begin >= end) continue;
+    const int t = tg.supernode, ft = st_.first[t];
+    const std::ptrdiff_t ldl = st_.width(t) + st_.below(t);
+    double* L = values_.data() + st_.l_panel[t];
+    const int* rel = st_.relative.data() + tg.rel - tg.begin;
+    for (int j = std::max(tg.begin, begin); j < std::min(tg.end, end); ++j) {
+      double* Lc = L + (b[j] - ft) * ldl;
+      const double* Wj = work.update.data() + std::ptrdiff_t(j - begin) * rows - begin;
+      subtract_column(Lc, Wj, rel, j, m);
+    }
+  }
+}
+
+// Both groups at once (one thread each; one thread takes both in turn), each writing its
+// updates of the top into its own place (group 0 the panels, group 1 their copy); the copy
+// added; then the top's supernodes in order, each one's row and column blocks shared.
+void SupernodalCholesky::factorize_split() {
+  const int threads = threads_for(work_.size());
+  double* copy = top_copy_.data();
+  const std::ptrdiff_t nc = split_.top_values;
+  const int ntop = static_cast<int>(split_.top.size());
+  bool failed = false;
+#pragma omp parallel num_threads(threads)
+  {
+    const int me = omp_get_thread_num(), team = omp_get_num_threads();
+    Work& work = work_[me];
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t c = 0; c < nc; c += kClearChunk)
+      std::fill(copy + c, copy + std::min(nc, c + kClearChunk), 0.0);
+    for (int g = me; g < 2 && !work.failed; g += team)
+      for (const int s : split_.members[g]) {
+        if (!factor_diagonal(s, work)) break;
+        solve_below(s, 0, st_.below(s));
+        scatter_update(s, work, g == 1 ? copy : nullptr);
+      }
+#pragma omp barrier
+#pragma omp single
+    for (const Work& w : work_) failed = failed || w.failed;
+    if (!failed) {
+#pragma omp for schedule(dynamic)
+      for (int k = 0; k < ntop; ++k) {
+        const int t = split_.top[k];
+        const std::ptrdiff_t size = std::ptrdiff_t(st_.width(t) + st_.below(t)) * st_.width(t);
+        double* L = values_.data() + st_.l_panel[t];
+        const double* C = copy + split_.top_offset[t];
+        for (std::ptrdiff_t i = 0; i < size; ++i) L[i] += C[i];
+      }
+      for (const int s : split_.top) {
+#pragma omp single
+        failed = !factor_diagonal(s, work);
+        if (failed) break;
+        const int m = st_.below(s);
+#pragma omp for schedule(static)
+        for (int r = 0; r < m; r += kRowBlock) solve_below(s, r, std::min(m, r + kRowBlock));
+#pragma omp for schedule(dynamic)
+        for (int c = 0; c < m; c += kColumnBlock)
+          update_columns(s, c, std::min(m, c + kColumnBlock), work);
+      }
+    }
+  }
+}
+
+void SupernodalCholesky::forward(int s, double* y, double* top_y, Work& work) {
+  const int f = st_.first[s], w = st_.width(s), m = st_.below(s);
+  const double* l = values_.data() + st_.l_panel[s];
+  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> D(l, w, w,
+                                                                     Eigen::OuterStride<>(w + m));
+  Segment ys(y + f, w);
+  D.triangularView<Eigen::Lower>().solveInPlace(ys);
+  if (m == 0) return;
+  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> Lb(l + w, m, w,
+                                                                      Eigen::OuterStride<>(w + m));
+  Segment g(work.gather.data(), m);
+  g.noalias() = Lb * ys;
+  const int* r = st_.rows.data() + st_.below_begin[s];
+  if (!top_y) {
+    for (int i = 0; i < m; ++i) y[r[i]] -= g[i];
+    return;
+  }
+  for (int k = st_.target_begin[s]; k < st_.target_begin[s + 1]; ++k) {
+    const SupernodalStructure::Target& tg = st_.targets[k];
+    double* z = split_.group[tg.supernode] == TreeSplit::kTop ? top_y : y;
+    for (int i = tg.begin; i < tg.end; ++i) z[r[i]] -= g[i];
+  }
+}
+
+void SupernodalCholesky::backward(int s, double* y, Work& work) {
+  const int f = st_.first[s], w = st_.width(s), m = st_.below(s);
+  const double* l = values_.data() + st_.l_panel[s];
+  Segment ys(y + f, w);
+  if (m > 0) {
+    const int* r = st_.rows.data() + st_.below_begin[s];
+    Segment g(work.gather.data(), m);
+    for (int i = 0; i < m; ++i) g[i] = y[r[i]];
+    const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> Lb(
+        l + w, m, w, Eigen::OuterStride<>(w + m));
+    ys.noalias() -= Lb.transpose() * g;
+  }
+  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> D(l, w, w,
+                                                                     Eigen::OuterStride<>(w + m));
+  D.triangularView<Eigen::Lower>().transpose().solveInPlace(ys);
 }
 
 bool SupernodalCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
@@ -110,36 +307,46 @@ bool SupernodalCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   const int n = st_.n;
   SerialEigen serial;
   for (int k = 0; k < n; ++k) y_[k] = b[st_.order[k]];
-  for (int s = 0; s < st_.supernodes(); ++s) {  // L y = P b
-    const int f = st_.first[s], w = st_.width(s), m = st_.below(s);
-    double* l = values_.data() + st_.l_panel[s];
-    const Panel D(l, w, w, Eigen::OuterStride<>(w + m));
-    Segment ys(y_.data() + f, w);
-    D.triangularView<Eigen::Lower>().solveInPlace(ys);
-    if (m == 0) continue;
-    const Panel Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
-    Segment g(gather_.data(), m);
-    g.noalias() = Lb * ys;
-    const int* r = st_.rows.data() + st_.below_begin[s];
-    for (int i = 0; i < m; ++i) y_[r[i]] -= g[i];
-  }
-  for (int s = st_.supernodes() - 1; s >= 0; --s) {  // Lᵀ z = y
-    const int f = st_.first[s], w = st_.width(s), m = st_.below(s);
-    double* l = values_.data() + st_.l_panel[s];
-    Segment ys(y_.data() + f, w);
-    if (m > 0) {
-      const int* r = st_.rows.data() + st_.below_begin[s];
-      Segment g(gather_.data(), m);
-      for (int i = 0; i < m; ++i) g[i] = y_[r[i]];
-      const Panel Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
-      ys.noalias() -= Lb.transpose() * g;
-    }
-    const Panel D(l, w, w, Eigen::OuterStride<>(w + m));
-    D.triangularView<Eigen::Lower>().transpose().solveInPlace(ys);
+  if (splits_) {
+    solve_split();
+  } else {
+    for (int s = 0; s < st_.supernodes(); ++s) forward(s, y_.data(), nullptr, work_[0]);
+    for (int s = st_.supernodes() - 1; s >= 0; --s) backward(s, y_.data(), work_[0]);
   }
   x.resize(n);
   for (int k = 0; k < n; ++k) x[st_.order[k]] = y_[k];
   return x.allFinite();
+}
+
+// Forward: the groups at once, group 1's updates of the top's rows in top_y_ (added after);
+// the top on one thread, forward and back; the groups back at once (they read the top's rows
+// and write their own).
+void SupernodalCholesky::solve_split() {
+  const int threads = threads_for(work_.size());
+  double* y = y_.data();
+  double* top_y = top_y_.data();
+  const int ntop = static_cast<int>(split_.top.size());
+#pragma omp parallel num_threads(threads)
+  {
+    const int me = omp_get_thread_num(), team = omp_get_num_threads();
+    Work& work = work_[me];
+#pragma omp for schedule(static)
+    for (int k = 0; k < ntop; ++k)
+      for (int j = st_.first[split_.top[k]]; j < st_.first[split_.top[k] + 1]; ++j) top_y[j] = 0;
+    for (int g = me; g < 2; g += team)
+      for (const int s : split_.members[g]) forward(s, y, g == 1 ? top_y : nullptr, work);
+#pragma omp barrier
+#pragma omp single
+    {
+      for (const int t : split_.top)
+        for (int j = st_.first[t]; j < st_.first[t + 1]; ++j) y[j] += top_y[j];
+      for (const int t : split_.top) forward(t, y, nullptr, work);
+      for (int k = ntop - 1; k >= 0; --k) backward(split_.top[k], y, work);
+    }
+    for (int g = me; g < 2; g += team)
+      for (auto s = split_.members[g].rbegin(); s != split_.members[g].rend(); ++s)
+        backward(*s, y, work);
+  }
 }
 
 }  // namespace velum

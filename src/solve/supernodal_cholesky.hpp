@@ -5,12 +5,19 @@
 // pivot that is not positive and finite, or pivots (l_kk²) spanning more than
 // 1/kSmallestPivotRatio, and the factorisation reports failure: the caller factorises with
 // MUMPS's LDLᵀ, which also gives the inertia (`auto`).
+//
+// Above `split_flops` the factorisation and the solves follow a split of the elimination tree
+// (tree_split.hpp): two groups of independent subtrees on two OpenMP threads, then the top
+// separators with each supernode's dense work shared. The split and the blocks the work is cut
+// into depend on the matrix's structure alone: one thread or two give the same result to the
+// bit (not the same as below `split_flops`, to round-off).
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "supernodes.hpp"
+#include "tree_split.hpp"
 #include "velum/solve/linear_solver.hpp"
 
 namespace velum {
@@ -18,8 +25,12 @@ namespace velum {
 class SupernodalCholesky final : public LinearSolver {
  public:
   static constexpr double kSmallestPivotRatio = 1e-12;
+  /// Factorisations below this many flops run as one sequence of supernodes on the calling
+  /// thread (a tree split costs more than it gives there).
+  static constexpr double kSplitFlops = 5e7;
 
-  explicit SupernodalCholesky(const Amalgamation& relax = {}) : relax_(relax) {}
+  explicit SupernodalCholesky(const Amalgamation& relax = {}, double split_flops = kSplitFlops)
+      : relax_(relax), split_flops_(split_flops) {}
   std::string_view name() const override { return "supernodal-cholesky"; }
   bool symmetric_only() const override { return true; }
   bool analyze(const SparseMatrix& A) override;
@@ -31,18 +42,39 @@ class SupernodalCholesky final : public LinearSolver {
   int negative_pivots() const override { return factorized_ ? 0 : -1; }
 
   const SupernodalStructure& structure() const { return st_; }
+  /// The tree split the factorisation follows (empty groups below `split_flops`).
+  const TreeSplit& split() const { return split_; }
+  bool splits() const { return splits_; }
   /// min l_kk² / max l_kk² of the last factorisation.
   double pivot_ratio() const { return pivot_ratio_; }
 
  private:
-  bool factor_supernode(int s);
-  void scatter_update(int s);
+  struct Work {  ///< one thread's
+    std::vector<double> update, gather;
+    double smallest = 0, largest = 0;
+    bool failed = false;
+    std::string status;
+  };
+
+  void load(const SparseMatrix& A);
+  bool factor_diagonal(int s, Work& w);
+  void solve_below(int s, int begin, int end);
+  void scatter_update(int s, Work& w, double* top_copy);
+  void update_columns(int s, int begin, int end, Work& w);
+  void factorize_split();
+  void forward(int s, double* y, double* top_y, Work& w);
+  void backward(int s, double* y, Work& w);
+  void solve_split();
 
   Amalgamation relax_;
+  double split_flops_;
   SupernodalStructure st_;
-  std::vector<double> values_, update_, gather_, y_;
+  TreeSplit split_;
+  bool splits_ = false;
+  std::vector<double> values_, top_copy_, y_, top_y_;
+  std::vector<Work> work_;
   bool factorized_ = false;
-  double pivot_ratio_ = 0, smallest_pivot_ = 0, largest_pivot_ = 0;
+  double pivot_ratio_ = 0;
   std::string status_;
 };
 

@@ -6,6 +6,8 @@
 // singular one refused.
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
 #include <Eigen/Dense>
 #include <random>
 #include <vector>
@@ -154,6 +156,84 @@ TEST(SupernodalCholesky, SingularMatrixIsReportedNeverSolved) {
       if (it.row() == 17 || j == 17) it.valueRef() = 0.0;
   EXPECT_FALSE(chol.refactorize(A));
   EXPECT_NE(chol.status().find("not positive definite"), std::string::npos) << chol.status();
+}
+
+// The tree-split factorisation (forced here by a threshold of 0 flops): on one thread and on
+// two the same factor and the same solution to the bit, run after run; the same solution as
+// the sequence of supernodes to round-off; a refusal on either side of the split.
+class ThreadCount {  // omp_set_num_threads for one scope
+ public:
+  explicit ThreadCount(int n) : before_(omp_get_max_threads()) { omp_set_num_threads(n); }
+  ~ThreadCount() { omp_set_num_threads(before_); }
+  ThreadCount(const ThreadCount&) = delete;
+  ThreadCount& operator=(const ThreadCount&) = delete;
+
+ private:
+  int before_;
+};
+
+TEST(SupernodalCholesky, TreeSplitOnTwoThreadsMatchesOneThreadToTheBit) {
+  for (const int drop : {0, 7}) {
+    const SparseMatrix A = spd_membrane_matrix(40, 33, 9, drop);
+    const Eigen::VectorXd b = rhs(A.rows());
+    SupernodalCholesky sequence({}, 1e300);
+    ASSERT_TRUE(sequence.refactorize(A)) << sequence.status();
+    EXPECT_FALSE(sequence.splits());
+    Eigen::VectorXd reference;
+    ASSERT_TRUE(sequence.solve(b, reference));
+    EXPECT_LE(relative_residual(A, reference, b), 1e-13);
+
+    std::vector<Eigen::VectorXd> solutions;
+    for (const int threads : {1, 2, 2, 1, 2}) {
+      const ThreadCount scope(threads);
+      SupernodalCholesky split({}, 0.0);
+      ASSERT_TRUE(split.refactorize(A)) << split.status();
+      ASSERT_TRUE(split.splits());
+      const TreeSplit& ts = split.split();
+      EXPECT_FALSE(ts.members[0].empty());
+      EXPECT_FALSE(ts.members[1].empty());
+      EXPECT_FALSE(ts.top.empty());
+      EXPECT_EQ(ts.members[0].size() + ts.members[1].size() + ts.top.size(),
+                static_cast<std::size_t>(split.structure().supernodes()));
+      // Balanced to within a third of the subtrees' work.
+      EXPECT_LT(std::abs(ts.flops[0] - ts.flops[1]), (ts.flops[0] + ts.flops[1]) / 3);
+      Eigen::VectorXd x;
+      ASSERT_TRUE(split.solve(b, x));
+      EXPECT_LE(relative_residual(A, x, b), 1e-13);
+      EXPECT_LE((x - reference).norm(), 1e-12 * reference.norm());
+      EXPECT_EQ(split.pivot_ratio(), sequence.pivot_ratio());
+      // A second factorisation of the same values in the same object: the same bits.
+      ASSERT_TRUE(split.refactorize(A));
+      Eigen::VectorXd again;
+      ASSERT_TRUE(split.solve(b, again));
+      EXPECT_TRUE(again == x);
+      solutions.push_back(x);
+    }
+    for (const Eigen::VectorXd& x : solutions) EXPECT_TRUE(x == solutions.front());
+  }
+}
+
+TEST(SupernodalCholesky, TreeSplitRefusesAnIndefiniteMatrix) {
+  const SparseMatrix good = spd_membrane_matrix(30, 30, 4, 5);
+  // A negative diagonal entry (e_jᵀ A e_j < 0): one in the middle, then one every 97 equations
+  // (on both sides of the split).
+  for (const int every : {0, 97}) {
+    SparseMatrix A = good;
+    for (int j = 0; j < A.outerSize(); ++j)
+      for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+        if (it.row() == j && (every ? j % every == 0 : j == A.rows() / 2)) it.valueRef() = -1.0;
+    for (const int threads : {1, 2}) {
+      const ThreadCount scope(threads);
+      SupernodalCholesky split({}, 0.0);
+      EXPECT_FALSE(split.refactorize(A));
+      EXPECT_NE(split.status().find("not positive definite"), std::string::npos) << split.status();
+      Eigen::VectorXd x;
+      EXPECT_FALSE(split.solve(rhs(A.rows()), x));
+      ASSERT_TRUE(split.refactorize(good)) << split.status();
+      ASSERT_TRUE(split.solve(rhs(A.rows()), x));
+      EXPECT_LE(relative_residual(good, x, rhs(A.rows())), 1e-13);
+    }
+  }
 }
 
 }  // namespace
