@@ -85,6 +85,10 @@ void BM_Factorize(benchmark::State& state) {
     const TreeSplit& split = chol->split();  // the tree split's share of the flops
     state.counters["top_share"] = split.flops[2] / chol->structure().flops;
     state.counters["group_share"] = split.flops[1] / std::max(1.0, split.flops[0] + split.flops[1]);
+    const SupernodalCholesky::SplitSeconds& t = chol->split_seconds();  // the last one's
+    state.counters["group0_s"] = t.group[0];
+    state.counters["group1_s"] = t.group[1];
+    state.counters["top_s"] = t.top;
   }
   omp_set_num_threads(omp_get_num_procs());
 }

@@ -6,6 +6,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include <time.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -37,6 +39,12 @@ inline void subtract_column(double* Lc, const double* W, const int* rel, int j, 
   }
 }
 
+double thread_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
 // The threads that share a factorisation: two groups of subtrees, more help with the top.
 int threads_for(std::size_t works) {
   return std::max(1, std::min(static_cast<int>(works), omp_get_max_threads()));
@@ -49,8 +57,8 @@ bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   st_ = analyse_supernodes(A, nested_dissection(A), relax_, Factor::kCholesky);
   splits_ = st_.flops >= split_flops_;
   split_ = splits_ ? split_tree(st_) : TreeSplit{};
-  values_.assign(static_cast<std::size_t>(st_.values), 0.0);
-  top_copy_.assign(static_cast<std::size_t>(split_.top_values), 0.0);
+  values_.assign(static_cast<std::size_t>(st_.values));
+  top_copy_.assign(static_cast<std::size_t>(split_.top_values));
   y_.assign(static_cast<std::size_t>(st_.n), 0.0);
   top_y_.assign(splits_ ? static_cast<std::size_t>(st_.n) : 0, 0.0);
   // Two threads' work spaces at least, whatever the count now (it may grow before factorize).
@@ -228,13 +236,17 @@ void SupernodalCholesky::factorize_split() {
 #pragma omp for schedule(static)
     for (std::ptrdiff_t c = 0; c < nc; c += kClearChunk)
       std::fill(copy + c, copy + std::min(nc, c + kClearChunk), 0.0);
-    for (int g = me; g < 2 && !work.failed; g += team)
+    for (int g = me; g < 2 && !work.failed; g += team) {
+      const double start = thread_seconds();
       for (const int s : split_.members[g]) {
         if (!factor_diagonal(s, work)) break;
         solve_below(s, 0, st_.below(s));
         scatter_update(s, work, g == 1 ? copy : nullptr);
       }
+      split_seconds_.group[g] = thread_seconds() - start;
+    }
 #pragma omp barrier
+    const double top_start = thread_seconds();
 #pragma omp single
     for (const Work& w : work_) failed = failed || w.failed;
     if (!failed) {
@@ -258,6 +270,7 @@ void SupernodalCholesky::factorize_split() {
           update_columns(s, c, std::min(m, c + kColumnBlock), work);
       }
     }
+    if (me == 0) split_seconds_.top = thread_seconds() - top_start;
   }
 }
 

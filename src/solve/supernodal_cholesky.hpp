@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "huge_pages.hpp"
 #include "supernodes.hpp"
 #include "tree_split.hpp"
 #include "velum/solve/linear_solver.hpp"
@@ -45,6 +46,12 @@ class SupernodalCholesky final : public LinearSolver {
   /// The tree split the factorisation follows (empty groups below `split_flops`).
   const TreeSplit& split() const { return split_; }
   bool splits() const { return splits_; }
+  /// CPU seconds of the last split factorisation's parts (each group on its thread, the top
+  /// on the calling thread), to check the split's balance.
+  struct SplitSeconds {
+    double group[2] = {0, 0}, top = 0;
+  };
+  const SplitSeconds& split_seconds() const { return split_seconds_; }
   /// min l_kk² / max l_kk² of the last factorisation.
   double pivot_ratio() const { return pivot_ratio_; }
 
@@ -71,10 +78,12 @@ class SupernodalCholesky final : public LinearSolver {
   SupernodalStructure st_;
   TreeSplit split_;
   bool splits_ = false;
-  std::vector<double> values_, top_copy_, y_, top_y_;
+  HugePageArray values_, top_copy_;  ///< the L panels; the top's panels' copy (tree_split.hpp)
+  std::vector<double> y_, top_y_;
   std::vector<Work> work_;
   bool factorized_ = false;
   double pivot_ratio_ = 0;
+  SplitSeconds split_seconds_;
   std::string status_;
 };
 
