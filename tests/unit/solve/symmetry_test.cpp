@@ -1,9 +1,11 @@
 // The symmetry test that picks LDLᵀ or LU: structural and numerical, without a position map.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <limits>
 #include <vector>
 
+#include "membrane_grid.hpp"
 #include "solve/symmetry.hpp"
 
 namespace velum {
@@ -78,6 +80,30 @@ TEST(SymmetryCheck, EarlyStopGivesTheFullWalksAnswer) {
   SymmetryCheck c;
   ASSERT_TRUE(c.map(A));
   EXPECT_EQ(c.symmetric(A), c.asymmetry(A) <= SymmetryCheck::kTolerance);
+}
+
+// Above a million entries the check runs on the threads (a look-up per lower entry instead of
+// the cursors): the same answers.
+TEST(SymmetryCheck, LargeMatricesOnTwoThreads) {
+  const MembraneGrid grid(200, 70, 0);
+  std::vector<Eigen::Triplet<double>> t;
+  grid.for_each_coupling([&](int r, int c) { t.emplace_back(r, c, 1.0 + (r + c) % 7); });
+  for (int i = 0; i < grid.n; ++i) t.emplace_back(i, i, 100.0);
+  SparseMatrix A = from(grid.n, t);
+  ASSERT_GE(A.nonZeros(), 1'000'000);
+  const int before = omp_get_max_threads();
+  for (const int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    SparseMatrix B = A;
+    SymmetryCheck c;
+    ASSERT_TRUE(c.map(B));
+    EXPECT_TRUE(c.symmetric(B));
+    B.coeffRef(5000, 5003) += 1e-6;  // one pair unequal above round-off
+    EXPECT_FALSE(c.symmetric(B));
+    B.coeffRef(5003, 5000) += 1e-6;
+    EXPECT_TRUE(c.symmetric(B));
+  }
+  omp_set_num_threads(before);
 }
 
 }  // namespace
