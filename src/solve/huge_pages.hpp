@@ -1,8 +1,8 @@
 // An array of doubles on transparent huge pages where the kernel offers them (Linux, THP in
 // "madvise" mode, as on Debian 12): the supernodal factorisations' panels, hundreds of MB
 // written at scattered places, otherwise cost a page fault per 4 kB at their first touch and a
-// TLB miss at most scattered writes. Zeroed when allocated (on the threads there are); a plain
-// aligned array elsewhere.
+// TLB miss at most scattered writes. Zeroed when allocated; a plain aligned array
+// elsewhere.
 #pragma once
 
 #include <sys/mman.h>
@@ -35,13 +35,10 @@ class HugePageArray {
 #ifdef MADV_HUGEPAGE
     madvise(p, bytes, MADV_HUGEPAGE);  // advice only: ignored where THP is off
 #endif
-    // The first touch is the costly part here (the kernel clears each page; in a virtual
-    // machine the host backs it too: about 0.7 s for Hencky n = 130's panels on one thread):
-    // shared among the threads there are.
-    char* c = static_cast<char*>(p);
-    const std::ptrdiff_t pages = static_cast<std::ptrdiff_t>(bytes / kHugePage);
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t k = 0; k < pages; ++k) std::memset(c + k * kHugePage, 0, kHugePage);
+    // One thread touches the array first: touched by several, the factorisation that followed
+    // ran slower (BM_Factorize/225/5/2: 314 against 237 ms; the virtual machine's host seems to
+    // place each page near the thread that first touched it).
+    std::memset(p, 0, bytes);
     data_ = static_cast<double*>(p);
   }
   double* data() {
