@@ -236,5 +236,46 @@ TEST(SupernodalCholesky, TreeSplitRefusesAnIndefiniteMatrix) {
   }
 }
 
+// Trees the split must also take: a forest (two unconnected grids, no common separator) and a
+// chain (a tridiagonal matrix: every supernode the parent of the one before, so no two subtrees
+// are independent below the root).
+TEST(SupernodalCholesky, TreeSplitOfAForestAndOfAChain) {
+  const SparseMatrix grid = spd_membrane_matrix(24, 20, 13, 6);
+  const int g = static_cast<int>(grid.rows());
+  std::vector<Eigen::Triplet<double>> t;
+  for (int j = 0; j < g; ++j)
+    for (SparseMatrix::InnerIterator it(grid, j); it; ++it) {
+      t.emplace_back(it.row(), j, it.value());
+      t.emplace_back(g + it.row(), g + j, it.value() * 2.0);
+    }
+  SparseMatrix forest(2 * g, 2 * g);
+  forest.setFromTriplets(t.begin(), t.end());
+  t.clear();
+  const int n = 3000;
+  for (int i = 0; i < n; ++i) {
+    t.emplace_back(i, i, 4.0);
+    if (i > 0) t.emplace_back(i, i - 1, -1.0), t.emplace_back(i - 1, i, -1.0);
+  }
+  SparseMatrix chain(n, n);
+  chain.setFromTriplets(t.begin(), t.end());
+  for (const SparseMatrix* A : {&forest, &chain}) {
+    const Eigen::VectorXd b = rhs(A->rows());
+    Eigen::VectorXd first;
+    for (const int threads : {1, 2}) {
+      const ThreadCount scope(threads);
+      SupernodalCholesky split({}, 0.0);
+      ASSERT_TRUE(split.refactorize(*A)) << split.status();
+      EXPECT_TRUE(split.splits());
+      Eigen::VectorXd x;
+      ASSERT_TRUE(split.solve(b, x));
+      EXPECT_LE(relative_residual(*A, x, b), 1e-13);
+      if (threads == 1)
+        first = x;
+      else
+        EXPECT_TRUE(x == first);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace velum
