@@ -89,6 +89,7 @@ void BM_Factorize(benchmark::State& state) {
     state.counters["group0_s"] = t.group[0];
     state.counters["group1_s"] = t.group[1];
     state.counters["top_s"] = t.top;
+    state.counters["top_supernodes"] = static_cast<double>(split.top.size());
   }
   omp_set_num_threads(omp_get_num_procs());
 }
