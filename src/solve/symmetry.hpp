@@ -20,20 +20,22 @@ class SymmetryCheck {
   /// Checks the pattern; false when it is structurally unsymmetric.
   bool map(const SparseMatrix& A) {
     double dmax = 0, vmax = 0;
-    return structural_ = walk(A, dmax, vmax);
+    structural_ = walk(A, dmax, vmax);
+    partner_.clear();
+    if (structural_ && A.nonZeros() >= kMapped) map_partners(A);
+    return structural_;
   }
   /// |A − Aᵀ| <= 1e-10 |A| (entry-wise maxima) on a structurally symmetric pattern. The
   /// largest |a_ij| first (a pass that vectorises), then the walk stops at the first pair
   /// that decides (on the C9 canopy's unsymmetric Jacobian, near its first columns).
   bool symmetric(const SparseMatrix& A) {
     if (!structural_) return false;
+    if (static_cast<Eigen::Index>(partner_.size()) == A.nonZeros()) return mapped_check(A);
     const double* v = A.valuePtr();
     double vmax = 0;
     for (Eigen::Index k = 0; k < A.nonZeros(); ++k) vmax = std::max(vmax, std::abs(v[k]));
     if (!(vmax > 0) || !std::isfinite(vmax)) return asymmetry(A) <= kTolerance;  // the full walk
     double dmax = 0, unused = 0;
-    if (A.nonZeros() >= kShared && omp_get_max_threads() > 1)
-      return shared_walk(A, dmax) && dmax <= kTolerance * vmax;
     return walk(A, dmax, unused, kTolerance * vmax) && dmax <= kTolerance * vmax;
   }
   /// max |a_ij − a_ji| / max |a_ij| (0 for a zero matrix), infinity on an unsymmetric pattern.
@@ -71,42 +73,36 @@ class SymmetryCheck {
     return true;
   }
 
-  // The same test on the threads there are, for large matrices (Hencky n = 130: 4 M entries,
-  // about 20 ms a factorisation on one thread): each lower entry (i, j) looks its partner up
-  // in column i (rows sorted) instead of following cursors, no stop at the first deciding
-  // pair; every upper entry is met when there are as many upper entries as lower ones. The
-  // maximum is exact: the same answer on any number of threads.
-  static bool shared_walk(const SparseMatrix& A, double& dmax) {
+  // Large matrices (Hencky n = 130: 4 M entries; the walk took about 10 ms a factorisation on
+  // one thread, and in cache misses): each lower entry's partner position, found once per
+  // pattern (4 bytes an entry), then one pass on the threads there are. The maxima are exact:
+  // the same answer on any number of threads.
+  void map_partners(const SparseMatrix& A) {
     const int n = static_cast<int>(A.outerSize());
     const int* outer = A.outerIndexPtr();
     const int* inner = A.innerIndexPtr();
-    const double* v = A.valuePtr();
-    long lower = 0, upper = 0;
-    int unmatched = 0;
-    double d = 0;
-#pragma omp parallel for schedule(static) reduction(max : d) reduction(+ : lower, upper, unmatched)
+    partner_.assign(static_cast<std::size_t>(A.nonZeros()), -1);
+    cursor_.assign(outer, outer + n);
     for (int j = 0; j < n; ++j)
-      for (int k = outer[j]; k < outer[j + 1]; ++k) {
-        const int i = inner[k];
-        if (i < j) {
-          ++upper;
-        } else if (i > j) {
-          ++lower;
-          const int* b = inner + outer[i];
-          const int* e = inner + outer[i + 1];
-          const int* m = std::lower_bound(b, e, j);
-          if (m == e || *m != j) {
-            ++unmatched;
-            continue;
-          }
-          d = std::max(d, std::abs(v[k] - v[m - inner]));
-        }
-      }
-    dmax = d;
-    return unmatched == 0 && lower == upper;
+      for (int k = outer[j]; k < outer[j + 1]; ++k)
+        if (const int i = inner[k]; i > j) partner_[k] = cursor_[i]++;
   }
-  static constexpr Eigen::Index kShared = 1'000'000;
+  bool mapped_check(const SparseMatrix& A) const {
+    const double* v = A.valuePtr();
+    const int* p = partner_.data();
+    const std::ptrdiff_t nnz = A.nonZeros();
+    double dmax = 0, vmax = 0;
+#pragma omp parallel for schedule(static) reduction(max : dmax, vmax)
+    for (std::ptrdiff_t k = 0; k < nnz; ++k) {
+      vmax = std::max(vmax, std::abs(v[k]));
+      if (p[k] >= 0) dmax = std::max(dmax, std::abs(v[k] - v[p[k]]));
+    }
+    if (vmax == 0) return true;  // a zero matrix
+    return std::isfinite(vmax) && dmax <= kTolerance * vmax;
+  }
+  static constexpr Eigen::Index kMapped = 1'000'000;
 
+  std::vector<int> partner_;  ///< per entry: its partner's position if it is below the diagonal
   std::vector<int> cursor_;
   bool structural_ = false;
 };

@@ -82,8 +82,8 @@ TEST(SymmetryCheck, EarlyStopGivesTheFullWalksAnswer) {
   EXPECT_EQ(c.symmetric(A), c.asymmetry(A) <= SymmetryCheck::kTolerance);
 }
 
-// Above a million entries the check runs on the threads (a look-up per lower entry instead of
-// the cursors): the same answers.
+// Above a million entries the check runs on the threads through a map of partner positions
+// made by map(): the same answers, a zero matrix symmetric.
 TEST(SymmetryCheck, LargeMatricesOnTwoThreads) {
   const MembraneGrid grid(200, 70, 0);
   std::vector<Eigen::Triplet<double>> t;
@@ -101,6 +101,10 @@ TEST(SymmetryCheck, LargeMatricesOnTwoThreads) {
     B.coeffRef(5000, 5003) += 1e-6;  // one pair unequal above round-off
     EXPECT_FALSE(c.symmetric(B));
     B.coeffRef(5003, 5000) += 1e-6;
+    EXPECT_TRUE(c.symmetric(B));
+    B.coeffRef(grid.n - 1, grid.n - 4) = -7.0;  // in the last row
+    EXPECT_FALSE(c.symmetric(B));
+    B.coeffs().setZero();
     EXPECT_TRUE(c.symmetric(B));
   }
   omp_set_num_threads(before);
