@@ -23,8 +23,9 @@ class HugePageArray {
   HugePageArray(const HugePageArray&) = delete;
   HugePageArray& operator=(const HugePageArray&) = delete;
 
-  /// n zeros (the old contents released).
-  void assign(std::size_t n) {
+  /// n zeros (the old contents released); with `touch` false, n values the caller must clear
+  /// (where each page is first touched decides where the host keeps it).
+  void assign(std::size_t n, bool touch = true) {
     std::free(data_);
     data_ = nullptr;
     size_ = n;
@@ -38,7 +39,7 @@ class HugePageArray {
     // One thread touches the array first: touched by several, the factorisation that followed
     // ran slower (BM_Factorize/225/5/2: 314 against 237 ms; the virtual machine's host seems to
     // place each page near the thread that first touched it).
-    std::memset(p, 0, bytes);
+    if (touch) std::memset(p, 0, bytes);
     data_ = static_cast<double*>(p);
   }
   double* data() {

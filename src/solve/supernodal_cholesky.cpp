@@ -57,7 +57,8 @@ bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   st_ = analyse_supernodes(A, nested_dissection(A), relax_, Factor::kCholesky);
   splits_ = st_.flops >= split_flops_;
   split_ = splits_ ? split_tree(st_) : TreeSplit{};
-  values_.assign(static_cast<std::size_t>(st_.values));
+  values_.assign(static_cast<std::size_t>(st_.values), !splits_);
+  if (splits_) first_touch();
   top_copy_.assign(static_cast<std::size_t>(split_.top_values));
   y_.assign(static_cast<std::size_t>(st_.n), 0.0);
   top_y_.assign(splits_ ? static_cast<std::size_t>(st_.n) : 0, 0.0);
@@ -114,6 +115,26 @@ bool SupernodalCholesky::factorize(const SparseMatrix& A) {
   }
   status_.clear();
   return factorized_ = true;
+}
+
+// Each group's panels cleared first by the thread that factorises them, the top's by blocks:
+// touched by one thread for all, the two threads' factorisations ran slower (the host seems
+// to keep a page near the virtual CPU that touched it first).
+void SupernodalCholesky::first_touch() {
+  const int threads = threads_for(work_.size());
+  auto clear = [&](int s) {
+    std::fill_n(values_.data() + st_.l_panel[s],
+                std::ptrdiff_t(st_.width(s) + st_.below(s)) * st_.width(s), 0.0);
+  };
+  const int ntop = static_cast<int>(split_.top.size());
+#pragma omp parallel num_threads(threads)
+  {
+    const int me = omp_get_thread_num(), team = omp_get_num_threads();
+    for (int g = me; g < 2; g += team)
+      for (const int s : split_.members[g]) clear(s);
+#pragma omp for schedule(static)
+    for (int k = 0; k < ntop; ++k) clear(split_.top[k]);
+  }
 }
 
 // The panels cleared and A's lower triangle placed in them (by chunks on the threads there are:

@@ -63,6 +63,7 @@ class SupernodalCholesky final : public LinearSolver {
     std::string status;
   };
 
+  void first_touch();
   void load(const SparseMatrix& A);
   bool factor_diagonal(int s, Work& w);
   void solve_below(int s, int begin, int end);
