@@ -64,7 +64,9 @@ class PetscSolver final : public LinearSolver {
 
   // A is this process's share of the matrix (on one process, the whole of it): every entry
   // of it is added (ADD_VALUES) into the distributed matrix, rows owned elsewhere included
-  // (PETSc sends those at assembly). The preallocation is the union of the shares' patterns.
+  // (PETSc sends those at assembly), column by column straight from A's storage (no copy of
+  // the share: it would cost 20 bytes per entry, as much as PETSc's matrix). The
+  // preallocation is the union of the shares' patterns.
   bool analyze(const SparseMatrix& A) override {
     release();
     status_.clear();
@@ -78,41 +80,6 @@ class PetscSolver final : public LinearSolver {
     lo_ = bs_ * (rank * base + std::min(rank, extra));
     hi_ = lo_ + bs_ * (base + (rank < extra ? 1 : 0));
     const int local = hi_ - lo_;
-    // The share row-compressed, rows with entries only: columns are walked in order, so each
-    // row's columns come out sorted.
-    const int* outer = A.outerIndexPtr();
-    const int* inner = A.innerIndexPtr();
-    std::vector<int> count(n + 1, 0);
-    for (int j = 0; j < n; ++j)
-      for (int k = outer[j]; k < outer[j + 1]; ++k) ++count[inner[k] + 1];
-    rows_.clear();
-    row_start_.assign(1, 0);
-    std::vector<int> fill(n, 0);
-    for (int i = 0; i < n; ++i)
-      if (count[i + 1] > 0) {
-        fill[i] = row_start_.back();
-        rows_.push_back(i);
-        row_start_.push_back(row_start_.back() + count[i + 1]);
-      }
-    cols_.resize(row_start_.back());
-    source_.resize(row_start_.back());
-    values_.assign(row_start_.back(), 0.0);
-    for (int j = 0; j < n; ++j)
-      for (int k = outer[j]; k < outer[j + 1]; ++k) {
-        const int q = fill[inner[k]]++;
-        cols_[q] = j;
-        source_[q] = k;
-      }
-    // Where each entry's transposed partner sits in the share (its pattern is structurally
-    // symmetric: element blocks and diagonal blocks), for the symmetry test.
-    partner_.resize(source_.size());
-    for (size_t q = 0; q < source_.size(); ++q) {
-      const int i = inner[source_[q]], j = cols_[q];  // entry (i, j); its partner (j, i)
-      const int* lo = inner + outer[i];
-      const int* hi = inner + outer[i + 1];
-      const int* at = std::lower_bound(lo, hi, j);
-      partner_[q] = at != hi && *at == j ? static_cast<int>(at - inner) : -1;
-    }
     Mat pre = nullptr;
     const bool made = ok(MatCreate(comm_, &A_), "MatCreate") &&
                       ok(MatSetSizes(A_, local, local, n, n), "MatSetSizes") &&
@@ -122,12 +89,11 @@ class PetscSolver final : public LinearSolver {
                       ok(MatSetSizes(pre, local, local, n, n), "MatSetSizes") &&
                       ok(MatSetType(pre, MATPREALLOCATOR), "MatSetType") &&
                       ok(MatSetBlockSize(pre, bs_), "MatSetBlockSize") &&
-                      ok(MatSetUp(pre), "MatSetUp") && add_share(pre) &&
+                      ok(MatSetUp(pre), "MatSetUp") && add_share(pre, A, false) && assemble(pre) &&
                       ok(MatPreallocatorPreallocate(pre, PETSC_TRUE, A_), "preallocation");
     if (pre) MatDestroy(&pre);
     if (!made ||
         !ok(MatSetOption(A_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption") ||
-        !ok(MatDuplicate(A_, MAT_DO_NOT_COPY_VALUES, &asym_), "MatDuplicate") ||
         !ok(MatCreateVecs(A_, &x_, &b_), "MatCreateVecs") || !ok(VecDuplicate(b_, &r_), "Vec") ||
         !ok(VecScatterCreateToAll(x_, &to_all_, &x_all_), "VecScatterCreateToAll"))
       return false;
@@ -158,22 +124,22 @@ class PetscSolver final : public LinearSolver {
     negative_ = -1;
     status_.clear();
     if (!A_) return false;
-    const double* v = A.valuePtr();
-    for (size_t q = 0; q < source_.size(); ++q) values_[q] = v[source_[q]];
-    if (!ok(MatZeroEntries(A_), "MatZeroEntries") || !add_share(A_)) return false;
-    MatNorm(A_, NORM_FROBENIUS, &anorm_);
     // Numerically symmetric: max |a_ij − a_ji| <= 1e-10 max |a_ij| (as `auto`), judged on the
-    // summed matrix; the same answer on every process.
+    // summed matrix; the same answer on every process. A − Aᵀ, the sum of the shares' a_ij −
+    // a_ji, is assembled first into A_ itself (no second matrix: its pattern, the union of
+    // the shares' structurally symmetric patterns, holds Aᵀ's), then A over it.
     bool symmetric = false;
+    PetscReal dmax = 0;
+    if (direct_ && !user_pc_ &&
+        (!ok(MatZeroEntries(A_), "MatZeroEntries") || !add_share(A_, A, false) ||
+         !add_share(A_, A, true) || !assemble(A_) || !max_abs(A_, dmax)))
+      return false;
+    if (!ok(MatZeroEntries(A_), "MatZeroEntries") || !add_share(A_, A, false) || !assemble(A_))
+      return false;
+    MatNorm(A_, NORM_FROBENIUS, &anorm_);
     if (direct_ && !user_pc_) {
-      // A − Aᵀ is the sum of the shares' a_ij − a_ji: assembled like A (an entry without a
-      // partner in its share, which an element pattern never has, counts whole).
-      for (size_t q = 0; q < source_.size(); ++q)
-        values_[q] = partner_[q] >= 0 ? v[source_[q]] - v[partner_[q]] : v[source_[q]];
-      PetscReal amax = 0, dmax = 0;
-      if (!max_abs(A_, amax) || !ok(MatZeroEntries(asym_), "MatZeroEntries") || !add_share(asym_) ||
-          !max_abs(asym_, dmax))
-        return false;
+      PetscReal amax = 0;
+      if (!max_abs(A_, amax)) return false;
       symmetric = dmax <= SymmetryCheck::kTolerance * amax;
     }
     if (direct_ && !user_pc_) {
@@ -283,16 +249,31 @@ class PetscSolver final : public LinearSolver {
     return false;
   }
 
-  // Adds this process's share (values_) into M and assembles it.
-  bool add_share(Mat M) {
-    for (size_t r = 0; r < rows_.size(); ++r) {
-      const int first = row_start_[r], count = row_start_[r + 1] - first;
-      const PetscInt row = rows_[r];
-      if (!ok(MatSetValues(M, 1, &row, count, cols_.data() + first, values_.data() + first,
-                           ADD_VALUES),
-              "MatSetValues"))
-        return false;
+  // Adds this process's share A into M column by column (entry (i, j) of A to row i), or,
+  // `transposed`, minus its transpose (entry (i, j) of A, negated, to row j). Not assembled.
+  bool add_share(Mat M, const SparseMatrix& A, bool transposed) {
+    const int* outer = A.outerIndexPtr();
+    const int* inner = A.innerIndexPtr();
+    const double* v = A.valuePtr();
+    for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+      const int first = outer[j], count = outer[j + 1] - first;
+      if (count == 0) continue;
+      index_.assign(inner + first, inner + first + count);
+      const PetscInt col = static_cast<PetscInt>(j);
+      PetscErrorCode code = 0;
+      if (!transposed) {
+        code = MatSetValues(M, count, index_.data(), 1, &col, v + first, ADD_VALUES);
+      } else {
+        negated_.resize(static_cast<size_t>(count));
+        for (int k = 0; k < count; ++k) negated_[static_cast<size_t>(k)] = -v[first + k];
+        code = MatSetValues(M, 1, &col, count, index_.data(), negated_.data(), ADD_VALUES);
+      }
+      if (!ok(code, "MatSetValues")) return false;
     }
+    return true;
+  }
+
+  bool assemble(Mat M) {
     return ok(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin") &&
            ok(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
   }
@@ -351,8 +332,7 @@ class PetscSolver final : public LinearSolver {
     for (Vec* v : {&x_, &b_, &r_})
       if (*v) VecDestroy(v);
     if (A_) MatDestroy(&A_);
-    if (asym_) MatDestroy(&asym_);
-    ksp_ = nullptr, pc_ = nullptr, A_ = nullptr, asym_ = nullptr, to_all_ = nullptr;
+    ksp_ = nullptr, pc_ = nullptr, A_ = nullptr, to_all_ = nullptr;
   }
 
   PetscSolverSettings settings_;
@@ -361,11 +341,9 @@ class PetscSolver final : public LinearSolver {
   std::string name_ = "petsc", factor_kind_, status_;
   int bs_ = 1, lo_ = 0, hi_ = 0, negative_ = -1;
   PetscReal anorm_ = 0;
-  std::vector<int> rows_, row_start_, source_;  // this process's share, row-compressed
-  std::vector<PetscInt> cols_;
-  std::vector<PetscScalar> values_;
-  Mat A_ = nullptr, asym_ = nullptr;  // the matrix; A − Aᵀ (same pattern)
-  std::vector<int> partner_;          // per share entry: its transposed entry in A (-1: none)
+  std::vector<PetscInt> index_;       // add_share's row (column) indices of one column
+  std::vector<PetscScalar> negated_;  // add_share's values of one column, negated
+  Mat A_ = nullptr;
   Vec x_ = nullptr, b_ = nullptr, r_ = nullptr, x_all_ = nullptr;
   VecScatter to_all_ = nullptr;
   KSP ksp_ = nullptr;
