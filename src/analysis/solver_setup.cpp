@@ -43,7 +43,7 @@ std::unique_ptr<LinearSolver> make_solver(const MechanicalSystem& system,
   if (s.solver != SolverKind::kPetsc) return make_linear_solver(s.solver);
   PetscSolverSettings ps;
   ps.options = s.petsc_options;
-  ps.near_null_space = rigid_body_modes(system);
+  ps.near_null_space = [&system] { return rigid_body_modes(system); };
   ps.block_size = block_size(system);
   return make_petsc_solver(ps);
 }

@@ -113,7 +113,7 @@ class PetscSolver final : public LinearSolver {
     factor_kind_ = std::string(pt);
     if (!direct_) {
       if (!user_side_) KSPSetPCSide(ksp_, PC_RIGHT);
-      if (settings_.near_null_space.rows() == n && !set_near_null_space()) return false;
+      if (settings_.near_null_space && !set_near_null_space(n)) return false;
     }
     name_ = direct_ ? fmt::format("petsc ({})", user_pc_ ? factor_kind_ : "mumps")
                     : fmt::format("petsc ({} + {})", kt, pt);
@@ -305,8 +305,10 @@ class PetscSolver final : public LinearSolver {
     return MPI_Allreduce(&mine, &amax, 1, MPIU_REAL, MPI_MAX, comm_) == MPI_SUCCESS;
   }
 
-  bool set_near_null_space() {
-    const MatX q = orthonormal_columns(settings_.near_null_space);
+  bool set_near_null_space(int n) {
+    const MatX modes = settings_.near_null_space();
+    if (modes.rows() != n) return true;  // none for these equations
+    const MatX q = orthonormal_columns(modes);
     std::vector<Vec> vecs(q.cols());
     for (Eigen::Index k = 0; k < q.cols(); ++k) {
       VecDuplicate(x_, &vecs[k]);

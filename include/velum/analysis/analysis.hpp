@@ -107,8 +107,9 @@ struct AnalysisResult {
 };
 
 std::unique_ptr<TimeIntegrator> make_integrator(const AnalysisSettings& s);
-/// The linear solver of the settings; for PETSc, with the system's rigid-body modes and block
-/// size (solver_setup.cpp).
+/// The linear solver of the settings; for PETSc, with the system's rigid-body modes (computed
+/// when an iterative solve is analysed: the solver must not outlive `system`) and block size
+/// (solver_setup.cpp).
 std::unique_ptr<LinearSolver> make_solver(const MechanicalSystem& system,
                                           const AnalysisSettings& s);
 

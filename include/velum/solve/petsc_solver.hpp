@@ -1,8 +1,9 @@
 // `linear_solver: petsc`: the distributed linear solve of a run on one or several MPI
-// processes (docs/parallel.md). Every process passes the same assembled matrix; each inserts
-// the rows it owns into a PETSc MPIAIJ matrix (block size 3 where every node has three
-// equations), preallocated from the pattern at the analysis and refilled at every
-// factorisation, and the solution is gathered back to every process.
+// processes (docs/parallel.md). Every process passes its share of the assembled matrix (its
+// own elements' entries); the shares are added into one PETSc MPIAIJ matrix (block size 3
+// where every node has three equations), preallocated from the union of their patterns at the
+// analysis and refilled at every factorisation, and the solution is gathered back to every
+// process.
 //
 // Direct by default: MUMPS through PETSc, LDLᵀ (PCCHOLESKY) while the matrix is numerically
 // symmetric (|A − Aᵀ| <= 1e-10 |A|, as `auto`), LU otherwise; its symbolic analysis is kept
@@ -11,6 +12,7 @@
 // GAMG, and the true residual checked after PETSc says it converged.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -25,7 +27,9 @@ struct PetscSolverSettings {
   std::string options;
   /// Rigid-body modes over the equations (columns; any number, orthonormalised here): the
   /// near-null space an algebraic multigrid preconditioner builds its coarse spaces from.
-  MatX near_null_space;
+  /// Called at the analysis of an iterative solve only (a direct solve needs none: 48 bytes
+  /// per equation not held on every process); may be empty.
+  std::function<MatX()> near_null_space;
   /// 3 when equations 3k, 3k+1, 3k+2 are one node's for every k; otherwise 1.
   int block_size = 1;
 };

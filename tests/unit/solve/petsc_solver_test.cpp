@@ -85,8 +85,12 @@ TEST(PetscSolver, GmresWithGamgAndNearNullSpaceConvergesOrSaysWhy) {
   PetscSolverSettings ps;
   ps.options = "-ksp_type gmres -pc_type gamg -ksp_rtol 1e-10";
   ps.block_size = 3;
-  ps.near_null_space = Eigen::MatrixXd::Zero(A.rows(), 3);
-  for (int e = 0; e < A.rows(); ++e) ps.near_null_space(e, e % 3) = 1.0;
+  const Eigen::Index n = A.rows();
+  ps.near_null_space = [n] {
+    MatX modes = MatX::Zero(n, 3);
+    for (Eigen::Index e = 0; e < n; ++e) modes(e, e % 3) = 1.0;
+    return modes;
+  };
   auto s = make_petsc_solver(ps);
   EXPECT_LT(residual(*s, A), 1e-9) << s->status();
   EXPECT_EQ(s->name(), "petsc (gmres + gamg)");
