@@ -59,7 +59,9 @@ void put(CellArray& a, size_t k, const Vec3& v) {
 
 FrameFields evaluate_cells(const Model& model, const NodePositions& x,
                            const std::vector<std::vector<int>>& own) {
-  const size_t ne = static_cast<size_t>(model.num_elements());
+  // One value per listed cell (compact: a process holds no whole-mesh array for its piece).
+  size_t ne = 0;
+  for (const auto& mine : own) ne += mine.size();
   const bool wrinkling = std::any_of(model.blocks.begin(), model.blocks.end(),
                                      [](const auto& b) { return b->tension_field(); });
   FrameFields f;
@@ -75,15 +77,13 @@ FrameFields evaluate_cells(const Model& model, const NodePositions& x,
   size_t base = 0;
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
     const ElementBlock& blk = *model.blocks[bi];
-    const int n = blk.size();
     const std::vector<int>& mine = own[bi];
     const int count = static_cast<int>(mine.size());
     if (blk.kind() == ElementKind::kCable) {
 #pragma omp parallel for schedule(static)
       for (int i = 0; i < count; ++i)
-        put(c[kCableForce], base + static_cast<size_t>(mine[i]),
-            blk.output(mine[i], x).cable_force);
-      base += static_cast<size_t>(n);
+        put(c[kCableForce], base + static_cast<size_t>(i), blk.output(mine[i], x).cable_force);
+      base += static_cast<size_t>(count);
       continue;
     }
 #pragma omp parallel for schedule(static)
@@ -91,7 +91,7 @@ FrameFields evaluate_cells(const Model& model, const NodePositions& x,
       const int e = mine[i];
       const ElementOutput o = blk.output(e, x);
       const MembraneStress& s = o.stress;
-      const size_t k = base + static_cast<size_t>(e);
+      const size_t k = base + static_cast<size_t>(i);
       const double t = o.thickness;
       put(c[kTrueStressMax], k, s.max);
       put(c[kTrueStressMin], k, s.min);
@@ -121,7 +121,7 @@ FrameFields evaluate_cells(const Model& model, const NodePositions& x,
         f.wrinkle_state[k] = s.wrinkle_state;
       }
     }
-    base += static_cast<size_t>(n);
+    base += static_cast<size_t>(count);
   }
   return f;
 }
@@ -143,18 +143,19 @@ CellLabels cell_labels(const Model& model, const std::vector<std::string>& block
 }
 
 NodalAverage::NodalAverage(const Model& model, const std::vector<std::vector<int>>& own)
-    : cell_weight(static_cast<size_t>(model.num_elements()), 0.0),
-      node_weight(static_cast<size_t>(model.num_nodes()), 0.0) {
-  size_t first = 0;  // the block's first cell
+    : node_weight(static_cast<size_t>(model.num_nodes()), 0.0) {
+  for (const auto& mine : own) cell_weight.resize(cell_weight.size() + mine.size(), 0.0);
+  size_t first = 0;  // the block's first listed cell
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
     const auto& b = model.blocks[bi];
     if (b->kind() == ElementKind::kMembrane)
-      for (int e : own[bi]) {
-        const size_t k = first + static_cast<size_t>(e);
+      for (size_t i = 0; i < own[bi].size(); ++i) {
+        const int e = own[bi][i];
+        const size_t k = first + i;
         cell_weight[k] = b->measure(e);
         for (int node : b->nodes(e)) node_weight[static_cast<size_t>(node)] += cell_weight[k];
       }
-    first += static_cast<size_t>(b->size());
+    first += own[bi].size();
   }
 }
 
@@ -164,13 +165,13 @@ std::vector<double> NodalAverage::sums(const Model& model, const std::vector<std
   size_t first = 0;
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
     const auto& b = model.blocks[bi];
-    for (int e : own[bi]) {
-      const size_t k = first + static_cast<size_t>(e);
+    for (size_t i = 0; i < own[bi].size(); ++i) {
+      const size_t k = first + i;
       if (cell_weight[k] == 0) continue;
       const double wv = cell_weight[k] * cell[k];
-      for (int node : b->nodes(e)) sum[static_cast<size_t>(node)] += wv;
+      for (int node : b->nodes(own[bi][i])) sum[static_cast<size_t>(node)] += wv;
     }
-    first += static_cast<size_t>(b->size());
+    first += own[bi].size();
   }
   return sum;
 }

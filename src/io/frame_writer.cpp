@@ -167,6 +167,8 @@ void FrameWriter::write(int index, const FrameValues& v) const {
     for (std::int64_t n : nodes_) out.push_back(all[static_cast<size_t>(n)]);
     return out;
   };
+  // The piece's cells of an array over every cell (the frame's cell fields hold the piece's
+  // cells already, in its order).
   auto at_cells = [&](const auto& all, int components) {
     std::vector<typename std::decay_t<decltype(all)>::value_type> out;
     out.reserve(cells_.size() * static_cast<size_t>(components));
@@ -206,9 +208,9 @@ void FrameWriter::write(int index, const FrameValues& v) const {
                        ? fmt::format("type=\"Float64\" Name=\"{}\"", a.name)
                        : fmt::format("type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"",
                                      a.name, a.components),
-                   at_cells(a.values, a.components));
+                   a.values);
   if (!v.f.wrinkle_state.empty())
-    xml += app.add("type=\"Int32\" Name=\"wrinkle_state\"", at_cells(v.f.wrinkle_state, 1));
+    xml += app.add("type=\"Int32\" Name=\"wrinkle_state\"", v.f.wrinkle_state);
   xml += app.add("type=\"Int32\" Name=\"element_set\"", set_index_);
   xml += app.add("type=\"Int32\" Name=\"material\"", material_index_);
   xml += app.add("type=\"Int64\" Name=\"element_id\"", element_id_);

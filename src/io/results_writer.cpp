@@ -229,16 +229,16 @@ void ResultsWriter::update_extremes(double t, const NodePositions& U, const Fram
     x.offer(v, id, t, larger);
     if (x.found && (!was || x.value != before)) at = static_cast<long>(k);  // replaced
   };
-  size_t first = 0;
+  size_t first = 0, value = 0;  // the block's first cell; f's entry (own cells only)
   for (size_t b = 0; b < model.blocks.size(); ++b) {
     const auto& ids = input_.element_ids[b];
     for (int e : own[b]) {
-      const size_t k = first + static_cast<size_t>(e);
+      const size_t k = first + static_cast<size_t>(e), i = value++;
       const long id = ids[static_cast<size_t>(e)];
-      offer(stress, cell[0], f.cells[kTrueStressMax].values[k], id, k, true);
-      offer(force_per_length, cell[1], f.cells[kForcePerLengthMax].values[k], id, k, true);
-      offer(min_cable, cell[2], f.cells[kCableForce].values[k], id, k, false);
-      offer(max_cable, cell[3], f.cells[kCableForce].values[k], id, k, true);
+      offer(stress, cell[0], f.cells[kTrueStressMax].values[i], id, k, true);
+      offer(force_per_length, cell[1], f.cells[kForcePerLengthMax].values[i], id, k, true);
+      offer(min_cable, cell[2], f.cells[kCableForce].values[i], id, k, false);
+      offer(max_cable, cell[3], f.cells[kCableForce].values[i], id, k, true);
     }
     first += static_cast<size_t>(model.blocks[b]->size());
   }

@@ -13,7 +13,8 @@
 
 namespace velum::io {
 
-/// One float cell array: `components` values per cell, cells in block order.
+/// One float cell array: `components` values per cell, the cells evaluate_cells was given
+/// (a process's own, in block order: every cell on one process).
 struct CellArray {
   std::string name;
   int components = 1;
@@ -58,7 +59,8 @@ struct FrameFields {
 
 /// The cell values of `model` at current positions x (threads over the elements of a block):
 /// those of the elements `own` lists (per block, ascending: every element on one process),
-/// NaN (wrinkle_state 0) at the others.
+/// one after the other in that order (no entry for the others: under mpirun a process holds
+/// arrays of its own cells only). A field that does not apply to a cell's kind is NaN there.
 FrameFields evaluate_cells(const Model& model, const NodePositions& x,
                            const std::vector<std::vector<int>>& own);
 
@@ -70,14 +72,15 @@ struct CellLabels {
 };
 CellLabels cell_labels(const Model& model, const std::vector<std::string>& block_materials);
 
-/// Reference-area weights of the membrane cells `own` lists (per block, ascending) for
-/// averaging to nodes, and their sum at each node (0 at nodes none of them touches). Under
-/// mpirun node_weight is this process's share until the owner completes it at the shared
-/// nodes (Assembler::sum_at_shared_nodes), as the sums below.
+/// Reference-area weights of the membrane cells `own` lists (per block, ascending; one per
+/// listed cell, in that order, 0 for cables) for averaging to nodes, and their sum at each node (0
+/// at nodes none of them touches). Under mpirun node_weight is this process's share until the owner
+/// completes it at the shared nodes (Assembler::sum_at_shared_nodes), as the sums below.
 struct NodalAverage {
   std::vector<double> cell_weight, node_weight;
   NodalAverage(const Model& model, const std::vector<std::vector<int>>& own);
-  /// The area-weighted sums at the nodes of a scalar cell array over the `own` cells.
+  /// The area-weighted sums at the nodes of a scalar cell array over the `own` cells (the
+  /// array holds the `own` cells' values, as evaluate_cells).
   std::vector<double> sums(const Model& model, const std::vector<std::vector<int>>& own,
                            const std::vector<double>& cell) const;
   /// Sums (complete) to point values: the area-weighted mean over the membrane cells holding
