@@ -24,8 +24,12 @@ class HugePageArray {
   HugePageArray& operator=(const HugePageArray&) = delete;
 
   /// n zeros (the old contents released); with `touch` false, n values the caller must clear
-  /// (where each page is first touched decides where the host keeps it).
-  void assign(std::size_t n, bool touch = true) {
+  /// (where each page is first touched decides where the host keeps it). With `huge` false no
+  /// huge pages are asked for: on this machine they made a one-thread run of Hencky n = 130
+  /// slower (median 12.9 against 10.0 s wall, the element kernels' memory traffic as well as
+  /// the factorisation's) while the split factorisation on two threads gained (7.1 against
+  /// 8.2 s): docs/performance.md section 15.
+  void assign(std::size_t n, bool touch = true, bool huge = true) {
     std::free(data_);
     data_ = nullptr;
     size_ = n;
@@ -34,7 +38,7 @@ class HugePageArray {
     void* p = std::aligned_alloc(kHugePage, bytes);
     if (!p) throw std::bad_alloc();
 #ifdef MADV_HUGEPAGE
-    madvise(p, bytes, MADV_HUGEPAGE);  // advice only: ignored where THP is off
+    if (huge) madvise(p, bytes, MADV_HUGEPAGE);  // advice only: ignored where THP is off
 #endif
     // One thread touches the array first: touched by several, the factorisation that followed
     // ran slower (BM_Factorize/225/5/2: 314 against 237 ms; the virtual machine's host seems to

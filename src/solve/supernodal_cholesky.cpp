@@ -57,9 +57,11 @@ bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   st_ = analyse_supernodes(A, nested_dissection(A), relax_, Factor::kCholesky);
   splits_ = st_.flops >= split_flops_;
   split_ = splits_ ? split_tree(st_) : TreeSplit{};
-  values_.assign(static_cast<std::size_t>(st_.values), !splits_);
+  // Huge pages only for a split factorisation that will run on several threads (huge_pages.hpp).
+  const bool huge = splits_ && omp_get_max_threads() > 1;
+  values_.assign(static_cast<std::size_t>(st_.values), !splits_, huge);
   if (splits_) first_touch();
-  top_copy_.assign(static_cast<std::size_t>(split_.top_values));
+  top_copy_.assign(static_cast<std::size_t>(split_.top_values), true, huge);
   y_.assign(static_cast<std::size_t>(st_.n), 0.0);
   top_y_.assign(splits_ ? static_cast<std::size_t>(st_.n) : 0, 0.0);
   // Two threads' work spaces at least, whatever the count now (it may grow before factorize).
