@@ -18,6 +18,7 @@ namespace velum {
 namespace {
 
 using Panel = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+using ConstPanel = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
 using Segment = Eigen::Map<Eigen::VectorXd>;
 
 // The top's dense work is cut into blocks of these many rows (the triangular solve) and
@@ -88,11 +89,10 @@ bool SupernodalCholesky::factorize(const SparseMatrix& A) {
     w.failed = false;
     w.status.clear();
   }
+  load(A);
   if (splits_) {
-    load(A);
     factorize_split();
   } else {
-    load(A);
     Work& w = work_[0];
     for (int s = 0; s < st_.supernodes() && !w.failed; ++s) {
       if (!factor_diagonal(s, w)) break;
@@ -222,8 +222,7 @@ void SupernodalCholesky::scatter_update(int s, Work& work, double* top_copy) {
 void SupernodalCholesky::update_columns(int s, int begin, int end, Work& work) {
   const int w = st_.width(s), m = st_.below(s);
   const double* l = values_.data() + st_.l_panel[s];
-  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> Lb(l + w, m, w,
-                                                                      Eigen::OuterStride<>(w + m));
+  const ConstPanel Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
   const int rows = m - begin;
   Eigen::Map<Eigen::MatrixXd> W(work.update.data(), rows, end - begin);
   W.noalias() = Lb.bottomRows(rows) * Lb.middleRows(begin, end - begin).transpose();
@@ -300,13 +299,11 @@ void SupernodalCholesky::factorize_split() {
 void SupernodalCholesky::forward(int s, double* y, double* top_y, Work& work) {
   const int f = st_.first[s], w = st_.width(s), m = st_.below(s);
   const double* l = values_.data() + st_.l_panel[s];
-  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> D(l, w, w,
-                                                                     Eigen::OuterStride<>(w + m));
+  const ConstPanel D(l, w, w, Eigen::OuterStride<>(w + m));
   Segment ys(y + f, w);
   D.triangularView<Eigen::Lower>().solveInPlace(ys);
   if (m == 0) return;
-  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> Lb(l + w, m, w,
-                                                                      Eigen::OuterStride<>(w + m));
+  const ConstPanel Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
   Segment g(work.gather.data(), m);
   g.noalias() = Lb * ys;
   const int* r = st_.rows.data() + st_.below_begin[s];
@@ -329,12 +326,10 @@ void SupernodalCholesky::backward(int s, double* y, Work& work) {
     const int* r = st_.rows.data() + st_.below_begin[s];
     Segment g(work.gather.data(), m);
     for (int i = 0; i < m; ++i) g[i] = y[r[i]];
-    const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> Lb(
-        l + w, m, w, Eigen::OuterStride<>(w + m));
+    const ConstPanel Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
     ys.noalias() -= Lb.transpose() * g;
   }
-  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> D(l, w, w,
-                                                                     Eigen::OuterStride<>(w + m));
+  const ConstPanel D(l, w, w, Eigen::OuterStride<>(w + m));
   D.triangularView<Eigen::Lower>().transpose().solveInPlace(ys);
 }
 

@@ -200,10 +200,8 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
     st.values += (lu ? 2 * m + w : m + w) * w;
     st.widest = std::max(st.widest, st.width(s));
     st.most_below = std::max(st.most_below, st.below(s));
-    if (lu)
-      st.flops += 2.0 / 3.0 * w * w * w + 2.0 * m * w * w + 2.0 * double(m) * m * w;
-    else
-      st.flops += 1.0 / 3.0 * w * w * w + double(m) * w * w + double(m) * (m + 1) * w;
+    st.flops += lu ? 2.0 / 3.0 * w * w * w + 2.0 * m * w * w + 2.0 * double(m) * m * w
+                   : st.cholesky_flops(s);
   }
   // Row position of global row r in supernode t's L panel.
   auto place = [&](int t, int r) -> int {

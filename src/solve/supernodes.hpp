@@ -52,6 +52,12 @@ struct SupernodalStructure {
 
   int supernodes() const { return static_cast<int>(first.size()) - 1; }
   int width(int s) const { return first[s + 1] - first[s]; }
+  /// Cholesky flops of supernode s: its diagonal block, the rows below, its update's lower
+  /// triangle.
+  double cholesky_flops(int s) const {
+    const double w = width(s), m = below(s);
+    return w * w * w / 3.0 + m * w * w + m * (m + 1) * w;
+  }
   int below(int s) const { return below_begin[s + 1] - below_begin[s]; }
 };
 

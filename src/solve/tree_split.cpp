@@ -5,11 +5,6 @@
 
 namespace velum {
 
-double cholesky_flops(const SupernodalStructure& st, int s) {
-  const double w = st.width(s), m = st.below(s);
-  return w * w * w / 3.0 + m * w * w + m * (m + 1) * w;
-}
-
 namespace {
 
 struct Bins {
@@ -40,7 +35,7 @@ TreeSplit split_tree(const SupernodalStructure& st, double top_speedup) {
   std::vector<double> own(ns), subtree(ns);
   std::vector<int> frontier;
   for (int s = 0; s < ns; ++s) {
-    own[s] = cholesky_flops(st, s);
+    own[s] = st.cholesky_flops(s);
     subtree[s] += own[s];
     if (st.target_begin[s] < st.target_begin[s + 1]) {
       parent[s] = st.targets[st.target_begin[s]].supernode;
@@ -50,6 +45,15 @@ TreeSplit split_tree(const SupernodalStructure& st, double top_speedup) {
       frontier.push_back(s);
     }
   }
+  // The frontier's heaviest subtree opened: its root leaves (for the top), its children join.
+  auto open_heaviest = [&](std::vector<int>& f) {
+    const auto heaviest =
+        std::max_element(f.begin(), f.end(), [&](int a, int b) { return subtree[a] < subtree[b]; });
+    const int r = *heaviest;
+    f.erase(heaviest);
+    f.insert(f.end(), children[r].begin(), children[r].end());
+    return r;
+  };
   // Open the heaviest subtree of the frontier, one at a time; remember the best time.
   double top = 0, best_time = 0;
   int best_opened = 0;
@@ -59,12 +63,7 @@ TreeSplit split_tree(const SupernodalStructure& st, double top_speedup) {
   }
   std::vector<int> f = frontier;
   for (int opened = 1; opened <= 4096 && !f.empty(); ++opened) {
-    const auto heaviest =
-        std::max_element(f.begin(), f.end(), [&](int a, int b) { return subtree[a] < subtree[b]; });
-    const int r = *heaviest;
-    f.erase(heaviest);
-    f.insert(f.end(), children[r].begin(), children[r].end());
-    top += own[r];
+    top += own[open_heaviest(f)];
     const Bins b = pack(f, subtree);
     const double time = std::max(b.load[0], b.load[1]) + top / top_speedup;
     if (time < best_time) {
@@ -78,13 +77,7 @@ TreeSplit split_tree(const SupernodalStructure& st, double top_speedup) {
   split.group.assign(ns, TreeSplit::kTop);
   split.top_offset.assign(ns, -1);
   f = frontier;
-  for (int opened = 0; opened < best_opened; ++opened) {
-    const auto heaviest =
-        std::max_element(f.begin(), f.end(), [&](int a, int b) { return subtree[a] < subtree[b]; });
-    const int r = *heaviest;
-    f.erase(heaviest);
-    f.insert(f.end(), children[r].begin(), children[r].end());
-  }
+  for (int opened = 0; opened < best_opened; ++opened) open_heaviest(f);
   const Bins b = pack(f, subtree);
   // A subtree's supernodes are contiguous in the postorder and end at its root.
   std::vector<int> first_of(ns);

@@ -25,9 +25,6 @@ struct TreeSplit {
   double flops[3] = {0, 0, 0};             ///< groups 0 and 1 and the top (Cholesky count)
 };
 
-/// Cholesky flops of supernode s (its diagonal block, the rows below, its update).
-double cholesky_flops(const SupernodalStructure& st, int s);
-
 /// Grows the top from the roots down, always opening its heaviest subtree, and keeps the split
 /// whose estimated time (the heavier group plus the top at `top_speedup` on two threads) is
 /// shortest; the subtrees go to the groups heaviest first, each to the lighter group.
