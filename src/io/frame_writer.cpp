@@ -74,15 +74,6 @@ std::string frame_name(int index) {
 
 }  // namespace
 
-namespace {
-std::vector<std::vector<int>> own_elements(const Model& model, const Assembler& assembler) {
-  std::vector<std::vector<int>> own;
-  for (size_t b = 0; b < model.blocks.size(); ++b)
-    own.push_back(assembler.own(static_cast<int>(b)));
-  return own;
-}
-}  // namespace
-
 FrameWriter::FrameWriter(const ModelInput& input, std::filesystem::path results,
                          const Assembler& assembler, int rank, int pieces)
     : input_(input),
@@ -90,7 +81,7 @@ FrameWriter::FrameWriter(const ModelInput& input, std::filesystem::path results,
       rank_(rank),
       pieces_(pieces),
       labels_(cell_labels(input.model, input.block_materials)),
-      own_(own_elements(input.model, assembler)),
+      own_(assembler.own_by_block()),
       average_(input.model, own_) {
   const Model& model = input.model;
   const auto& own = own_;

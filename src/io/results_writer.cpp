@@ -167,7 +167,7 @@ void ResultsWriter::write(const StepSnapshot& snap) {
   NodePositions R;
   if (input_.output.fields || needs_reactions()) R = reactions(snap, x);
   const std::vector<double> row = history_row(snap, U, V, x, R);
-  const std::vector<std::vector<int>>& own = frames_ ? frames_->own() : own_elements();
+  const std::vector<std::vector<int>>& own = assembler.own_by_block();
   const FrameFields f = evaluate_cells(input_.model, x, own);
   // The extremes: not of the initial state (often unloaded).
   if (snap.step.step > 0) update_extremes(t, U, f, own);
@@ -179,13 +179,6 @@ void ResultsWriter::write(const StepSnapshot& snap) {
   }
   if (records_) write_history_row(snap, row);
   if (input_.output.fields) write_frame(t, U, V, R, f, averaged, gas);
-}
-
-const std::vector<std::vector<int>>& ResultsWriter::own_elements() {
-  if (own_.empty())
-    for (size_t b = 0; b < input_.model.blocks.size(); ++b)
-      own_.push_back(system_->assembler().own(static_cast<int>(b)));
-  return own_;
 }
 
 bool ResultsWriter::needs_reactions() const {

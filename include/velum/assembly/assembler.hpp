@@ -88,6 +88,8 @@ class Assembler {
   const std::string& partition_note() const { return partition_note_; }
   /// The elements of block `block` this process computes, ascending.
   const std::vector<int>& own(int block) const { return own_[static_cast<size_t>(block)]; }
+  /// Per block, the elements this process computes (every element on one process).
+  const std::vector<std::vector<int>>& own_by_block() const { return own_; }
 
   /// Whether element e of block `block` is one this process computes.
   bool owns(int block, int e) const { return local_[static_cast<size_t>(block)][e] >= 0; }

@@ -41,8 +41,6 @@ class FrameWriter {
   /// (their sums only are exchanged). A collective call.
   std::vector<std::vector<double>> average_to_nodes(const FrameFields& f,
                                                     const Assembler& assembler) const;
-  /// Per block, the elements of this piece, ascending.
-  const std::vector<std::vector<int>>& own() const { return own_; }
   /// Writes this process's file of frame `index` (and on the first of several processes the
   /// .pvtu). Throws OutputError.
   void write(int index, const FrameValues& v) const;
@@ -54,8 +52,9 @@ class FrameWriter {
   std::filesystem::path dir_;  // results folder
   int rank_, pieces_;
   CellLabels labels_;
-  std::vector<std::vector<int>> own_;
-  mutable NodalAverage average_;  // node weights completed on first use
+  std::vector<std::vector<int>> own_;  // per block, the piece's elements (a copy: a staged run
+                                       // makes a new system for each step)
+  mutable NodalAverage average_;       // node weights completed on first use
   mutable bool weights_complete_ = false;
   // The piece's topology (fixed): its nodes (model indices, ascending) and cells (indices in
   // the one-process cell order) with their connectivity in piece-local node numbers.

@@ -134,8 +134,6 @@ class ResultsWriter {
   /// The summary's extremes over the cells `own` lists, reduced to the first (collective).
   void update_extremes(double t, const NodePositions& U, const FrameFields& f,
                        const std::vector<std::vector<int>>& own);
-  /// Per block, this process's elements (without fields: no frame writer holds them).
-  const std::vector<std::vector<int>>& own_elements();
   void write_legend() const;
   void write_pvd();
 
@@ -149,7 +147,6 @@ class ResultsWriter {
   std::vector<double> frame_times_;
   CellLabels labels_;
   std::optional<FrameWriter> frames_;  // with fields on
-  std::vector<std::vector<int>> own_;  // own_elements()
   Extreme max_stress_, max_force_per_length_, max_displacement_, min_cable_force_, max_cable_force_;
 };
 
