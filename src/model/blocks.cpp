@@ -179,16 +179,8 @@ class MembraneBlock final : public ElementBlock {
   }
 
   void keep_only(std::span<const int> elements) override {
-    std::vector<typename K::Points> points;
-    decltype(Xref_) Xref;
-    points.reserve(elements.size());
-    Xref.reserve(elements.size());
-    for (int e : elements) {
-      points.push_back(points_[slot(e)]);
-      Xref.push_back(Xref_[slot(e)]);
-    }
-    points_ = std::move(points);  // the others' storage freed
-    Xref_ = std::move(Xref);
+    points_ = kept(points_, elements);  // the others' storage freed
+    Xref_ = kept(Xref_, elements);
     set_kept(elements);
   }
 
@@ -359,10 +351,7 @@ class CableBlock final : public ElementBlock {
     return -1;
   }
   void keep_only(std::span<const int> elements) override {
-    std::vector<typename K::Points> points;
-    points.reserve(elements.size());
-    for (int e : elements) points.push_back(points_[slot(e)]);
-    points_ = std::move(points);  // the others' storage freed
+    points_ = kept(points_, elements);  // the others' storage freed
     set_kept(elements);
   }
   ElementOutput output(int e, const NodePositions& x) const override {

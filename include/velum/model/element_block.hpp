@@ -108,6 +108,15 @@ class ElementBlock {
     assert(holds(e) && "an element whose section data this process does not hold");
     return slot_.empty() ? e : slot_[static_cast<size_t>(e)];
   }
+  /// The entries of per-element `data` (indexed by slot) of `elements`, in their order: a
+  /// block's keep_only stores these, then calls set_kept.
+  template <class Vector>
+  Vector kept(const Vector& data, std::span<const int> elements) const {
+    Vector out;
+    out.reserve(elements.size());
+    for (int e : elements) out.push_back(data[static_cast<size_t>(slot(e))]);
+    return out;
+  }
   /// Records that the section data of `elements` (ascending) now sits at 0, 1, ...
   void set_kept(std::span<const int> elements) {
     slot_.assign(static_cast<size_t>(size()), -1);
