@@ -78,7 +78,7 @@ bool SupernodalCholesky::analyze(const SparseMatrix& A) {
 
 bool SupernodalCholesky::factorize(const SparseMatrix& A) {
   factorized_ = false;
-  if (A.rows() != st_.n || A.nonZeros() != static_cast<Eigen::Index>(st_.entry.size())) {
+  if (!st_.matches(A)) {
     status_ = "supernodal Cholesky: the matrix does not have the analysed pattern";
     return false;
   }

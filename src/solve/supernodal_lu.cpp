@@ -32,7 +32,7 @@ bool SupernodalLu::analyze(const SparseMatrix& A) {
 
 bool SupernodalLu::factorize(const SparseMatrix& A) {
   factorized_ = false;
-  if (A.rows() != st_.n || A.nonZeros() != static_cast<Eigen::Index>(st_.entry.size())) {
+  if (!st_.matches(A)) {
     status_ = "supernodal LU: the matrix does not have the analysed pattern";
     return false;
   }

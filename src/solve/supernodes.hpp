@@ -52,6 +52,11 @@ struct SupernodalStructure {
 
   int supernodes() const { return static_cast<int>(first.size()) - 1; }
   int width(int s) const { return first[s + 1] - first[s]; }
+  /// Whether A has the analysed pattern (its size and its number of stored entries: a
+  /// factorisation reads A's values through `entry`).
+  bool matches(const SparseMatrix& A) const {
+    return A.rows() == n && A.nonZeros() == static_cast<Eigen::Index>(entry.size());
+  }
   /// Cholesky flops of supernode s: its diagonal block, the rows below, its update's lower
   /// triangle.
   double cholesky_flops(int s) const {
