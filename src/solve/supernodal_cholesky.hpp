@@ -58,18 +58,24 @@ class SupernodalCholesky final : public LinearSolver {
  private:
   struct Work {  ///< one thread's
     std::vector<double> update, gather;
+    std::vector<int> runs;  ///< a scatter's runs of contiguous rows
     double smallest = 0, largest = 0;
     bool failed = false;
     std::string status;
   };
 
+  struct Load {  ///< an entry of A and its place in its supernode's panel
+    int a, at;
+  };
+  bool plan_panels();
   void first_touch();
-  void load(const SparseMatrix& A);
+  void start_panel(int t, const double* a);
+  void start_panels(int s, const SparseMatrix& A);
   bool factor_diagonal(int s, Work& w);
   void solve_below(int s, int begin, int end);
   void scatter_update(int s, Work& w, double* top_copy);
   void update_columns(int s, int begin, int end, Work& w);
-  void factorize_split();
+  void factorize_split(const SparseMatrix& A);
   void forward(int s, double* y, double* top_y, Work& w);
   void backward(int s, double* y, Work& w);
   void solve_split();
@@ -79,6 +85,10 @@ class SupernodalCholesky final : public LinearSolver {
   SupernodalStructure st_;
   TreeSplit split_;
   bool splits_ = false;
+  std::vector<int> start_begin_;  ///< panels started before s: starts_[start_begin_[s] .. [s + 1])
+  std::vector<int> starts_;
+  std::vector<int> load_begin_;  ///< A's entries in t's panel: loads_[load_begin_[t] .. [t + 1])
+  std::vector<Load> loads_;
   HugePageArray values_, top_copy_;  ///< the L panels; the top's panels' copy (tree_split.hpp)
   std::vector<double> y_, top_y_;
   std::vector<Work> work_;
