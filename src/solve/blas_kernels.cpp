@@ -57,6 +57,35 @@ std::string openblas_core() {
   return core ? core : "";
 }
 
+bool OpenBlasSyrk::worth_it(std::string_view active_core, const CpuFeatures& cpu) {
+  return cpu.avx512 && one_of(lower(active_core), {"skylakex", "cooperlake", "sapphirerapids"});
+}
+
+const OpenBlasSyrk& OpenBlasSyrk::loaded() {
+  static const OpenBlasSyrk blas = [] {
+    OpenBlasSyrk b;
+    if (!worth_it(openblas_core(), CpuFeatures::of_this_machine())) return b;
+    b.dsyrk = reinterpret_cast<Syrk>(dlsym(RTLD_DEFAULT, "dsyrk_"));
+    b.get_threads = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+    b.set_threads =
+        reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    // Without the thread calls its own threads could run inside ours: not used then.
+    if (!b.get_threads || !b.set_threads) b.dsyrk = nullptr;
+    return b;
+  }();
+  return blas;
+}
+
+SerialOpenBlas::SerialOpenBlas(const OpenBlasSyrk& blas) : blas_(blas) {
+  if (!blas_.dsyrk) return;
+  threads_ = blas_.get_threads();
+  if (threads_ != 1) blas_.set_threads(1);
+}
+
+SerialOpenBlas::~SerialOpenBlas() {
+  if (blas_.dsyrk && threads_ > 1) blas_.set_threads(threads_);
+}
+
 void choose_blas_kernels(char** argv) {
   const std::string want = blas_coretype_to_request(
       std::getenv("OPENBLAS_CORETYPE"), openblas_core(), CpuFeatures::of_this_machine());

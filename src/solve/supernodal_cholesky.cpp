@@ -13,6 +13,7 @@
 #include <limits>
 
 #include "ordering.hpp"
+#include "velum/solve/blas_kernels.hpp"
 
 namespace velum {
 namespace {
@@ -25,6 +26,8 @@ using Segment = Eigen::Map<Eigen::VectorXd>;
 // columns (the update), whichever thread takes them.
 constexpr int kRowBlock = 96;
 constexpr int kColumnBlock = 48;
+// Updates of supernodes this wide or wider by OpenBLAS's dsyrk, where it is used.
+constexpr int kBlasWidth = 64;
 // Clearing and loading the panels: chunks of this many values.
 constexpr std::ptrdiff_t kClearChunk = 1 << 16;
 
@@ -66,6 +69,7 @@ int threads_for(std::size_t works) {
 
 bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   factorized_ = false;
+  blas_ = OpenBlasSyrk::loaded().dsyrk ? &OpenBlasSyrk::loaded() : nullptr;
   st_ = analyse_supernodes(A, nested_dissection(A), relax_, Factor::kCholesky);
   splits_ = st_.flops >= split_flops_;
   split_ = splits_ ? split_tree(st_) : TreeSplit{};
@@ -99,6 +103,7 @@ bool SupernodalCholesky::factorize(const SparseMatrix& A) {
     return false;
   }
   SerialEigen serial;
+  SerialOpenBlas serial_blas(OpenBlasSyrk::loaded());
   for (Work& w : work_) {
     w.smallest = std::numeric_limits<double>::infinity();
     w.largest = 0;
@@ -248,8 +253,14 @@ void SupernodalCholesky::scatter_update(int s, Work& work, double* top_copy) {
   if (m == 0) return;
   double* l = values_.data() + st_.l_panel[s];
   const Panel Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
-  Eigen::Map<Eigen::MatrixXd> W(work.update.data(), m, m);
-  W.triangularView<Eigen::Lower>() = Lb * Lb.transpose();
+  if (blas_ && w >= kBlasWidth) {
+    const int ld = w + m;
+    const double one = 1, zero = 0;
+    blas_->dsyrk("L", "N", &m, &w, &one, l + w, &ld, &zero, work.update.data(), &m);
+  } else {
+    Eigen::Map<Eigen::MatrixXd> W(work.update.data(), m, m);
+    W.triangularView<Eigen::Lower>() = Lb * Lb.transpose();
+  }
   const int* b = st_.rows.data() + st_.below_begin[s];
   for (int g = st_.target_begin[s]; g < st_.target_begin[s + 1]; ++g) {
     const SupernodalStructure::Target& tg = st_.targets[g];

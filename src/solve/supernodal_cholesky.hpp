@@ -19,6 +19,7 @@
 #include "huge_pages.hpp"
 #include "supernodes.hpp"
 #include "tree_split.hpp"
+#include "velum/solve/blas_kernels.hpp"
 #include "velum/solve/linear_solver.hpp"
 
 namespace velum {
@@ -80,6 +81,7 @@ class SupernodalCholesky final : public LinearSolver {
   void backward(int s, double* y, Work& w);
   void solve_split();
 
+  const OpenBlasSyrk* blas_ = nullptr;  ///< OpenBLAS's dsyrk for the wider updates, or none
   Amalgamation relax_;
   double split_flops_;
   SupernodalStructure st_;

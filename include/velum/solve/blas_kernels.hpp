@@ -28,6 +28,39 @@ std::string blas_coretype_to_request(const char* environment_value, std::string_
 /// The kernels the loaded OpenBLAS uses (openblas_get_corename), or "" without OpenBLAS.
 std::string openblas_core();
 
+/// OpenBLAS's dsyrk (C = alpha A Aᵀ + beta C, a triangle of C), with the calls that set its
+/// thread count, when the loaded OpenBLAS runs AVX-512 kernels (SkylakeX, Cooperlake,
+/// SapphireRapids) on a CPU that has AVX-512: there its dsyrk is faster than Eigen's triangular
+/// product for the supernodal Cholesky's larger updates (docs/performance.md, section 16), and
+/// its Haswell kernels are slower. Null members otherwise (another BLAS, older kernels).
+struct OpenBlasSyrk {
+  using Syrk = void (*)(const char* uplo, const char* trans, const int* n, const int* k,
+                        const double* alpha, const double* a, const int* lda, const double* beta,
+                        double* c, const int* ldc);
+  Syrk dsyrk = nullptr;
+  int (*get_threads)() = nullptr;
+  void (*set_threads)(int) = nullptr;
+  /// Whether dsyrk should be used with these kernels on this CPU (the core's name as
+  /// openblas_get_corename gives it).
+  static bool worth_it(std::string_view active_core, const CpuFeatures& cpu);
+  /// Found once per process (dlsym), the kernels' name read then.
+  static const OpenBlasSyrk& loaded();
+};
+
+/// While one lives, OpenBLAS runs on the calling thread only (its count restored after): the
+/// supernodal Cholesky calls it from its own threads.
+class SerialOpenBlas {
+ public:
+  explicit SerialOpenBlas(const OpenBlasSyrk& blas);
+  ~SerialOpenBlas();
+  SerialOpenBlas(const SerialOpenBlas&) = delete;
+  SerialOpenBlas& operator=(const SerialOpenBlas&) = delete;
+
+ private:
+  const OpenBlasSyrk& blas_;
+  int threads_ = 0;
+};
+
 /// To be called first in main(): when blas_coretype_to_request names kernels, sets
 /// OPENBLAS_CORETYPE and re-executes /proc/self/exe with the same arguments (the variable, now
 /// set, stops a second re-execution). Returns only when nothing was done or exec failed.

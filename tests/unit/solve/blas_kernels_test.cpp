@@ -28,6 +28,33 @@ TEST(BlasKernels, ChosenFromTheCpuOnlyWhenNobodyChose) {
   EXPECT_EQ(blas_coretype_to_request(nullptr, "", avx512), "");
 }
 
+TEST(BlasKernels, OpenBlasSyrkOnlyWithAvx512Kernels) {
+  const CpuFeatures avx512{true, true}, avx2{false, true};
+  EXPECT_TRUE(OpenBlasSyrk::worth_it("SkylakeX", avx512));
+  EXPECT_TRUE(OpenBlasSyrk::worth_it("Cooperlake", avx512));
+  EXPECT_TRUE(OpenBlasSyrk::worth_it("SapphireRapids", avx512));
+  // Haswell's (AVX2) dsyrk is slower than Eigen's product; older kernels more so.
+  EXPECT_FALSE(OpenBlasSyrk::worth_it("Haswell", avx512));
+  EXPECT_FALSE(OpenBlasSyrk::worth_it("Zen", avx512));
+  EXPECT_FALSE(OpenBlasSyrk::worth_it("Prescott", avx512));
+  EXPECT_FALSE(OpenBlasSyrk::worth_it("SkylakeX", avx2));  // kernels the CPU cannot run
+  EXPECT_FALSE(OpenBlasSyrk::worth_it("", avx512));        // not OpenBLAS
+  // Found in this process only where worth it, with the calls that hold its threads.
+  const OpenBlasSyrk& blas = OpenBlasSyrk::loaded();
+  if (!OpenBlasSyrk::worth_it(openblas_core(), CpuFeatures::of_this_machine())) {
+    EXPECT_EQ(blas.dsyrk, nullptr);
+  } else {
+    ASSERT_NE(blas.dsyrk, nullptr);
+    ASSERT_NE(blas.get_threads, nullptr);
+    const int before = blas.get_threads();
+    {
+      const SerialOpenBlas serial(blas);
+      EXPECT_EQ(blas.get_threads(), 1);
+    }
+    EXPECT_EQ(blas.get_threads(), before);
+  }
+}
+
 TEST(BlasKernels, ThisProcessSeesItsOpenBlas) {
   // The tests link the same BLAS as the velum command: when it is OpenBLAS, its core is named.
   const std::string core = openblas_core();
