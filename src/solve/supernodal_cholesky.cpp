@@ -280,16 +280,17 @@ void SupernodalCholesky::scatter_update(int s, Work& work, double* top_copy) {
   }
 }
 
-// The update's columns [begin, end) (the rows from begin down, a rectangle: the few entries
-// above the diagonal are computed and not used) into the panels they reach. Different columns
-// reach different panel columns: threads may take different column blocks of one supernode.
+// The update's columns [begin, end), the rows from begin down (the lower triangle of its top
+// square, the rectangle below), into the panels they reach. Different columns reach different
+// panel columns: threads may take different column blocks of one supernode.
 void SupernodalCholesky::update_columns(int s, int begin, int end, Work& work) {
-  const int w = st_.width(s), m = st_.below(s);
+  const int w = st_.width(s), m = st_.below(s), rows = m - begin, cols = end - begin;
   const double* l = values_.data() + st_.l_panel[s];
   const ConstPanel Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
-  const int rows = m - begin;
-  Eigen::Map<Eigen::MatrixXd> W(work.update.data(), rows, end - begin);
-  W.noalias() = Lb.bottomRows(rows) * Lb.middleRows(begin, end - begin).transpose();
+  Eigen::Map<Eigen::MatrixXd> W(work.update.data(), rows, cols);
+  const auto B = Lb.middleRows(begin, cols);
+  W.topRows(cols).triangularView<Eigen::Lower>() = B * B.transpose();
+  if (rows > cols) W.bottomRows(rows - cols).noalias() = Lb.bottomRows(rows - cols) * B.transpose();
   const int* b = st_.rows.data() + st_.below_begin[s];
   for (int g = st_.target_begin[s]; g < st_.target_begin[s + 1]; ++g) {
     const SupernodalStructure::Target& tg = st_.targets[g];
