@@ -65,10 +65,16 @@ const OpenBlasSyrk& OpenBlasSyrk::loaded() {
   static const OpenBlasSyrk blas = [] {
     OpenBlasSyrk b;
     if (!worth_it(openblas_core(), CpuFeatures::of_this_machine())) return b;
-    b.dsyrk = reinterpret_cast<Syrk>(dlsym(RTLD_DEFAULT, "dsyrk_"));
-    b.get_threads = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-    b.set_threads =
-        reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    // dsyrk from the library that named its kernels: the first dsyrk_ loaded could be another
+    // BLAS's (libblas.so.3 is an alternative that may be the reference BLAS).
+    Dl_info info{};
+    void* core_name = dlsym(RTLD_DEFAULT, "openblas_get_corename");
+    if (!core_name || !dladdr(core_name, &info) || !info.dli_fname) return b;
+    void* library = dlopen(info.dli_fname, RTLD_LAZY | RTLD_NOLOAD);
+    if (!library) return b;  // kept open: its functions are used until the process ends
+    b.dsyrk = reinterpret_cast<Syrk>(dlsym(library, "dsyrk_"));
+    b.get_threads = reinterpret_cast<int (*)()>(dlsym(library, "openblas_get_num_threads"));
+    b.set_threads = reinterpret_cast<void (*)(int)>(dlsym(library, "openblas_set_num_threads"));
     // Without the thread calls its own threads could run inside ours: not used then.
     if (!b.get_threads || !b.set_threads) b.dsyrk = nullptr;
     return b;
