@@ -1,7 +1,10 @@
 // A supernodal Cholesky factorisation (LLᵀ) for symmetric positive definite matrices (the
 // statics of a prestressed membrane, Hencky's problem): the symbolic analysis of the supernodal
-// LU (supernodes.hpp) with L's panels only, dense kernels (Eigen) for the diagonal block's
-// Cholesky, the triangular solve of the rows below and the symmetric update, no pivoting. A
+// LU (supernodes.hpp) with L's panels only, dense kernels (Eigen; OpenBLAS's dsyrk for the
+// wider updates where its AVX-512 kernels run: blas_kernels.hpp) for the diagonal block's
+// Cholesky, the triangular solve of the rows below and the symmetric update, no pivoting. Each
+// update is scattered into the panels it reaches by runs of rows contiguous there; each panel
+// is cleared and given A's entries just before the first update reaches it. A
 // pivot that is not positive and finite, or pivots (l_kk²) spanning more than
 // 1/kSmallestPivotRatio, and the factorisation reports failure: the caller factorises with
 // MUMPS's LDLᵀ, which also gives the inertia (`auto`).
