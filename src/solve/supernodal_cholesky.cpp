@@ -180,25 +180,26 @@ bool SupernodalCholesky::plan_panels() {
   std::vector<int> next(start_begin_.begin(), start_begin_.end() - 1);
   for (int t = 0; t < ns; ++t)
     if (!splits_ || split_.group[t] != TreeSplit::kTop) starts_[next[start_at[t]]++] = t;
-  // A's entries by the panel they go to (l_panel ascends), each with its place in it.
+  // A's entries by the panel they go to (l_panel ascends), each with its place in it: counted,
+  // then placed (two searches rather than a list of owners as long as A).
+  auto owner = [&](std::ptrdiff_t e) {
+    return static_cast<int>(std::upper_bound(st_.l_panel.begin(), st_.l_panel.begin() + ns, e) -
+                            st_.l_panel.begin() - 1);
+  };
   load_begin_.assign(static_cast<std::size_t>(ns) + 1, 0);
-  std::vector<int> owner(st_.entry.size(), -1);
-  for (std::size_t k = 0; k < st_.entry.size(); ++k)
-    if (const std::ptrdiff_t e = st_.entry[k]; e >= 0) {
-      owner[k] =
-          static_cast<int>(std::upper_bound(st_.l_panel.begin(), st_.l_panel.begin() + ns, e) -
-                           st_.l_panel.begin() - 1);
-      ++load_begin_[owner[k] + 1];
-    }
+  for (const std::ptrdiff_t e : st_.entry)
+    if (e >= 0) ++load_begin_[owner(e) + 1];
   for (int t = 0; t < ns; ++t) load_begin_[t + 1] += load_begin_[t];
   loads_.resize(static_cast<std::size_t>(load_begin_[ns]));
   next.assign(load_begin_.begin(), load_begin_.end() - 1);
   for (std::size_t k = 0; k < st_.entry.size(); ++k)
-    if (const int t = owner[k]; t >= 0) {
-      const std::ptrdiff_t at = st_.entry[k] - st_.l_panel[t];
+    if (const std::ptrdiff_t e = st_.entry[k]; e >= 0) {
+      const int t = owner(e);
+      const std::ptrdiff_t at = e - st_.l_panel[t];
       if (at > std::numeric_limits<int>::max()) return false;
       loads_[next[t]++] = {static_cast<int>(k), static_cast<int>(at)};
     }
+  st_.entry = {};  // loads_ says the same, panel by panel
   return true;
 }
 

@@ -214,6 +214,7 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
   st.entry.resize(A.nonZeros());
+  st.entries = A.nonZeros();
   for (int j = 0; j < n; ++j)
     for (int k = outer[j]; k < outer[j + 1]; ++k) {
       const int r = pos[inner[k]], c = pos[j];

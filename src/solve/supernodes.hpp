@@ -43,7 +43,9 @@ struct SupernodalStructure {
                                         ///< (empty for a Cholesky factorisation)
   std::ptrdiff_t values = 0;            ///< size of the panels together
   std::vector<std::ptrdiff_t> entry;    ///< A's k-th stored value -> its place in the panels
-                                        ///< (-1: above the diagonal blocks, in Cholesky)
+                                        ///< (-1: above the diagonal blocks, in Cholesky; may
+                                        ///< be released by a factorisation that keeps its own)
+  std::ptrdiff_t entries = 0;           ///< A's stored values (entry's size as made)
   std::vector<int> target_begin;        ///< targets of s: targets[target_begin[s] .. [s+1])
   std::vector<Target> targets;
   std::vector<int> relative;
@@ -54,9 +56,7 @@ struct SupernodalStructure {
   int width(int s) const { return first[s + 1] - first[s]; }
   /// Whether A has the analysed pattern (its size and its number of stored entries: a
   /// factorisation reads A's values through `entry`).
-  bool matches(const SparseMatrix& A) const {
-    return A.rows() == n && A.nonZeros() == static_cast<Eigen::Index>(entry.size());
-  }
+  bool matches(const SparseMatrix& A) const { return A.rows() == n && A.nonZeros() == entries; }
   /// Cholesky flops of supernode s: its diagonal block, the rows below, its update's lower
   /// triangle.
   double cholesky_flops(int s) const {
