@@ -147,7 +147,10 @@ class StaticNewton : public TimeIntegrator {
   bool continuous_ = false;          ///< this step starts where the last one ended
   bool second_ = false;              ///< this step has the parabola
   bool prefer_parabola_ = false;     ///< the parabola predicted the last increment better
-  int negative_pivots_ = -1;         ///< of the last accepted state (-1: unknown)
+  /// Of the last accepted state (-1: unknown). The start counts as stable (0), as the
+  /// analysis's stability watch takes it: a first step whose last tangent has no negative
+  /// pivot then needs no factorisation at its converged state to say so.
+  int negative_pivots_ = 0;
 };
 
 /// Largest stable step of central difference, 2/ω_max, with ω_max² estimated by power
