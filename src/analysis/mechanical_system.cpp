@@ -259,7 +259,8 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
   } else if (cm != 0) {
     combine_values(*J, 1.0, &mass_matrix(), cm);
   }
-  // Payload drag: added once, by the first process (its share holds every node's own block).
+  // Payload drag: added once, by the first process (its share holds every point mass's node
+  // block).
   if (drag_ && cv != 0 && processes::rank() == 0) {
     for (const auto& m : model_.masses) {
       const double c = 0.5 * m.drag_rho * m.drag_cd_area;

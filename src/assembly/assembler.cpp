@@ -51,22 +51,25 @@ void to_local_frames(const DofMap& dofs, std::span<const int> nodes, double* r, 
 
 // The matrix pattern in compressed columns: equations i and j are coupled when their nodes
 // share an element (every component with every component: frames mix them), and every node
-// with equations is coupled with itself (point masses; a diagonal for every equation). Built
+// with equations is coupled with itself (its elements; `lone_nodes` for point masses and
+// nodes of no element: a diagonal for every equation). Built
 // from node adjacency, it costs a few bytes per node pair instead of a triplet per
 // element-matrix entry (117 MB for 50k quad4), and is cheap enough to rebuild on demand
 // rather than kept next to the matrices built on it.
 //
 // On several processes, the pattern of this process's share: the couplings of its own
-// elements (`own`, per block), the self-coupling of their nodes, and on the first process
-// that of every node (point masses and payload drag are added there).
+// elements (`own`, per block), the self-coupling of their nodes and of `lone_nodes` (on the
+// first process: the point masses' nodes, where masses and payload drag are added, and the
+// nodes of no element).
 void build_pattern(const Model& model, const DofMap& dofs, const std::vector<std::vector<int>>& own,
-                   bool every_node, std::vector<int>& outer, std::vector<int>& inner) {
+                   const std::vector<int>& lone_nodes, std::vector<int>& outer,
+                   std::vector<int>& inner) {
   const int nn = model.num_nodes(), neq = dofs.num_equations();
-  std::vector<char> touched(nn, every_node ? 1 : 0);
-  if (!every_node)
-    for (size_t bi = 0; bi < model.blocks.size(); ++bi)
-      for (int e : own[bi])
-        for (int a : model.blocks[bi]->nodes(e)) touched[a] = 1;
+  std::vector<char> touched(nn, 0);
+  for (size_t bi = 0; bi < model.blocks.size(); ++bi)
+    for (int e : own[bi])
+      for (int a : model.blocks[bi]->nodes(e)) touched[a] = 1;
+  for (int n : lone_nodes) touched[n] = 1;
   // Node adjacency with repeats, compressed: count, then fill.
   std::vector<int> start(nn + 1, 0), adj, fill;
   auto visit = [&](const auto& link) {
@@ -214,8 +217,17 @@ Assembler::Assembler(const Model& model, const DofMap& dofs, ElementPartition pa
       if (local_[block][e] >= 0) kept.push_back(e);
     return kept;
   };
+  // The first process also holds the diagonal blocks of the point masses' nodes (their mass
+  // and the payload's drag Jacobian are added there once) and of nodes in no element, so
+  // that the shares' patterns together are the one-process pattern. Not every node's: on
+  // several processes those were zeros sent to the other processes at every assembly.
+  if (!several_ || rank == 0) {
+    for (size_t n = 0; n < holder.size(); ++n)
+      if (holder[n] == -1) lone_nodes_.push_back(static_cast<int>(n));
+    for (const auto& pm : model.masses) lone_nodes_.push_back(pm.node);
+  }
   std::vector<int> outer, inner, eqs;
-  build_pattern(model, dofs, own_, !several_ || rank == 0, outer, inner);
+  build_pattern(model, dofs, own_, lone_nodes_, outer, inner);
   nonzeros_ = static_cast<Eigen::Index>(inner.size());
   auto position = [&](int row, int col) {
     const int* lo = inner.data() + outer[col];
@@ -317,7 +329,7 @@ SparseMatrix Assembler::make_matrix() const {
 
 void Assembler::make_matrix(SparseMatrix& A) const {
   std::vector<int> outer, inner;
-  build_pattern(model_, dofs_, own_, !several_ || processes::rank() == 0, outer, inner);
+  build_pattern(model_, dofs_, own_, lone_nodes_, outer, inner);
   A.resize(neq_, neq_);
   A.resizeNonZeros(nonzeros());
   std::copy(outer.begin(), outer.end(), A.outerIndexPtr());
