@@ -160,8 +160,7 @@ class Assembler {
   std::vector<std::vector<int>> own_;      // per block: this process's elements, ascending
   std::vector<std::vector<int>> local_;    // per block: element -> index into own_ (-1: not)
   std::vector<char> node_kept_;            // per node: keeps_node (empty on one process)
-  std::vector<int> lone_nodes_;  // nodes whose diagonal block the share holds without an own
-                                 // element there (the first process: point masses, no element)
+  std::vector<int> lone_nodes_;            // own diagonal blocks, no own element: Assembler()
   std::vector<int> shared_list_;           // shared_node_list()
   std::vector<Colors> colors_;             // per block: own elements
   std::vector<std::vector<int>> scatter_;  // per block: own x dofs² positions
