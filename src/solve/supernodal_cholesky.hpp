@@ -71,7 +71,7 @@ class SupernodalCholesky final : public LinearSolver {
   struct Load {  ///< an entry of A and its place in its supernode's panel
     int a, at;
   };
-  bool plan_panels();
+  bool plan_panels(const SparseMatrix& A);
   void first_touch();
   void start_panel(int t, const double* a);
   void start_panels(int s, const SparseMatrix& A);
