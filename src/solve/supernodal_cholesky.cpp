@@ -81,7 +81,8 @@ bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   const bool huge = splits_ && omp_get_max_threads() > 1;
   values_.assign(static_cast<std::size_t>(st_.values), !splits_, huge);
   if (splits_) first_touch();
-  top_copy_.assign(static_cast<std::size_t>(split_.top_values), true, huge);
+  // Not cleared here: factorize_split clears it before each use.
+  top_copy_.assign(static_cast<std::size_t>(split_.top_values), false, huge);
   y_.assign(static_cast<std::size_t>(st_.n), 0.0);
   top_y_.assign(splits_ ? static_cast<std::size_t>(st_.n) : 0, 0.0);
   // Two threads' work spaces at least, whatever the count now (it may grow before factorize).
@@ -252,8 +253,7 @@ void SupernodalCholesky::solve_below(int s, int begin, int end) {
 }
 
 // A22 −= L21 L21ᵀ (its lower triangle) into the L panels of the supernodes that own the rows
-// below s: by columns, the diagonal and below. With `top_copy`, what goes to the top's panels
-// goes to their copy there instead.
+// below s: by columns, the diagonal and below (subtract_update).
 void SupernodalCholesky::scatter_update(int s, Work& work, double* top_copy) {
   const int w = st_.width(s), m = st_.below(s);
   if (m == 0) return;
@@ -267,23 +267,7 @@ void SupernodalCholesky::scatter_update(int s, Work& work, double* top_copy) {
     Eigen::Map<Eigen::MatrixXd> W(work.update.data(), m, m);
     W.triangularView<Eigen::Lower>() = Lb * Lb.transpose();
   }
-  const int* b = st_.rows.data() + st_.below_begin[s];
-  for (int g = st_.target_begin[s]; g < st_.target_begin[s + 1]; ++g) {
-    const SupernodalStructure::Target& tg = st_.targets[g];
-    const int t = tg.supernode, ft = st_.first[t];
-    const std::ptrdiff_t ldl = st_.width(t) + st_.below(t);
-    double* L = top_copy && split_.top_offset[t] >= 0 ? top_copy + split_.top_offset[t]
-                                                      : values_.data() + st_.l_panel[t];
-    const int* rel = st_.relative.data() + tg.rel - tg.begin;
-    int* run = work.runs.data();
-    const int count = find_runs(rel, tg.begin, m, run);
-    for (int j = tg.begin, r = 0; j < tg.end; ++j) {
-      while (run[r + 1] <= j) ++r;
-      double* Lc = L + (b[j] - ft) * ldl;
-      const double* Wj = work.update.data() + std::ptrdiff_t(j) * m;
-      subtract_runs(Lc, Wj, rel, run + r, count - r, j);
-    }
-  }
+  subtract_update(s, 0, m, m, work, top_copy);
 }
 
 // The update's columns [begin, end), the rows from begin down (the lower triangle of its top
@@ -297,13 +281,23 @@ void SupernodalCholesky::update_columns(int s, int begin, int end, Work& work) {
   const auto B = Lb.middleRows(begin, cols);
   W.topRows(cols).triangularView<Eigen::Lower>() = B * B.transpose();
   if (rows > cols) W.bottomRows(rows - cols).noalias() = Lb.bottomRows(rows - cols) * B.transpose();
+  subtract_update(s, begin, end, rows, work, nullptr);
+}
+
+// The update's columns [begin, end), held in work.update from row `begin` down (column j at
+// (j − begin) ldw, row i at i − begin), subtracted from the panels they reach. With
+// `top_copy`, what goes to the top's panels goes to their copy there instead.
+void SupernodalCholesky::subtract_update(int s, int begin, int end, std::ptrdiff_t ldw, Work& work,
+                                         double* top_copy) {
+  const int m = st_.below(s);
   const int* b = st_.rows.data() + st_.below_begin[s];
   for (int g = st_.target_begin[s]; g < st_.target_begin[s + 1]; ++g) {
     const SupernodalStructure::Target& tg = st_.targets[g];
     if (tg.end <= begin || tg.begin >= end) continue;
     const int t = tg.supernode, ft = st_.first[t];
     const std::ptrdiff_t ldl = st_.width(t) + st_.below(t);
-    double* L = values_.data() + st_.l_panel[t];
+    double* L = top_copy && split_.top_offset[t] >= 0 ? top_copy + split_.top_offset[t]
+                                                      : values_.data() + st_.l_panel[t];
     const int* rel = st_.relative.data() + tg.rel - tg.begin;
     const int first = std::max(tg.begin, begin);
     int* run = work.runs.data();
@@ -311,7 +305,7 @@ void SupernodalCholesky::update_columns(int s, int begin, int end, Work& work) {
     for (int j = first, r = 0; j < std::min(tg.end, end); ++j) {
       while (run[r + 1] <= j) ++r;
       double* Lc = L + (b[j] - ft) * ldl;
-      const double* Wj = work.update.data() + std::ptrdiff_t(j - begin) * rows - begin;
+      const double* Wj = work.update.data() + (j - begin) * ldw - begin;
       subtract_runs(Lc, Wj, rel, run + r, count - r, j);
     }
   }

@@ -79,6 +79,7 @@ class SupernodalCholesky final : public LinearSolver {
   void solve_below(int s, int begin, int end);
   void scatter_update(int s, Work& w, double* top_copy);
   void update_columns(int s, int begin, int end, Work& w);
+  void subtract_update(int s, int begin, int end, std::ptrdiff_t ldw, Work& w, double* top_copy);
   void factorize_split(const SparseMatrix& A);
   void forward(int s, double* y, double* top_y, Work& w);
   void backward(int s, double* y, Work& w);

@@ -55,7 +55,7 @@ struct SupernodalStructure {
   int supernodes() const { return static_cast<int>(first.size()) - 1; }
   int width(int s) const { return first[s + 1] - first[s]; }
   /// Whether A has the analysed pattern (its size and its number of stored entries: a
-  /// factorisation reads A's values through `entry`).
+  /// factorisation reads A's values through `entry`, or its own lists made from it).
   bool matches(const SparseMatrix& A) const { return A.rows() == n && A.nonZeros() == entries; }
   /// Cholesky flops of supernode s: its diagonal block, the rows below, its update's lower
   /// triangle.
