@@ -9,8 +9,9 @@
 namespace velum {
 namespace {
 
-constexpr int kChunk = 16;             // elements computed per kernel call
-constexpr int kMinParallelChunks = 8;  // chunks per colour worth a parallel region
+constexpr int kChunk = 16;                    // elements computed per kernel call
+constexpr int kMinParallelChunks = 8;         // chunks per colour worth a parallel region
+constexpr int kParallelPatternNodes = 20000;  // nodes worth building the pattern on all threads
 // A pass with no load vectors alongside (see Assembler::run).
 constexpr auto kNoLoad = [](std::span<const int>, double*, double*) { return false; };
 
@@ -62,16 +63,15 @@ void to_local_frames(const DofMap& dofs, std::span<const int> nodes, double* r, 
 // first process: the point masses' nodes, where masses and payload drag are added, and the
 // nodes of no element).
 void build_pattern(const Model& model, const DofMap& dofs, const std::vector<std::vector<int>>& own,
-                   const std::vector<int>& lone_nodes, std::vector<int>& outer,
-                   std::vector<int>& inner) {
+                   const std::vector<int>& lone_nodes, SparseMatrix& A) {
   const int nn = model.num_nodes(), neq = dofs.num_equations();
   std::vector<char> touched(nn, 0);
   for (size_t bi = 0; bi < model.blocks.size(); ++bi)
     for (int e : own[bi])
       for (int a : model.blocks[bi]->nodes(e)) touched[a] = 1;
   for (int n : lone_nodes) touched[n] = 1;
-  // Node adjacency with repeats, compressed: count, then fill.
-  std::vector<int> start(nn + 1, 0), adj, fill;
+  // Node adjacency with repeats: count, then fill.
+  std::vector<int> start(nn + 1, 0), end(nn), adj, fill;
   auto visit = [&](const auto& link) {
     for (int n = 0; n < nn; ++n)
       if (touched[n]) link(n, n);
@@ -86,42 +86,47 @@ void build_pattern(const Model& model, const DofMap& dofs, const std::vector<std
   adj.resize(start[nn]);
   fill.assign(start.begin(), start.end() - 1);
   visit([&](int a, int b) { adj[fill[a]++] = b; });
-  // Sorted, without repeats, compacted in place (each list only moves down).
-  int write = 0;
+  // Each node's list sorted, without repeats (its end moves down), and the length of the
+  // columns of its equations: the equations of its adjacent nodes.
+  std::vector<int> length(nn, 0);
+  const bool parallel = nn > kParallelPatternNodes;
+#pragma omp parallel for schedule(dynamic, 256) if (parallel)
   for (int n = 0; n < nn; ++n) {
     const auto first = adj.begin() + start[n], last = adj.begin() + start[n + 1];
     std::sort(first, last);
-    const auto end = std::unique(first, last);
-    start[n] = write;
-    write = static_cast<int>(std::copy(first, end, adj.begin() + write) - adj.begin());
+    end[n] = static_cast<int>(std::unique(first, last) - adj.begin());
+    for (int k = start[n]; k < end[n]; ++k)
+      for (int c = 0; c < 3; ++c) length[n] += dofs.equation(adj[k], c) >= 0;
   }
-  start[nn] = write;
-  // Equation columns: the equations of every adjacent node, sorted; the same for each
-  // equation of a node, so built once per node and copied.
-  std::vector<int> column;
-  outer.assign(neq + 1, 0);
-  inner.clear();
-  std::vector<std::pair<int, int>> eq_node;  // (equation, node), in equation order
+  // Sized exactly before it is filled (grown entry by entry, the copies and first touches of
+  // its reallocations were most of the time here).
+  std::vector<int> node_of(neq, -1);
   for (int n = 0; n < nn; ++n)
     for (int c = 0; c < 3; ++c)
-      if (dofs.equation(n, c) >= 0) eq_node.emplace_back(dofs.equation(n, c), n);
-  std::sort(eq_node.begin(), eq_node.end());
-  int built_for = -1;
-  for (const auto& [q, n] : eq_node) {
-    if (!touched[n]) {
-      outer[q + 1] = static_cast<int>(inner.size());
-      continue;
-    }
-    if (n != built_for) {
+      if (const int q = dofs.equation(n, c); q >= 0 && touched[n]) node_of[q] = n;
+  A.resize(neq, neq);
+  int* outer = A.outerIndexPtr();
+  outer[0] = 0;
+  for (int q = 0; q < neq; ++q)
+    outer[q + 1] = outer[q] + (node_of[q] >= 0 ? length[node_of[q]] : 0);
+  A.resizeNonZeros(outer[neq]);
+  int* inner = A.innerIndexPtr();
+  // A node's column, built once (sorted) and copied to each of its equations.
+#pragma omp parallel if (parallel)
+  {
+    std::vector<int> column;
+#pragma omp for schedule(dynamic, 256)
+    for (int n = 0; n < nn; ++n) {
+      if (length[n] == 0) continue;
       column.clear();
-      for (int k = start[n]; k < start[n + 1]; ++k)
+      for (int k = start[n]; k < end[n]; ++k)
         for (int c = 0; c < 3; ++c)
           if (const int i = dofs.equation(adj[k], c); i >= 0) column.push_back(i);
       std::sort(column.begin(), column.end());
-      built_for = n;
+      for (int c = 0; c < 3; ++c)
+        if (const int q = dofs.equation(n, c); q >= 0)
+          std::copy(column.begin(), column.end(), inner + outer[q]);
     }
-    inner.insert(inner.end(), column.begin(), column.end());
-    outer[q + 1] = static_cast<int>(inner.size());
   }
 }
 
@@ -226,13 +231,14 @@ Assembler::Assembler(const Model& model, const DofMap& dofs, ElementPartition pa
       if (holder[n] == -1) lone_nodes_.push_back(static_cast<int>(n));
     for (const auto& pm : model.masses) lone_nodes_.push_back(pm.node);
   }
-  std::vector<int> outer, inner, eqs;
-  build_pattern(model, dofs, own_, lone_nodes_, outer, inner);
-  nonzeros_ = static_cast<Eigen::Index>(inner.size());
+  std::vector<int> eqs;
+  build_pattern(model, dofs, own_, lone_nodes_, first_matrix_);
+  nonzeros_ = first_matrix_.nonZeros();
+  const int* outer = first_matrix_.outerIndexPtr();
+  const int* inner = first_matrix_.innerIndexPtr();
   auto position = [&](int row, int col) {
-    const int* lo = inner.data() + outer[col];
-    const int* hi = inner.data() + outer[col + 1];
-    return static_cast<int>(std::lower_bound(lo, hi, row) - inner.data());
+    return static_cast<int>(std::lower_bound(inner + outer[col], inner + outer[col + 1], row) -
+                            inner);
   };
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
     const auto& b = *model.blocks[bi];
@@ -328,12 +334,12 @@ SparseMatrix Assembler::make_matrix() const {
 }
 
 void Assembler::make_matrix(SparseMatrix& A) const {
-  std::vector<int> outer, inner;
-  build_pattern(model_, dofs_, own_, lone_nodes_, outer, inner);
-  A.resize(neq_, neq_);
-  A.resizeNonZeros(nonzeros());
-  std::copy(outer.begin(), outer.end(), A.outerIndexPtr());
-  std::copy(inner.begin(), inner.end(), A.innerIndexPtr());
+  if (first_matrix_.nonZeros() > 0) {
+    A.swap(first_matrix_);
+    first_matrix_ = SparseMatrix();  // A's old storage, if any
+  } else {
+    build_pattern(model_, dofs_, own_, lone_nodes_, A);
+  }
   std::fill(A.valuePtr(), A.valuePtr() + nonzeros(), 0.0);
 }
 

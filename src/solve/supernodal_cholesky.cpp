@@ -79,14 +79,15 @@ bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   }
   // Huge pages only for a split factorisation that will run on several threads (huge_pages.hpp).
   const bool huge = splits_ && omp_get_max_threads() > 1;
+  // Two threads' work spaces at least, whatever the count now (it may grow before factorize).
+  // Sized before first_touch, which shares the panels out by it.
+  work_.resize(splits_ ? std::max(2, omp_get_max_threads()) : 1);
   values_.assign(static_cast<std::size_t>(st_.values), !splits_, huge);
   if (splits_) first_touch();
   // Not cleared here: factorize_split clears it before each use.
   top_copy_.assign(static_cast<std::size_t>(split_.top_values), false, huge);
   y_.assign(static_cast<std::size_t>(st_.n), 0.0);
   top_y_.assign(splits_ ? static_cast<std::size_t>(st_.n) : 0, 0.0);
-  // Two threads' work spaces at least, whatever the count now (it may grow before factorize).
-  work_.resize(splits_ ? std::max(2, omp_get_max_threads()) : 1);
   const std::size_t mb = static_cast<std::size_t>(std::max(st_.most_below, 1));
   for (Work& w : work_) {
     w.update.assign(mb * mb, 0.0);

@@ -40,7 +40,8 @@ class Assembler {
             ElementPartition partition = ElementPartition::kRows);
 
   /// A matrix over the equations with the full pattern and zero values (the pattern is
-  /// rebuilt from the mesh: the assembler keeps only the positions it scatters to).
+  /// rebuilt from the mesh, but for the first call: the assembler keeps only the positions it
+  /// scatters to).
   SparseMatrix make_matrix() const;
   /// The same, into A (its storage reused where it fits, no temporary copy).
   void make_matrix(SparseMatrix& A) const;
@@ -164,6 +165,8 @@ class Assembler {
   std::vector<int> shared_list_;           // shared_node_list()
   std::vector<Colors> colors_;             // per block: own elements
   std::vector<std::vector<int>> scatter_;  // per block: own x dofs² positions
+  mutable SparseMatrix first_matrix_;      // the pattern built for scatter_, given to the first
+                                           // make_matrix (later ones build it again)
   std::vector<Colors> pressure_colors_;    // per pressure load
   std::vector<char> covers_block_;         // per pressure load
   struct GasPart {
