@@ -88,12 +88,9 @@ bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   top_copy_.assign(static_cast<std::size_t>(split_.top_values), false, huge);
   y_.assign(static_cast<std::size_t>(st_.n), 0.0);
   top_y_.assign(splits_ ? static_cast<std::size_t>(st_.n) : 0, 0.0);
-  const std::size_t mb = static_cast<std::size_t>(std::max(st_.most_below, 1));
-  for (Work& w : work_) {
-    w.update.assign(mb * mb, 0.0);
-    w.gather.assign(mb, 0.0);
-    w.runs.assign(mb + 1, 0);
-  }
+  // Each work space is made by the thread that uses it, at its first factorisation
+  // (Work::make): its first touches then run on that thread, not all on this one.
+  for (Work& w : work_) w = Work{};
   status_.clear();
   return true;
 }
@@ -116,6 +113,7 @@ bool SupernodalCholesky::factorize(const SparseMatrix& A) {
     factorize_split(A);
   } else {
     Work& w = work_[0];
+    w.make(st_.most_below);
     for (int s = 0; s < st_.supernodes() && !w.failed; ++s) {
       start_panels(s, A);
       if (!factor_diagonal(s, w)) break;
@@ -325,6 +323,7 @@ void SupernodalCholesky::factorize_split(const SparseMatrix& A) {
   {
     const int me = omp_get_thread_num(), team = omp_get_num_threads();
     Work& work = work_[me];
+    work.make(st_.most_below);
 #pragma omp for schedule(static)
     for (std::ptrdiff_t c = 0; c < nc; c += kClearChunk)
       std::fill(copy + c, copy + std::min(nc, c + kClearChunk), 0.0);
@@ -434,6 +433,7 @@ void SupernodalCholesky::solve_split() {
   {
     const int me = omp_get_thread_num(), team = omp_get_num_threads();
     Work& work = work_[me];
+    work.make(st_.most_below);  // a thread that sat out the factorisation
 #pragma omp for schedule(static)
     for (int k = 0; k < ntop; ++k)
       for (int j = st_.first[split_.top[k]]; j < st_.first[split_.top[k] + 1]; ++j) top_y[j] = 0;

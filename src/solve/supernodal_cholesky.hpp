@@ -66,6 +66,14 @@ class SupernodalCholesky final : public LinearSolver {
     double smallest = 0, largest = 0;
     bool failed = false;
     std::string status;
+    /// Sized for updates of up to `most_below` rows (first call after an analysis only).
+    void make(int most_below) {
+      const std::size_t mb = static_cast<std::size_t>(std::max(most_below, 1));
+      if (runs.size() == mb + 1) return;
+      update.assign(mb * mb, 0.0);
+      gather.assign(mb, 0.0);
+      runs.assign(mb + 1, 0);
+    }
   };
 
   struct Load {  ///< an entry of A and its place in its supernode's panel

@@ -157,18 +157,18 @@ class Assembler {
   ElementPartition partition_ = ElementPartition::kRows;
   std::string partition_note_;
   long shared_nodes_ = 0;
-  mutable bool share_only_ = false;        // a LocalShare is alive
-  std::vector<std::vector<int>> own_;      // per block: this process's elements, ascending
-  std::vector<std::vector<int>> local_;    // per block: element -> index into own_ (-1: not)
-  std::vector<char> node_kept_;            // per node: keeps_node (empty on one process)
-  std::vector<int> lone_nodes_;            // own diagonal blocks, no own element: Assembler()
-  std::vector<int> shared_list_;           // shared_node_list()
-  std::vector<Colors> colors_;             // per block: own elements
-  std::vector<std::vector<int>> scatter_;  // per block: own x dofs² positions
-  mutable SparseMatrix first_matrix_;      // the pattern built for scatter_, given to the first
-                                           // make_matrix (later ones build it again)
-  std::vector<Colors> pressure_colors_;    // per pressure load
-  std::vector<char> covers_block_;         // per pressure load
+  mutable bool share_only_ = false;              // a LocalShare is alive
+  std::vector<std::vector<int>> own_;            // per block: this process's elements, ascending
+  std::vector<std::vector<int>> local_;          // per block: element -> index into own_ (-1: not)
+  std::vector<char> node_kept_;                  // per node: keeps_node (empty on one process)
+  std::vector<int> lone_nodes_;                  // own diagonal blocks, no own element: Assembler()
+  std::vector<int> shared_list_;                 // shared_node_list()
+  std::vector<Colors> colors_;                   // per block: own elements
+  std::vector<std::unique_ptr<int[]>> scatter_;  // per block: own x dofs² positions
+  mutable SparseMatrix first_matrix_;    // the pattern built for scatter_, given to the first
+                                         // make_matrix (later ones build it again)
+  std::vector<Colors> pressure_colors_;  // per pressure load
+  std::vector<char> covers_block_;       // per pressure load
   struct GasPart {
     Colors colors;
     std::vector<int> own;  // its elements this process computes
