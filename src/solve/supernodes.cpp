@@ -7,30 +7,29 @@
 namespace velum {
 namespace {
 
-// The strictly upper part of P (A + Aᵀ) Pᵀ by column: column c holds the rows r < c, sorted,
-// each once (A's pattern may hold (i, j) without (j, i)).
-struct UpperPattern {
+// A symmetric pattern by column: column c holds rows[begin[c] .. begin[c + 1]).
+struct Pattern {
   std::vector<int> begin, rows;
 };
 
-UpperPattern upper_pattern(const SparseMatrix& A, const std::vector<int>& pos) {
-  const int n = static_cast<int>(A.cols());
-  const int* outer = A.outerIndexPtr();
-  const int* inner = A.innerIndexPtr();
-  std::vector<int> count(n + 1, 0);
-  for (int j = 0; j < n; ++j)
+// The strictly upper part of P (G + Gᵀ) Pᵀ by column, for the pattern G of m columns given by
+// (outer, inner) and P: column c holds the rows r < c, each once (G may hold (i, j) without
+// (j, i)).
+Pattern upper_pattern(const int* outer, const int* inner, int m, const std::vector<int>& pos) {
+  std::vector<int> count(m + 1, 0);
+  for (int j = 0; j < m; ++j)
     for (int k = outer[j]; k < outer[j + 1]; ++k)
       if (const int r = pos[inner[k]], c = pos[j]; r != c) ++count[std::max(r, c) + 1];
   std::partial_sum(count.begin(), count.end(), count.begin());
-  std::vector<int> rows(count[n]), next(count.begin(), count.end() - 1);
-  for (int j = 0; j < n; ++j)
+  std::vector<int> rows(count[m]), next(count.begin(), count.end() - 1);
+  for (int j = 0; j < m; ++j)
     for (int k = outer[j]; k < outer[j + 1]; ++k)
       if (const int r = pos[inner[k]], c = pos[j]; r != c)
         rows[next[std::max(r, c)]++] = std::min(r, c);
-  UpperPattern up;
-  up.begin.assign(n + 1, 0);
+  Pattern up;
+  up.begin.assign(m + 1, 0);
   int kept = 0;
-  for (int c = 0; c < n; ++c) {
+  for (int c = 0; c < m; ++c) {
     const auto b = rows.begin() + count[c], e = rows.begin() + count[c + 1];
     std::sort(b, e);
     const auto u = std::unique(b, e);
@@ -42,8 +41,25 @@ UpperPattern upper_pattern(const SparseMatrix& A, const std::vector<int>& pos) {
   return up;
 }
 
+// The same upper pattern with its columns and rows renumbered by rank, when rank keeps every
+// row before its column (a postorder of the elimination tree does: the column is an
+// ancestor of the row). Rows within a column are not sorted again: no one needs them sorted.
+Pattern relabel(const Pattern& up, const std::vector<int>& rank) {
+  const int m = static_cast<int>(rank.size());
+  Pattern out;
+  out.begin.assign(m + 1, 0);
+  for (int c = 0; c < m; ++c) out.begin[rank[c] + 1] = up.begin[c + 1] - up.begin[c];
+  std::partial_sum(out.begin.begin(), out.begin.end(), out.begin.begin());
+  out.rows.resize(up.rows.size());
+  for (int c = 0; c < m; ++c) {
+    int* to = out.rows.data() + out.begin[rank[c]];
+    for (int p = up.begin[c]; p < up.begin[c + 1]; ++p) *to++ = rank[up.rows[p]];
+  }
+  return out;
+}
+
 // Elimination tree (Liu's algorithm with path compression).
-std::vector<int> elimination_tree(const UpperPattern& up) {
+std::vector<int> elimination_tree(const Pattern& up) {
   const int n = static_cast<int>(up.begin.size()) - 1;
   std::vector<int> parent(n, -1), ancestor(n, -1);
   for (int k = 0; k < n; ++k)
@@ -86,7 +102,7 @@ std::vector<int> postorder(const std::vector<int>& parent) {
 // Walks the row subtrees of L (row i of L: the etree paths from the entries of row i of A up to
 // i), calling visit(j, i) for every off-diagonal entry L(i, j), rows in ascending order.
 template <class Visit>
-void walk_rows(const UpperPattern& up, const std::vector<int>& parent, Visit&& visit) {
+void walk_rows(const Pattern& up, const std::vector<int>& parent, Visit&& visit) {
   const int n = static_cast<int>(parent.size());
   std::vector<int> mark(n, -1);
   for (int i = 0; i < n; ++i) {
@@ -99,10 +115,134 @@ void walk_rows(const UpperPattern& up, const std::vector<int>& parent, Visit&& v
   }
 }
 
+// The nodes of A: runs of consecutive columns with the same pattern in A and consecutive
+// positions (a membrane node's three equations), when every block of A between two nodes is
+// dense or empty and every node's own block dense; then the pattern of A + Aᵀ is that of the
+// node graph's, each node a clique, and the elimination tree, the postorder and the column
+// counts of L follow from the node graph's (a ninth of the edges for 3 x 3 blocks). Empty
+// when A has no such nodes (each column is then its own node).
+struct Nodes {
+  std::vector<int> first;  ///< columns of node g: [first[g], first[g + 1])
+  Pattern graph;           ///< the node graph by column, from A's (not symmetrised)
+};
+
+Nodes find_nodes(const SparseMatrix& A, const std::vector<int>& pos) {
+  const int n = static_cast<int>(A.cols());
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  auto same_pattern = [&](int a, int b) {
+    const int la = outer[a + 1] - outer[a];
+    if (la != outer[b + 1] - outer[b]) return false;
+    return std::equal(inner + outer[a], inner + outer[a + 1], inner + outer[b]);
+  };
+  Nodes nodes;
+  std::vector<int> node_of(n);
+  nodes.first.push_back(0);
+  for (int j = 0; j < n; ++j) {
+    if (j > nodes.first.back() && !(pos[j] == pos[j - 1] + 1 && same_pattern(j - 1, j)))
+      nodes.first.push_back(j);
+    node_of[j] = static_cast<int>(nodes.first.size()) - 1;
+  }
+  const int m = static_cast<int>(nodes.first.size());
+  nodes.first.push_back(n);
+  if (m == n) return {};
+  Pattern& g = nodes.graph;
+  g.begin.assign(m + 1, 0);
+  g.rows.reserve(static_cast<std::size_t>(A.nonZeros()) / (n / m) + m);
+  for (int h = 0; h < m; ++h) {
+    const int j = nodes.first[h];
+    int covered = 0;  // A's rows in the nodes met: all of them when the blocks are dense
+    bool own = nodes.first[h + 1] - j == 1;
+    for (int k = outer[j]; k < outer[j + 1]; ++k)
+      if (const int r = node_of[inner[k]];
+          g.rows.size() == std::size_t(g.begin[h]) || g.rows.back() != r) {  // inner is sorted
+        g.rows.push_back(r);
+        covered += nodes.first[r + 1] - nodes.first[r];
+        own = own || r == h;
+      }
+    if (covered != outer[j + 1] - outer[j] || !own) return {};
+    g.begin[h + 1] = static_cast<int>(g.rows.size());
+  }
+  return nodes;
+}
+
+// The elimination order after a postorder of the elimination tree (pos: given, then that),
+// the tree's parents, the count of each column of L with its diagonal, and the upper
+// pattern of the node graph in that order with each node's columns (or of A's, for no nodes).
+struct Tree {
+  std::vector<int> parent;
+  std::vector<long> count;
+  Pattern up;                    ///< of the nodes, in elimination order
+  std::vector<int> node_parent;  ///< the nodes' elimination tree
+  std::vector<int> node_first;   ///< columns of the k-th node in elimination order
+};
+
+// A postorder of the elimination tree keeps the fill and numbers every subtree, so every
+// supernode with its parent, contiguously.
+Tree elimination(const SparseMatrix& A, std::vector<int>& pos, bool by_nodes) {
+  const int n = static_cast<int>(A.cols());
+  Tree tree;
+  Nodes nodes = by_nodes ? find_nodes(A, pos) : Nodes{};
+  const bool scalar = nodes.first.empty();
+  const int m = scalar ? n : static_cast<int>(nodes.first.size()) - 1;
+  // The nodes' positions among the nodes, and sizes.
+  std::vector<int> npos(m), size(m, 1);
+  if (scalar) {
+    npos = pos;
+  } else {
+    std::vector<int> at(n, -1);
+    for (int g = 0; g < m; ++g) at[pos[nodes.first[g]]] = g;
+    for (int p = 0, k = 0; p < n; ++p)
+      if (at[p] >= 0) npos[at[p]] = k++;
+    for (int g = 0; g < m; ++g) size[g] = nodes.first[g + 1] - nodes.first[g];
+  }
+  const Pattern first_up =
+      scalar ? upper_pattern(A.outerIndexPtr(), A.innerIndexPtr(), n, npos)
+             : upper_pattern(nodes.graph.begin.data(), nodes.graph.rows.data(), m, npos);
+  nodes.graph = {};
+  std::vector<int> parent = elimination_tree(first_up);
+  std::vector<int> rank(m);
+  {
+    const std::vector<int> post = postorder(parent);
+    for (int k = 0; k < m; ++k) rank[post[k]] = k;
+  }
+  tree.up = relabel(first_up, rank);
+  std::vector<int> node_parent(m);
+  for (int k = 0; k < m; ++k) node_parent[rank[k]] = parent[k] == -1 ? -1 : rank[parent[k]];
+  std::vector<int> node_at(m);  // node_at[k] = the node eliminated k-th
+  for (int g = 0; g < m; ++g) node_at[rank[npos[g]]] = g;
+  tree.node_first.assign(m + 1, 0);
+  for (int k = 0; k < m; ++k) tree.node_first[k + 1] = tree.node_first[k] + size[node_at[k]];
+  if (scalar) {
+    for (int& p : pos) p = rank[p];
+  } else {
+    for (int g = 0; g < m; ++g)
+      for (int j = nodes.first[g]; j < nodes.first[g + 1]; ++j)
+        pos[j] = tree.node_first[rank[npos[g]]] + (j - nodes.first[g]);
+  }
+  // Each node's columns are a chain; its last column's count from the node graph's row
+  // subtrees, the node's rows counted by their columns.
+  std::vector<long> below(m, 0);
+  walk_rows(tree.up, node_parent,
+            [&](int j, int i) { below[j] += tree.node_first[i + 1] - tree.node_first[i]; });
+  tree.parent.resize(n);
+  tree.count.resize(n);
+  for (int k = 0; k < m; ++k) {
+    const int b = tree.node_first[k], e = tree.node_first[k + 1];
+    for (int c = b; c < e; ++c) {
+      tree.parent[c] = c + 1;
+      tree.count[c] = below[k] + e - c;
+    }
+    tree.parent[e - 1] = node_parent[k] == -1 ? -1 : tree.node_first[node_parent[k]];
+  }
+  tree.node_parent = std::move(node_parent);
+  return tree;
+}
+
 }  // namespace
 
 SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<int>& position,
-                                       const Amalgamation& relax, Factor factor) {
+                                       const Amalgamation& relax, Factor factor, bool by_nodes) {
   const bool lu = factor == Factor::kLu;
   SupernodalStructure st;
   const int n = st.n = static_cast<int>(A.cols());
@@ -111,20 +251,11 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
     pos.resize(n);
     std::iota(pos.begin(), pos.end(), 0);
   }
-  // A postorder of the elimination tree keeps the fill and numbers every subtree, so every
-  // supernode with its parent, contiguously.
-  {
-    const std::vector<int> post = postorder(elimination_tree(upper_pattern(A, pos)));
-    std::vector<int> rank(n);
-    for (int k = 0; k < n; ++k) rank[post[k]] = k;
-    for (int& p : pos) p = rank[p];
-  }
+  const Tree tree = elimination(A, pos, by_nodes);
+  const std::vector<int>& parent = tree.parent;
+  const std::vector<long>& count = tree.count;  // entries in each column of L, with the diagonal
   st.order.resize(n);
   for (int i = 0; i < n; ++i) st.order[pos[i]] = i;
-  const UpperPattern up = upper_pattern(A, pos);
-  const std::vector<int> parent = elimination_tree(up);
-  std::vector<long> count(n, 1);  // entries in each column of L, the diagonal included
-  walk_rows(up, parent, [&](int j, int) { ++count[j]; });
 
   // Fundamental supernodes: column j continues j − 1's when it is its parent and its structure
   // is the same less one row.
@@ -183,9 +314,13 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
     st.below_begin[s + 1] = st.below_begin[s] + static_cast<int>(count[st.first[s + 1] - 1] - 1);
   st.rows.resize(st.below_begin[ns]);
   {
+    // A supernode ends with a node (its columns are a chain of one fundamental supernode):
+    // the rows below it are the columns of the nodes in its last node's row subtrees.
     std::vector<int> next(st.below_begin.begin(), st.below_begin.end() - 1);
-    walk_rows(up, parent, [&](int j, int i) {
-      if (const int s = snode_of[j]; j == st.first[s + 1] - 1) st.rows[next[s]++] = i;
+    const std::vector<int>& nf = tree.node_first;
+    walk_rows(tree.up, tree.node_parent, [&](int j, int i) {
+      if (const int s = snode_of[nf[j]]; nf[j + 1] == st.first[s + 1])
+        for (int r = nf[i]; r < nf[i + 1]; ++r) st.rows[next[s]++] = r;
     });
   }
 

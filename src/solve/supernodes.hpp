@@ -68,10 +68,14 @@ struct SupernodalStructure {
 
 /// position[i] = the pivot position of equation i (nested_dissection), or empty for the
 /// natural order. The pattern read is that of A + Aᵀ. Factor::kCholesky: L's panels only (A's
-/// entries above the diagonal blocks are not read), and Cholesky's flop count.
+/// entries above the diagonal blocks are not read), and Cholesky's flop count. by_nodes: the
+/// elimination tree and L's structure found on the graph of A's nodes (runs of columns with one
+/// pattern, a membrane node's equations) where A has them, the same structure as from the graph
+/// of its equations (false: always from that, to check against) in a ninth of the work.
 enum class Factor { kLu, kCholesky };
 SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<int>& position,
-                                       const Amalgamation& relax = {}, Factor factor = Factor::kLu);
+                                       const Amalgamation& relax = {}, Factor factor = Factor::kLu,
+                                       bool by_nodes = true);
 
 // Eigen splits a matrix product over OpenMP threads when the program has several: on panels
 // this small (a few dozen rows) that costs more than it saves (on the C9 canopy's Jacobian,
