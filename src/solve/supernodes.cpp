@@ -346,27 +346,43 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
     assert(it != e && *it == r);
     return st.width(t) + static_cast<int>(it - b);
   };
+  // where[r] = place(t, r) for the rows r of the supernode t at hand: filled supernode by
+  // supernode, each entry of A and each update row found without a search.
+  std::vector<int> where(n);
+  auto rows_of = [&](int t) {
+    for (int r = st.first[t]; r < st.first[t + 1]; ++r) where[r] = r - st.first[t];
+    for (int k = st.below_begin[t]; k < st.below_begin[t + 1]; ++k)
+      where[st.rows[k]] = st.width(t) + (k - st.below_begin[t]);
+  };
+  // A's entries by the supernode of their column (in L) or row (U, above the diagonal blocks).
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
   st.entry.resize(A.nonZeros());
   st.entries = A.nonZeros();
-  for (int j = 0; j < n; ++j)
-    for (int k = outer[j]; k < outer[j + 1]; ++k) {
-      const int r = pos[inner[k]], c = pos[j];
-      if (r >= c || snode_of[r] == snode_of[c]) {
-        const int t = snode_of[c];
-        st.entry[k] = st.l_panel[t] + place(t, r) +
-                      std::ptrdiff_t(c - st.first[t]) * (st.width(t) + st.below(t));
-      } else if (!lu) {
-        st.entry[k] = -1;
-      } else {
-        const int t = snode_of[r];
-        st.entry[k] = st.u_panel[t] + (place(t, c) - st.width(t)) +
-                      std::ptrdiff_t(r - st.first[t]) * st.below(t);
+  for (int t = 0; t < ns; ++t) {
+    rows_of(t);
+    const std::ptrdiff_t ld = st.width(t) + st.below(t);
+    for (int c = st.first[t]; c < st.first[t + 1]; ++c) {
+      const int j = st.order[c];
+      for (int k = outer[j]; k < outer[j + 1]; ++k) {
+        const int r = pos[inner[k]];
+        if (r >= c || snode_of[r] == t) {
+          st.entry[k] = st.l_panel[t] + where[r] + std::ptrdiff_t(c - st.first[t]) * ld;
+        } else if (!lu) {
+          st.entry[k] = -1;
+        } else {
+          const int u = snode_of[r];
+          st.entry[k] = st.u_panel[u] + (place(u, c) - st.width(u)) +
+                        std::ptrdiff_t(r - st.first[u]) * st.below(u);
+        }
       }
     }
-  // Update targets: the rows below s, in runs that fall in one supernode each.
+  }
+  // Update targets: the rows below s, in runs that fall in one supernode each; their places
+  // in each target found target by target.
   st.target_begin.assign(ns + 1, 0);
+  std::vector<int> source;
+  std::ptrdiff_t relatives = 0;
   for (int s = 0; s < ns; ++s) {
     const int* b = st.rows.data() + st.below_begin[s];
     const int m = st.below(s);
@@ -374,11 +390,32 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
       const int t = snode_of[b[i]];
       int end = i;
       while (end < m && b[end] < st.first[t + 1]) ++end;
-      st.targets.push_back({t, i, end, static_cast<std::ptrdiff_t>(st.relative.size())});
-      for (int r = i; r < m; ++r) st.relative.push_back(place(t, b[r]));
+      st.targets.push_back({t, i, end, relatives});
+      source.push_back(s);
+      relatives += m - i;
       i = end;
     }
     st.target_begin[s + 1] = static_cast<int>(st.targets.size());
+  }
+  const int nt = static_cast<int>(st.targets.size());
+  std::vector<int> reaching_begin(ns + 1, 0), reaching(nt);
+  for (const auto& g : st.targets) ++reaching_begin[g.supernode + 1];
+  std::partial_sum(reaching_begin.begin(), reaching_begin.end(), reaching_begin.begin());
+  {
+    std::vector<int> next(reaching_begin.begin(), reaching_begin.end() - 1);
+    for (int g = 0; g < nt; ++g) reaching[next[st.targets[g].supernode]++] = g;
+  }
+  st.relative.resize(relatives);
+  for (int t = 0; t < ns; ++t) {
+    if (reaching_begin[t] == reaching_begin[t + 1]) continue;
+    rows_of(t);
+    for (int q = reaching_begin[t]; q < reaching_begin[t + 1]; ++q) {
+      const SupernodalStructure::Target& g = st.targets[reaching[q]];
+      const int s = source[reaching[q]];
+      const int* b = st.rows.data() + st.below_begin[s];
+      int* to = st.relative.data() + g.rel;
+      for (int r = g.begin; r < st.below(s); ++r) *to++ = where[b[r]];
+    }
   }
   return st;
 }
