@@ -73,7 +73,7 @@ bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   st_ = analyse_supernodes(A, nested_dissection(A), relax_, Factor::kCholesky);
   splits_ = st_.flops >= split_flops_;
   split_ = splits_ ? split_tree(st_) : TreeSplit{};
-  if (!plan_panels(A)) {
+  if (!plan_panels()) {
     status_ = "supernodal Cholesky: a supernode's panel holds more than 2^31 values";
     return false;
   }
@@ -165,7 +165,7 @@ void SupernodalCholesky::first_touch() {
 // no update reaches), so that it is in cache when the updates arrive, rather than all panels in
 // one pass first (a pass over all of them through memory, 164 MB for 150k equations). With a
 // split, the top's panels (reached from both groups) are started before the groups start.
-bool SupernodalCholesky::plan_panels(const SparseMatrix& A) {
+bool SupernodalCholesky::plan_panels() {
   const int ns = st_.supernodes();
   std::vector<int> start_at(static_cast<std::size_t>(ns));
   for (int t = 0; t < ns; ++t) start_at[t] = t;
@@ -180,31 +180,11 @@ bool SupernodalCholesky::plan_panels(const SparseMatrix& A) {
   std::vector<int> next(start_begin_.begin(), start_begin_.end() - 1);
   for (int t = 0; t < ns; ++t)
     if (!splits_ || split_.group[t] != TreeSplit::kTop) starts_[next[start_at[t]]++] = t;
-  // A's entries by the panel they go to, each with its place in it. Every stored entry of A's
-  // column order[k] lands in the panel of the supernode of column k (or nowhere: -1, above the
-  // diagonal blocks), so the panels' lists come from their columns, counted then filled.
-  const int* outer = A.outerIndexPtr();
-  auto each_entry = [&](int t, const auto& visit) {
-    for (int k = st_.first[t]; k < st_.first[t + 1]; ++k)
-      for (int p = outer[st_.order[k]]; p < outer[st_.order[k] + 1]; ++p)
-        if (st_.entry[p] >= 0) visit(p, st_.entry[p] - st_.l_panel[t]);
-  };
-  load_begin_.assign(static_cast<std::size_t>(ns) + 1, 0);
-  for (int t = 0; t < ns; ++t) {
-    load_begin_[t + 1] = load_begin_[t];
-    each_entry(t, [&](int, std::ptrdiff_t) { ++load_begin_[t + 1]; });
-  }
-  loads_.resize(static_cast<std::size_t>(load_begin_[ns]));
-  bool fits = true;
-  for (int t = 0; t < ns; ++t) {
-    Load* next = loads_.data() + load_begin_[t];
-    each_entry(t, [&](int p, std::ptrdiff_t at) {
-      fits = fits && at <= std::numeric_limits<int>::max();
-      *next++ = {p, static_cast<int>(at)};
-    });
-  }
-  if (!fits) return false;
-  st_.entry = {};  // loads_ says the same, panel by panel
+  // A's entries by the panel they go to, each with its place in it (analyse_supernodes made
+  // the lists: empty when a panel's places do not fit in an int).
+  if (st_.load_begin.empty()) return false;
+  load_begin_ = std::move(st_.load_begin);
+  loads_ = std::move(st_.loads);
   return true;
 }
 

@@ -76,10 +76,8 @@ class SupernodalCholesky final : public LinearSolver {
     }
   };
 
-  struct Load {  ///< an entry of A and its place in its supernode's panel
-    int a, at;
-  };
-  bool plan_panels(const SparseMatrix& A);
+  using Load = SupernodalStructure::Load;
+  bool plan_panels();
   void first_touch();
   void start_panel(int t, const double* a);
   void start_panels(int s, const SparseMatrix& A);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <limits>
 #include <numeric>
 
 namespace velum {
@@ -357,8 +358,16 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
   // A's entries by the supernode of their column (in L) or row (U, above the diagonal blocks).
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
-  st.entry.resize(A.nonZeros());
   st.entries = A.nonZeros();
+  bool loads = !lu;  // Cholesky: each panel's list, when every panel's places fit in an int
+  for (int t = 0; t < ns && loads; ++t)
+    loads = std::ptrdiff_t(st.width(t) + st.below(t)) * st.width(t) <=
+            std::ptrdiff_t(std::numeric_limits<int>::max()) + 1;
+  if (lu) st.entry.resize(A.nonZeros());
+  if (loads) {
+    st.load_begin.assign(ns + 1, 0);
+    st.loads.reserve(static_cast<std::size_t>(A.nonZeros() + n) / 2);
+  }
   for (int t = 0; t < ns; ++t) {
     rows_of(t);
     const std::ptrdiff_t ld = st.width(t) + st.below(t);
@@ -366,10 +375,12 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
       const int j = st.order[c];
       for (int k = outer[j]; k < outer[j + 1]; ++k) {
         const int r = pos[inner[k]];
-        if (r >= c || snode_of[r] == t) {
+        if (!lu) {
+          if (loads && (r >= c || snode_of[r] == t))
+            st.loads.push_back(
+                {k, static_cast<int>(where[r] + std::ptrdiff_t(c - st.first[t]) * ld)});
+        } else if (r >= c || snode_of[r] == t) {
           st.entry[k] = st.l_panel[t] + where[r] + std::ptrdiff_t(c - st.first[t]) * ld;
-        } else if (!lu) {
-          st.entry[k] = -1;
         } else {
           const int u = snode_of[r];
           st.entry[k] = st.u_panel[u] + (place(u, c) - st.width(u)) +
@@ -377,6 +388,7 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
         }
       }
     }
+    if (loads) st.load_begin[t + 1] = static_cast<int>(st.loads.size());
   }
   // Update targets: the rows below s, in runs that fall in one supernode each; their places
   // in each target found target by target.

@@ -42,11 +42,16 @@ struct SupernodalStructure {
   std::vector<std::ptrdiff_t> u_panel;  ///< below x width, column-major: U's rows, transposed
                                         ///< (empty for a Cholesky factorisation)
   std::ptrdiff_t values = 0;            ///< size of the panels together
-  std::vector<std::ptrdiff_t> entry;    ///< A's k-th stored value -> its place in the panels
-                                        ///< (-1: above the diagonal blocks, in Cholesky; may
-                                        ///< be released by a factorisation that keeps its own)
-  std::ptrdiff_t entries = 0;           ///< A's stored values (entry's size as made)
-  std::vector<int> target_begin;        ///< targets of s: targets[target_begin[s] .. [s+1])
+  std::vector<std::ptrdiff_t> entry;    ///< LU: A's k-th stored value -> its place in the
+                                        ///< panels
+  struct Load {                         ///< Cholesky: A's stored value a, at its place in
+    int a, at;                          ///< its supernode's L panel
+  };
+  std::vector<int> load_begin;    ///< Cholesky: A's values in t's panel: loads[load_begin[t] ..
+  std::vector<Load> loads;        ///< [t + 1]) (A's values above the diagonal blocks in none;
+                                  ///< both empty when a panel holds more than 2^31 values)
+  std::ptrdiff_t entries = 0;     ///< A's stored values
+  std::vector<int> target_begin;  ///< targets of s: targets[target_begin[s] .. [s+1])
   std::vector<Target> targets;
   std::vector<int> relative;
   int widest = 0, most_below = 0;  ///< largest width and below count (work sizes)
@@ -55,7 +60,8 @@ struct SupernodalStructure {
   int supernodes() const { return static_cast<int>(first.size()) - 1; }
   int width(int s) const { return first[s + 1] - first[s]; }
   /// Whether A has the analysed pattern (its size and its number of stored entries: a
-  /// factorisation reads A's values through `entry`, or its own lists made from it).
+  /// factorisation reads A's values through `entry` or `loads`, or its own lists made from
+  /// them).
   bool matches(const SparseMatrix& A) const { return A.rows() == n && A.nonZeros() == entries; }
   /// Cholesky flops of supernode s: its diagonal block, the rows below, its update's lower
   /// triangle.

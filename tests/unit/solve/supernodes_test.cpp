@@ -54,6 +54,12 @@ void expect_same(const SupernodalStructure& a, const SupernodalStructure& b) {
   EXPECT_EQ(a.l_panel, b.l_panel);
   EXPECT_EQ(a.u_panel, b.u_panel);
   EXPECT_EQ(a.entry, b.entry);
+  EXPECT_EQ(a.load_begin, b.load_begin);
+  ASSERT_EQ(a.loads.size(), b.loads.size());
+  for (std::size_t k = 0; k < a.loads.size(); ++k) {
+    EXPECT_EQ(a.loads[k].a, b.loads[k].a);
+    EXPECT_EQ(a.loads[k].at, b.loads[k].at);
+  }
   EXPECT_EQ(a.target_begin, b.target_begin);
   ASSERT_EQ(a.targets.size(), b.targets.size());
   for (std::size_t k = 0; k < a.targets.size(); ++k) {
