@@ -167,9 +167,9 @@ Nodes find_nodes(const SparseMatrix& A, const std::vector<int>& pos) {
   return nodes;
 }
 
-// The elimination order after a postorder of the elimination tree (pos: given, then that),
-// the tree's parents, the count of each column of L with its diagonal, and the upper
-// pattern of the node graph in that order with each node's columns (or of A's, for no nodes).
+// L's elimination tree by column, the count of each column of L with its diagonal, and the
+// node graph's upper pattern, tree and columns (A's own, a node per column, when A has no
+// nodes), all in the elimination order that elimination() leaves in pos.
 struct Tree {
   std::vector<int> parent;
   std::vector<long> count;
@@ -178,8 +178,8 @@ struct Tree {
   std::vector<int> node_first;   ///< columns of the k-th node in elimination order
 };
 
-// A postorder of the elimination tree keeps the fill and numbers every subtree, so every
-// supernode with its parent, contiguously.
+// pos: the given order, replaced by a postorder of its elimination tree (which keeps the fill
+// and numbers every subtree, so every supernode with its parent, contiguously).
 Tree elimination(const SparseMatrix& A, std::vector<int>& pos, bool by_nodes) {
   const int n = static_cast<int>(A.cols());
   Tree tree;
