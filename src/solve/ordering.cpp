@@ -2,24 +2,26 @@
 
 #include <cholmod.h>
 
+#include <algorithm>
+
 namespace velum {
+
+bool same_rows(const SparseMatrix& A, int a, int b) {
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  return outer[a + 1] - outer[a] == outer[b + 1] - outer[b] &&
+         std::equal(inner + outer[a], inner + outer[a + 1], inner + outer[b]);
+}
 
 std::vector<int> nested_dissection(const SparseMatrix& A) {
   const int n = static_cast<int>(A.cols());
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
-  auto same_pattern = [&](int a, int b) {
-    const int la = outer[a + 1] - outer[a];
-    if (la != outer[b + 1] - outer[b]) return false;
-    for (int k = 0; k < la; ++k)
-      if (inner[outer[a] + k] != inner[outer[b] + k]) return false;
-    return true;
-  };
   // Supervariables: runs of consecutive columns with the same rows (a node's equations are
   // numbered together).
   std::vector<int> first{0}, group(n);
   for (int j = 0; j < n; ++j) {
-    if (j > first.back() && !same_pattern(first.back(), j)) first.push_back(j);
+    if (j > first.back() && !same_rows(A, first.back(), j)) first.push_back(j);
     group[j] = static_cast<int>(first.size()) - 1;
   }
   const int m = static_cast<int>(first.size());

@@ -10,6 +10,9 @@
 
 namespace velum {
 
+/// Whether columns a and b of A hold the same rows (a node's equations do).
+bool same_rows(const SparseMatrix& A, int a, int b);
+
 /// position[i] = the pivot position (0-based) of equation i; empty when METIS fails (the
 /// caller then lets its solver choose).
 std::vector<int> nested_dissection(const SparseMatrix& A);

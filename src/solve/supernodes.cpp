@@ -1,5 +1,7 @@
 #include "supernodes.hpp"
 
+#include "ordering.hpp"
+
 #include <algorithm>
 #include <cassert>
 #include <limits>
@@ -131,16 +133,11 @@ Nodes find_nodes(const SparseMatrix& A, const std::vector<int>& pos) {
   const int n = static_cast<int>(A.cols());
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
-  auto same_pattern = [&](int a, int b) {
-    const int la = outer[a + 1] - outer[a];
-    if (la != outer[b + 1] - outer[b]) return false;
-    return std::equal(inner + outer[a], inner + outer[a + 1], inner + outer[b]);
-  };
   Nodes nodes;
   std::vector<int> node_of(n);
   nodes.first.push_back(0);
   for (int j = 0; j < n; ++j) {
-    if (j > nodes.first.back() && !(pos[j] == pos[j - 1] + 1 && same_pattern(j - 1, j)))
+    if (j > nodes.first.back() && !(pos[j] == pos[j - 1] + 1 && same_rows(A, j - 1, j)))
       nodes.first.push_back(j);
     node_of[j] = static_cast<int>(nodes.first.size()) - 1;
   }
