@@ -8,6 +8,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "velum/solve/processes.hpp"
+
 namespace velum {
 
 std::unique_ptr<TimeIntegrator> make_integrator(const AnalysisSettings& s) {
@@ -86,17 +88,19 @@ class EnergyAccount {
       dW += 0.5 * ((R + R_prev_).array() * (U - U_prev_).array()).sum();
       R_prev_ = std::move(R);
     }
+    // Several processes: each process's forces are its share, nonzero only at nodes it holds.
+    dW = sys_.sum_over_processes(dW);
     E.external_work += dW;
     work_scale_ += std::abs(dW);
     // v·Mv once per step, kept for the next step's damping work (was three products).
     const double alpha = sys_.model().rayleigh_mass;
     const bool need = alpha != 0 || dynamic_;
-    const double vmv = need ? cur.v.dot(sys_.mass_times(cur.v)) : 0.0;
+    const double vmv = need ? sys_.dot(cur.v, sys_.mass_times(cur.v)) : 0.0;
     if (alpha != 0) {
-      if (std::isnan(vmv_prev_)) vmv_prev_ = v_prev_.dot(sys_.mass_times(v_prev_));
+      if (std::isnan(vmv_prev_)) vmv_prev_ = sys_.dot(v_prev_, sys_.mass_times(v_prev_));
       E.damping += 0.5 * st.h * alpha * (vmv + vmv_prev_);
     }
-    E.kinetic = dynamic_ && cur.v.squaredNorm() != 0 ? 0.5 * vmv : 0.0;  // kinetic_energy()
+    E.kinetic = dynamic_ && sys_.squared_norm(cur.v) != 0 ? 0.5 * vmv : 0.0;  // kinetic_energy()
     E.strain = sys_.strain_energy(st.t, cur.u);
     U_prev_ = U, F_prev_ = F, v_prev_ = cur.v;
     vmv_prev_ = need ? vmv : kUnknown;
@@ -109,11 +113,27 @@ class EnergyAccount {
   /// which the trapezoidal work is only as good as the steps are fine (a softening truss in
   /// one step: 29% off), and no blow-up hides there.
   bool balanced() const { return dynamic_; }
+  // On several processes (a collective call) the whole arrays, as one process keeps them:
+  // the displacements of the nodes each process keeps, the forces' shares summed.
   void save(std::vector<double>& m) const {
     m.push_back(held0_);
     m.push_back(work_scale_);
-    for (const NodePositions* P : {&U_prev_, &F_prev_, &R_prev_}) put(m, P->data(), P->size());
-    put(m, v_prev_.data(), v_prev_.size());
+    if (!sys_.distributed()) {
+      for (const NodePositions* P : {&U_prev_, &F_prev_, &R_prev_}) put(m, P->data(), P->size());
+      put(m, v_prev_.data(), v_prev_.size());
+      return;
+    }
+    const Assembler& a = sys_.assembler();
+    for (const NodePositions* P : {&U_prev_, &F_prev_, &R_prev_}) {
+      NodePositions W = *P;
+      if (P == &U_prev_)
+        for (int n = 0; n < W.cols(); ++n)
+          if (!a.keeps_node(n)) W.col(n).setZero();
+      processes::sum(W.data(), static_cast<long>(W.size()));
+      put(m, W.data(), W.size());
+    }
+    const VecX v = sys_.to_global(v_prev_);
+    put(m, v.data(), v.size());
   }
   // Reads what save() wrote from m[at]; returns the position after it.
   size_t restore(const std::vector<double>& m, size_t at) {
@@ -126,7 +146,15 @@ class EnergyAccount {
     }
     v_prev_.resize(static_cast<Eigen::Index>(m.at(at)));
     vmv_prev_ = kUnknown;
-    return take(m, at, v_prev_.data(), v_prev_.size());
+    at = take(m, at, v_prev_.data(), v_prev_.size());
+    if (sys_.distributed()) {  // back to this process's shares and equations
+      const Assembler& a = sys_.assembler();
+      for (NodePositions* P : {&F_prev_, &R_prev_})
+        for (int n = 0; n < P->cols(); ++n)
+          if (!a.keeps_node(n)) P->col(n).setZero();
+      v_prev_ = sys_.to_local(v_prev_);
+    }
+    return at;
   }
 
  private:
@@ -166,14 +194,17 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
   auto solver = make_solver(sys, settings);
   result.integrator = integrator->name();
   result.solver = std::string(solver->name());
-  result.dofs = sys.size();
+  result.dofs = static_cast<int>(sys.global_size());
 
   State s;
   s.u = VecX::Zero(sys.size());
   s.v = VecX::Zero(sys.size());
   s.a = VecX::Zero(sys.size());
   if (start) s = *start;
-  if (resume) s = resume->state;
+  if (resume) {
+    s = resume->state;
+    s.u = sys.to_local(s.u), s.v = sys.to_local(s.v), s.a = sys.to_local(s.a);
+  }
   TimeLoopSettings loop = settings.time;
   if (resume) {
     loop.step = resume->loop.step;
@@ -188,6 +219,7 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
   Energies& E = result.energy;
   EnergyAccount energy(sys, settings.type == AnalysisSettings::Type::kDynamic, loop.t0, s, E);
   PlausibilityCheck plausible(sys.model());
+  plausible.share_nodes(sys.assembler());
   std::string implausible;
 
   const bool dynamic = settings.type == AnalysisSettings::Type::kDynamic;
@@ -197,7 +229,7 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
   if (resume) {  // the memory laid out by make_checkpoint below
     E = resume->energy;
     result.warnings = resume->warnings;
-    integrator->restore(resume->integrator);
+    integrator->restore(sys, resume->integrator);
     const std::vector<double>& m = resume->analysis;
     if (m.size() < 3) throw std::invalid_argument("checkpoint: no analysis memory");
     stability.restore(static_cast<int>(m[0]));
@@ -221,8 +253,13 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
               .cutbacks = st.cutbacks,
               .control = st.control ? *st.control : StepControlState{}};
     c.state = *current_state;
+    if (sys.distributed()) {  // whole, in the global numbering, on the first process
+      c.state.u = sys.to_global(c.state.u);
+      c.state.v = sys.to_global(c.state.v);
+      c.state.a = sys.to_global(c.state.a);
+    }
     c.energy = E;
-    c.integrator = integrator->save();
+    c.integrator = integrator->save(sys);
     c.analysis = {static_cast<double>(stability.last()), warned_fold ? 1.0 : 0.0, t_last};
     energy.save(c.analysis);
     c.warnings = result.warnings;
@@ -251,7 +288,7 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
       settings.path.method != PathSettings::Method::kLoadControl) {
     PathSettings path = settings.path;
     if (path.method == PathSettings::Method::kDisplacement)
-      path.equation = sys.dofs().equation(path.node, path.component);
+      path.equation = sys.dofs().global_equation(path.node, path.component);
     result.integrator = path.method == PathSettings::Method::kDisplacement ? "displacement control"
                         : path.constraint == PathSettings::Constraint::kRiks
                             ? "arc length (Riks)"

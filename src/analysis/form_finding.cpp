@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "velum/solve/processes.hpp"
+
 namespace velum {
 namespace {
 
@@ -93,7 +95,7 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
       // not found.
       bool moves = false;
       for (const auto& p : work.prescribed) moves = moves || p.displacement.norm() > 0;
-      const double res = r.norm(), scale = sys.force_scale();
+      const double res = sys.norm(r), scale = sys.force_scale();
       rep_out.residual = scale > 0 ? res / scale : res;
       if (!std::isfinite(res)) {
         out.reason = fmt::format("form finding at t = {:.6g}: non-finite forces after {} updates",
@@ -108,7 +110,9 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
       if (update == ff.max_updates) break;
       StaticNewton newton(false);
       newton.newton = settings.newton;
-      auto solver = make_linear_solver(settings.solver);
+      // Several processes: PETSc over this process's local equations.
+      auto solver =
+          sys.distributed() ? make_solver(sys, settings) : make_linear_solver(settings.solver);
       State s;
       s.u = zero, s.v = zero, s.a = zero;
       last = newton.step(sys, *solver, t_next - h, h, s);
@@ -131,7 +135,13 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
         continue;
       }
       ++rep_out.updates;
-      x += sys.displacements(t_next, s.u);
+      NodePositions U = sys.displacements(t_next, s.u);
+      if (sys.distributed()) {  // whole on every process: each node from its keeper
+        for (int n = 0; n < U.cols(); ++n)
+          if (!sys.assembler().keeps_node(n)) U.col(n).setZero();
+        processes::sum(U.data(), static_cast<long>(U.size()));
+      }
+      x += U;
       // Back towards the nominal stabilizer once an update has gone through.
       stabilizer = std::max(ff.stiffness, stabilizer / 10);
       if (trace)

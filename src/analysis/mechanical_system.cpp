@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "velum/solve/processes.hpp"
 
@@ -60,7 +61,49 @@ VecX MechanicalSystem::mass_times(const VecX& v) const {
 }
 
 void MechanicalSystem::complete(VecX& from_jacobian) const {
-  processes::sum(from_jacobian.data(), static_cast<long>(from_jacobian.size()));
+  dofs_.layout().sum_to_owners(from_jacobian);
+}
+
+double MechanicalSystem::sum_over_processes(double local) const {
+  if (distributed()) processes::sum(&local, 1);
+  return local;
+}
+
+double MechanicalSystem::max_over_processes(double local) const {
+  return distributed() ? processes::max(local) : local;
+}
+
+VecX MechanicalSystem::to_global(const VecX& x) const {
+  return distributed() ? dofs_.layout().gather_global(x) : x;
+}
+
+VecX MechanicalSystem::to_local(const VecX& whole) const {
+  if (!distributed()) return whole;
+  const EquationLayout& l = dofs_.layout();
+  VecX x(l.local());
+  for (int i = 0; i < l.local(); ++i) x[i] = whole[l.global(i)];
+  return x;
+}
+
+double MechanicalSystem::global_entry(const VecX& x, int eq) const {
+  if (!distributed()) return x[eq];
+  const int i = dofs_.layout().local_of(eq);
+  return sum_over_processes(i >= 0 && i < owned_size() ? x[i] : 0.0);
+}
+
+double MechanicalSystem::distributed_force_scale() {
+  // The one-process norms of the summed internal and external forces: the shares completed at
+  // the nodes two processes share, then each node counted by the process keeping it.
+  const std::pair<double*, int> parts[] = {{Fint_.data(), 3}, {Fext_.data(), 3}};
+  assembler_.sum_at_shared_nodes(parts);
+  double sums[2] = {0, 0};
+  for (int n = 0; n < model_.num_nodes(); ++n)
+    if (assembler_.keeps_node(n)) {
+      sums[0] += Fint_.col(n).squaredNorm();
+      sums[1] += Fext_.col(n).squaredNorm();
+    }
+  processes::sum(sums, 2);
+  return std::max({std::sqrt(sums[0]), std::sqrt(sums[1]), norm(mv_)});
 }
 
 void MechanicalSystem::apply_prescribed(double t, NodePositions& U) const {
@@ -142,6 +185,7 @@ void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* 
     Fext_ += (p - gas.ambient) * gas_gradient_;
     if (!Kload) continue;
     dofs_.gather(gas_gradient_, gas_gradient_eq_);
+    complete(gas_gradient_eq_);  // this process's share, on several
     low_rank_.W.col(gi) = gas_gradient_eq_;
     low_rank_.U.col(gi) = (gas.gamma * p / V) * gas_gradient_eq_;
   }
@@ -158,6 +202,10 @@ void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* 
 
 void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu,
                                 double cv, double ca, VecX& r, SparseMatrix* J) {
+  // Several processes: every force is this process's share (its elements, the nodal terms of
+  // its kept nodes), summed into the owners of its equations (complete) once gathered.
+  std::optional<Assembler::LocalShare> share;
+  if (distributed()) share.emplace(assembler_);
   set_positions(t, u);
   const double beta = model_.rayleigh_stiffness, alpha = model_.rayleigh_mass;
   // J = (cu + β cv) K + (α cv + ca) M − cu Kp + cv ∂(drag)/∂v, built in place as
@@ -187,9 +235,11 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
   if (J && cu == 0) low_rank_ = {};
 
   dofs_.gather(Fint_ - Fext_, r);
+  complete(r);
   // M a and, with mass damping, M v: one walk of M for both (each product summed in the
   // same order as Eigen's, so bit for bit the same as two products).
-  const bool inertia = a.squaredNorm() != 0, damping = alpha != 0 && v.squaredNorm() != 0;
+  // Decided on the reduced norms: complete() below is a collective call.
+  const bool inertia = squared_norm(a) != 0, damping = alpha != 0 && squared_norm(v) != 0;
   mv_.setZero(r.size());
   if (damping) mvv_.setZero(r.size());
   if (inertia || damping) {
@@ -222,7 +272,8 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     complete(Kv);
     r += beta * Kv;
   }
-  force_scale_ = std::max({Fint_.norm(), Fext_.norm(), mv_.norm()});
+  force_scale_ = distributed() ? distributed_force_scale()
+                               : std::max({Fint_.norm(), Fext_.norm(), mv_.norm()});
 
   if (!J) return;
   if (cu != 0) {
@@ -255,7 +306,7 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     // On several processes: the sum of the shares' |J| |x| (equal to |J| |x| except where
     // two processes add into one entry, where it bounds it from above).
     complete(noise_eq_);
-    residual_noise_ = std::numeric_limits<double>::epsilon() * noise_eq_.norm();
+    residual_noise_ = std::numeric_limits<double>::epsilon() * norm(noise_eq_);
   } else if (cm != 0) {
     combine_values(*J, 1.0, &mass_matrix(), cm);
   }
@@ -282,12 +333,16 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
 }
 
 const NodePositions& MechanicalSystem::external_forces(double t, const VecX& u, const VecX& v) {
+  std::optional<Assembler::LocalShare> share;
+  if (distributed()) share.emplace(assembler_);
   set_positions(t, u);
   assemble_external(t, v, nullptr);
   return Fext_;
 }
 
 NodePositions MechanicalSystem::reactions(double t, const VecX& u, const VecX& v) {
+  std::optional<Assembler::LocalShare> share;
+  if (distributed()) share.emplace(assembler_);
   set_positions(t, u);
   assembler_.internal(x_, Fint_, nullptr);
   assemble_external(t, v, nullptr);
@@ -295,7 +350,7 @@ NodePositions MechanicalSystem::reactions(double t, const VecX& u, const VecX& v
   for (int n = 0; n < model_.num_nodes(); ++n) {
     Vec3 local = dofs_.to_local(n, R.col(n));
     for (int c = 0; c < 3; ++c)
-      if (dofs_.equation(n, c) >= 0) local[c] = 0;
+      if (dofs_.global_equation(n, c) >= 0) local[c] = 0;
     R.col(n) = dofs_.to_global(n, local);
   }
   return R;
@@ -345,16 +400,18 @@ std::string MechanicalSystem::diagnose_singular(const SparseMatrix& J) const {
   VecX d = J.diagonal();
   complete(d);  // the shares' diagonals add up to J's
   d = d.cwiseAbs();
-  const double dmax = d.size() ? d.maxCoeff() : 0.0;
+  const double dmax = max_abs(d);
   std::vector<std::string> bad;
   int count = 0;
   for (int n = 0; n < model_.num_nodes(); ++n)
     for (int c = 0; c < 3; ++c) {
       const int e = dofs_.equation(n, c);
-      if (e >= 0 && !(d[e] > 1e-13 * dmax)) {
+      if (e >= 0 && e < owned_size() && !(d[e] > 1e-13 * dmax)) {
         if (++count <= 8) bad.push_back(fmt::format("node {} {}", model_.node_ids[n], "xyz"[c]));
       }
     }
+  // Several processes: the count over all of them (the names: this process's).
+  count = static_cast<int>(sum_over_processes(count));
   if (count == 0) return {};
   return fmt::format(
       "{} unconstrained DOF(s) with no stiffness and no mass ({}{}). A flat, unstressed membrane "

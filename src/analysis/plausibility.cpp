@@ -2,7 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+
+#include "velum/solve/processes.hpp"
 
 namespace velum {
 
@@ -14,14 +17,29 @@ PlausibilityCheck::PlausibilityCheck(const Model& model, PlausibilityLimits limi
 
 std::string PlausibilityCheck::check(double t, const NodePositions& U, const State& s, bool energy,
                                      double held, double work, double work_scale) const {
-  if (!s.u.allFinite() || !s.v.allFinite() || !s.a.allFinite() || !U.allFinite())
+  const bool several = assembler_ && processes::count() > 1;
+  const bool finite = s.u.allFinite() && s.v.allFinite() && s.a.allFinite() && U.allFinite();
+  if (several ? !processes::all(finite) : !finite)
     return fmt::format(
         "implausible: non-finite displacements, velocities or accelerations at "
         "t = {:.6g}",
         t);
   if (U.cols() > 0 && size_ > 0) {
-    const Vec3 mean = U.rowwise().mean();
-    const double spread = (U.colwise() - mean).colwise().norm().maxCoeff();
+    Vec3 mean;
+    double spread = 0;
+    if (!several) {
+      mean = U.rowwise().mean();
+      spread = (U.colwise() - mean).colwise().norm().maxCoeff();
+    } else {  // each node counted once, by the process keeping it
+      Vec3 sum = Vec3::Zero();
+      for (int n = 0; n < U.cols(); ++n)
+        if (assembler_->keeps_node(n)) sum += U.col(n);
+      processes::sum(sum.data(), 3);
+      mean = sum / static_cast<double>(U.cols());
+      for (int n = 0; n < U.cols(); ++n)
+        if (assembler_->keeps_node(n)) spread = std::max(spread, (U.col(n) - mean).norm());
+      spread = processes::max(spread);
+    }
     if (spread > limits_.spread * size_)
       return fmt::format(
           "implausible: at t = {:.6g} a node is {:.3g} from the mean displacement, {:.3g} times "

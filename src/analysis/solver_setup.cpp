@@ -44,7 +44,9 @@ std::unique_ptr<LinearSolver> make_solver(const MechanicalSystem& system,
   PetscSolverSettings ps;
   ps.options = s.petsc_options;
   ps.near_null_space = [&system] { return rigid_body_modes(system); };
-  ps.block_size = block_size(system);
+  // Several processes: a global property of the numbering (every process the same).
+  ps.block_size = system.distributed() ? (system.dofs().whole_nodes() ? 3 : 1) : block_size(system);
+  ps.layout = &system.layout();
   return make_petsc_solver(ps);
 }
 

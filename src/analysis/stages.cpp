@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "velum/model/gas_chamber.hpp"
+#include "velum/solve/processes.hpp"
 
 namespace velum {
 
@@ -94,6 +95,14 @@ struct NodalState {
 
 NodalState nodal(const MechanicalSystem& sys, double t, const State& s) {
   NodalState n{sys.displacements(t, s.u), sys.velocities(s.v), sys.velocities(s.a)};
+  if (sys.distributed()) {  // whole on every process: the next step's nodes are others
+    const Assembler& a = sys.assembler();
+    for (NodePositions* P : {&n.U, &n.V, &n.A}) {
+      for (int i = 0; i < P->cols(); ++i)
+        if (!a.keeps_node(i)) P->col(i).setZero();
+      processes::sum(P->data(), static_cast<long>(P->size()));
+    }
+  }
   return n;
 }
 
@@ -112,7 +121,17 @@ State carry_in(const MechanicalSystem& sys, double t, const NodalState& n, std::
   int worst = -1;
   double worst_d = tol;
   for (int i = 0; i < m.num_nodes(); ++i)
-    if (const double d = (U.col(i) - n.U.col(i)).norm(); d > worst_d) worst = i, worst_d = d;
+    if (!sys.assembler().keeps_node(i)) {
+      continue;  // several processes: each node checked by the process keeping it
+    } else if (const double d = (U.col(i) - n.U.col(i)).norm(); d > worst_d) {
+      worst = i, worst_d = d;
+    }
+  if (sys.distributed()) {  // the largest jump over the processes, its first node
+    const double most = processes::max(worst_d);
+    worst = static_cast<int>(processes::min(worst >= 0 && worst_d == most ? worst : m.num_nodes()));
+    if (worst == m.num_nodes()) worst = -1;
+    worst_d = most;
+  }
   if (worst >= 0)
     jump = fmt::format(
         "node {} would jump by {:.6g} at the start of the step: its fixed, prescribed or "

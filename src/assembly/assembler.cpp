@@ -159,7 +159,7 @@ void element_graph(const Model& model, std::vector<long>& offsets, std::vector<l
 
 }  // namespace
 
-Assembler::Assembler(const Model& model, const DofMap& dofs, ElementPartition partition)
+Assembler::Assembler(const Model& model, DofMap& dofs, ElementPartition partition)
     : model_(model), dofs_(dofs) {
   neq_ = dofs.num_equations();
   several_ = processes::count() > 1;
@@ -230,6 +230,16 @@ Assembler::Assembler(const Model& model, const DofMap& dofs, ElementPartition pa
     for (size_t n = 0; n < holder.size(); ++n)
       if (holder[n] == -1) lone_nodes_.push_back(static_cast<int>(n));
     for (const auto& pm : model.masses) lone_nodes_.push_back(pm.node);
+  }
+  if (several_) {  // the local equations: those of own elements' nodes and of kept nodes
+    std::vector<char> held(holder.size(), 0);
+    for (size_t bi = 0; bi < model.blocks.size(); ++bi)
+      for (int e : own_[bi])
+        for (int n : model.blocks[bi]->nodes(e)) held[static_cast<size_t>(n)] = 1;
+    for (int n : lone_nodes_) held[static_cast<size_t>(n)] = 1;
+    for (size_t n = 0; n < held.size(); ++n) held[n] = held[n] || node_kept_[n];
+    dofs.localize(held);
+    neq_ = dofs.num_equations();
   }
   build_pattern(model, dofs, own_, lone_nodes_, first_matrix_);
   nonzeros_ = first_matrix_.nonZeros();

@@ -1,6 +1,9 @@
 #include "velum/assembly/dof_map.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include "velum/solve/processes.hpp"
 
 namespace velum {
 
@@ -52,25 +55,64 @@ DofMap::DofMap(const Model& model) {
   eq_.assign(3 * nn, -1);
   for (int i = 0; i < 3 * nn; ++i)
     if (!eliminated[i]) eq_[i] = neq_++;
+  for (int n = 0; n < nn; ++n) {
+    const int k = (eq_[3 * n] >= 0) + (eq_[3 * n + 1] >= 0) + (eq_[3 * n + 2] >= 0);
+    whole_nodes_ = whole_nodes_ && (k == 0 || k == 3);
+  }
+  layout_ = EquationLayout(neq_);
+}
+
+std::vector<long> DofMap::row_start() const {
+  // Contiguous ranges, whole blocks of three when the equations come so, as even as PETSc's
+  // own split (PetscSolver uses these).
+  const int size = processes::count(), bs = whole_nodes_ && neq_ % 3 == 0 ? 3 : 1;
+  const long blocks = neq_ / bs, base = blocks / size, extra = blocks % size;
+  std::vector<long> start(static_cast<size_t>(size) + 1);
+  for (int r = 0; r <= size; ++r)
+    start[static_cast<size_t>(r)] = bs * (r * base + std::min<long>(r, extra));
+  start.back() = neq_;
+  return start;
+}
+
+void DofMap::localize(const std::vector<char>& held) {
+  if (processes::count() <= 1) return;
+  const std::vector<long> start = row_start();
+  const auto rank = static_cast<size_t>(processes::rank());
+  const long first = start[rank], last = start[rank + 1];
+  std::vector<long> ghosts;
+  for (size_t n = 0; n < held.size(); ++n)
+    if (held[n])
+      for (int c = 0; c < 3; ++c)
+        if (const long g = eq_[3 * n + static_cast<size_t>(c)]; g >= 0 && (g < first || g >= last))
+          ghosts.push_back(g);
+  std::sort(ghosts.begin(), ghosts.end());  // a node's equations are distinct: no repeats
+  layout_ = EquationLayout(start, std::move(ghosts));
+  local_.assign(eq_.size(), -1);
+  for (size_t i = 0; i < eq_.size(); ++i)
+    if (eq_[i] >= 0) local_[i] = layout_.local_of(eq_[i]);
 }
 
 void DofMap::scatter(const VecX& reduced, NodePositions& full) const {
   const int nn = num_nodes();
+  const std::vector<int>& eq = local_.empty() ? eq_ : local_;
   for (int n = 0; n < nn; ++n) {
+    const int* e = eq.data() + 3 * n;
+    if (!local_.empty() && e[0] < 0 && e[1] < 0 && e[2] < 0) continue;  // not held here
     Vec3 local = to_local(n, full.col(n));
     for (int c = 0; c < 3; ++c)
-      if (eq_[3 * n + c] >= 0) local[c] = reduced[eq_[3 * n + c]];
+      if (e[c] >= 0) local[c] = reduced[e[c]];
     full.col(n) = to_global(n, local);
   }
 }
 
 void DofMap::gather(const NodePositions& full, VecX& reduced) const {
-  reduced.resize(neq_);
+  reduced.resize(num_equations());
   const int nn = num_nodes();
+  const std::vector<int>& eq = local_.empty() ? eq_ : local_;
   for (int n = 0; n < nn; ++n) {
     const Vec3 local = to_local(n, full.col(n));
     for (int c = 0; c < 3; ++c)
-      if (eq_[3 * n + c] >= 0) reduced[eq_[3 * n + c]] = local[c];
+      if (eq[3 * n + c] >= 0) reduced[eq[3 * n + c]] = local[c];
   }
 }
 

@@ -156,10 +156,10 @@ std::optional<CheckpointFile> load_checkpoint(const std::filesystem::path& dir,
                                               const ModelInput& in, const MechanicalSystem& sys) {
   try {
     CheckpointFile c = read_checkpoint(dir / "checkpoint.bin");
-    if (c.dofs != sys.size() || c.run.state.u.size() != sys.size())
+    if (c.dofs != sys.global_size() || c.run.state.u.size() != sys.global_size())
       throw std::runtime_error(
           fmt::format("{}: written by a model with {} equations ({}), this one has {}",
-                      (dir / "checkpoint.bin").string(), c.dofs, c.model, sys.size()));
+                      (dir / "checkpoint.bin").string(), c.dofs, c.model, sys.global_size()));
     if (in.analysis.path.method != PathSettings::Method::kLoadControl)
       throw std::runtime_error("--restart: path following (analysis.path) has no checkpoints");
     return c;
@@ -394,7 +394,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   CheckpointSchedule checkpoints(input.output, input.analysis.time);
   if (const PathSettings& path = input.analysis.path;
       path.method == PathSettings::Method::kDisplacement &&
-      system->dofs().equation(path.node, path.component) < 0) {
+      system->dofs().global_equation(path.node, path.component) < 0) {
     out.status = kExitBadInput;
     out.errors.push_back(fmt::format(
         "{}: analysis.path: node {} {} is fixed, prescribed or normal to a symmetry plane: "
@@ -406,7 +406,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   settings.time.output_interval = input.output.interval;
   if (!opt.quiet)
     say(stderr, "velum: {} nodes, {} elements, {} equations; results in {}\n",
-        input.model.num_nodes(), input.model.num_elements(), system->size(),
+        input.model.num_nodes(), input.model.num_elements(), system->global_size(),
         input.output.directory.string());
   if (several) {  // the partition of the elements (docs/parallel.md)
     const auto own = processes::gather(static_cast<double>(system->assembler().own_elements()));
@@ -447,7 +447,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     summary.process_cpu_seconds = processes::gather(cpu_seconds() - cpu_at_start);
     summary.process_memory_mb = processes::gather(static_cast<double>(usage.ru_maxrss) / 1024.0);
   };
-  summary.dofs = system->size();
+  summary.dofs = static_cast<int>(system->global_size());
   try {
     const auto observe = [&](const StepSnapshot& snap) {
       bool written = true;
@@ -463,8 +463,13 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
           }
           if (snap.step.output_time) writer->write(snap);
           if (steps_failure) std::rethrow_exception(steps_failure);
-          if (writes && snap.checkpoint && checkpoints.due(snap.step))
-            save_checkpoint(*writer, input.file, system->size(), (*snap.checkpoint)());
+          // Made on every process (the state is gathered to the first), written by the first.
+          if (snap.checkpoint && checkpoints.due(snap.step)) {
+            Checkpoint c = (*snap.checkpoint)();
+            if (writes)
+              save_checkpoint(*writer, input.file, static_cast<int>(system->global_size()),
+                              std::move(c));
+          }
         } catch (const OutputError&) {
           if (!several) throw;
           output_failure = std::current_exception();  // the others stop with this one

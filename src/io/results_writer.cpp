@@ -203,7 +203,7 @@ NodePositions ResultsWriter::reactions(const StepSnapshot& snap, const NodePosit
   for (int n = 0; n < input_.model.num_nodes(); ++n) {
     Vec3 local = d.to_local(n, R.col(n));
     for (int c = 0; c < 3; ++c)
-      if (d.equation(n, c) >= 0) local[c] = 0;
+      if (d.global_equation(n, c) >= 0) local[c] = 0;
     R.col(n) = d.to_global(n, local);
   }
   return R;
@@ -247,8 +247,21 @@ void ResultsWriter::update_extremes(double t, const NodePositions& U, const Fram
       mine.insert(mine.end(),
                   {local[i]->found ? local[i]->value : std::numeric_limits<double>::quiet_NaN(),
                    static_cast<double>(local[i]->id), static_cast<double>(cell[i])});
+    // The largest displacement over the nodes this process keeps (the first of equal ones).
+    double most = -1, node = -1;
+    for (int n = 0; n < model.num_nodes(); ++n)
+      if (system_->assembler().keeps_node(n) && U.col(n).norm() > most)
+        most = U.col(n).norm(), node = n;
+    mine.insert(mine.end(), {most, node});
     const std::vector<double> all = processes::gather(mine);
     if (!records_) return;
+    most = -1, node = -1;  // over the processes: the first node of equal ones
+    for (size_t p = 0; p < all.size() / mine.size(); ++p) {
+      const double* v = all.data() + (p + 1) * mine.size() - 2;
+      if (v[1] >= 0 && (v[0] > most || (v[0] == most && v[1] < node))) most = v[0], node = v[1];
+    }
+    if (node >= 0)
+      max_displacement_.offer(most, model.node_ids[static_cast<size_t>(node)], t, true);
     for (int i = 0; i < 4; ++i) {
       // The best over the processes; of equal values the first cell in the model's order.
       double best = std::numeric_limits<double>::quiet_NaN(), id = 0, at = 0;
@@ -261,6 +274,7 @@ void ResultsWriter::update_extremes(double t, const NodePositions& U, const Fram
       }
       running[i]->offer(best, static_cast<long>(id), t, larger[i]);
     }
+    return;
   }
   if (!records_) return;
   for (int n = 0; n < model.num_nodes(); ++n)
@@ -290,12 +304,14 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
   // process computing its element, a reaction from the processes keeping its nodes.
   const bool first = processes::rank() == 0;
   switch (h.quantity) {
+    // A node's state from the process keeping it (it holds the node's equations; every
+    // process on one).
     case Q::kDisplacement:
-      return first ? U(h.component, h.node) : 0.0;
+      return a.keeps_node(h.node) ? U(h.component, h.node) : 0.0;
     case Q::kVelocity:
-      return first ? V(h.component, h.node) : 0.0;
+      return a.keeps_node(h.node) ? V(h.component, h.node) : 0.0;
     case Q::kPosition:
-      return first ? model.X(h.component, h.node) + U(h.component, h.node) : 0.0;
+      return a.keeps_node(h.node) ? model.X(h.component, h.node) + U(h.component, h.node) : 0.0;
     case Q::kReaction: {
       double sum = 0;
       for (int n : h.nodes)

@@ -46,11 +46,11 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
   StageObserver obs;
   obs.begin = [&](int k, MechanicalSystem& sys) {
     writer->begin_analysis_step(k + 1, sys);
-    summary.dofs = std::max(summary.dofs, sys.size());
+    summary.dofs = std::max(summary.dofs, static_cast<int>(sys.global_size()));
     const AnalysisStep& s = input.steps[static_cast<size_t>(k)];
     if (!opt.quiet)
       say(stderr, "velum: step {}/{} '{}': {}, {} equations\n", k + 1, n, s.name,
-          s.analysis.type_name(), sys.size());
+          s.analysis.type_name(), sys.global_size());
   };
   std::exception_ptr output_failure;  // an OutputError, carried out of the analysis
   obs.step = [&](int, const StepSnapshot& snap) {

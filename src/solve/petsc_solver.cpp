@@ -19,17 +19,26 @@ namespace {
 
 // Columns orthonormalised by modified Gram-Schmidt, twice (a mode that depends on the others
 // is dropped): PETSc's MatNullSpaceCreate wants orthonormal vectors.
-MatX orthonormal_columns(const MatX& modes) {
+// Over several processes' local equations, the dots of the layout.
+MatX orthonormal_columns(const MatX& modes, const EquationLayout* layout) {
+  const bool several = layout && layout->distributed();
+  auto dot = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    return several ? layout->dot(a, b) : a.dot(b);
+  };
+  auto norm = [&](const Eigen::VectorXd& a) { return several ? layout->norm(a) : a.norm(); };
   MatX q(modes.rows(), 0);
   for (Eigen::Index j = 0; j < modes.cols(); ++j) {
     Eigen::VectorXd v = modes.col(j);
-    const double n0 = v.norm();
+    const double n0 = norm(v);
     if (!(n0 > 0)) continue;
     for (int pass = 0; pass < 2; ++pass)
-      for (Eigen::Index k = 0; k < q.cols(); ++k) v -= q.col(k).dot(v) * q.col(k);
-    if (v.norm() <= 1e-10 * n0) continue;
+      for (Eigen::Index k = 0; k < q.cols(); ++k) {
+        const Eigen::VectorXd qk = q.col(k);
+        v -= dot(qk, v) * qk;
+      }
+    if (norm(v) <= 1e-10 * n0) continue;
     q.conservativeResize(Eigen::NoChange, q.cols() + 1);
-    q.col(q.cols() - 1) = v / v.norm();
+    q.col(q.cols() - 1) = v / norm(v);
   }
   return q;
 }
@@ -70,15 +79,28 @@ class PetscSolver final : public LinearSolver {
   bool analyze(const SparseMatrix& A) override {
     release();
     status_.clear();
-    const int n = static_cast<int>(A.rows());
+    const EquationLayout* layout = settings_.layout;
+    several_ = layout && layout->distributed();
+    const int n = several_ ? static_cast<int>(layout->total()) : static_cast<int>(A.rows());
     int size = 1, rank = 0;
     MPI_Comm_size(comm_, &size);
     MPI_Comm_rank(comm_, &rank);
     bs_ = settings_.block_size > 1 && n % settings_.block_size == 0 ? settings_.block_size : 1;
-    // Contiguous rows, whole blocks, as even as PETSc's own split.
-    const int blocks = n / bs_, base = blocks / size, extra = blocks % size;
-    lo_ = bs_ * (rank * base + std::min(rank, extra));
-    hi_ = lo_ + bs_ * (base + (rank < extra ? 1 : 0));
+    if (several_) {
+      // The layout's rows (whole nodes where the equations come three to a node, as below);
+      // the share's local indices map to global ones.
+      lo_ = static_cast<int>(layout->first());
+      hi_ = lo_ + layout->owned();
+      if (bs_ > 1 && (lo_ % bs_ != 0 || hi_ % bs_ != 0)) bs_ = 1;
+      global_.resize(static_cast<size_t>(layout->local()));
+      for (int i = 0; i < layout->local(); ++i)
+        global_[static_cast<size_t>(i)] = static_cast<PetscInt>(layout->global(i));
+    } else {
+      // Contiguous rows, whole blocks, as even as PETSc's own split.
+      const int blocks = n / bs_, base = blocks / size, extra = blocks % size;
+      lo_ = bs_ * (rank * base + std::min(rank, extra));
+      hi_ = lo_ + bs_ * (base + (rank < extra ? 1 : 0));
+    }
     const int local = hi_ - lo_;
     Mat pre = nullptr;
     const bool made = ok(MatCreate(comm_, &A_), "MatCreate") &&
@@ -95,7 +117,7 @@ class PetscSolver final : public LinearSolver {
     if (!made ||
         !ok(MatSetOption(A_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption") ||
         !ok(MatCreateVecs(A_, &x_, &b_), "MatCreateVecs") || !ok(VecDuplicate(b_, &r_), "Vec") ||
-        !ok(VecScatterCreateToAll(x_, &to_all_, &x_all_), "VecScatterCreateToAll"))
+        (!several_ && !ok(VecScatterCreateToAll(x_, &to_all_, &x_all_), "VecScatterCreateToAll")))
       return false;
     if (!ok(KSPCreate(comm_, &ksp_), "KSPCreate") ||
         !ok(KSPSetOperators(ksp_, A_, A_), "KSPSetOperators") ||
@@ -113,7 +135,8 @@ class PetscSolver final : public LinearSolver {
     factor_kind_ = std::string(pt);
     if (!direct_) {
       if (!user_side_) KSPSetPCSide(ksp_, PC_RIGHT);
-      if (settings_.near_null_space && !set_near_null_space(n)) return false;
+      if (settings_.near_null_space && !set_near_null_space(static_cast<int>(A.rows())))
+        return false;
     }
     name_ = direct_ ? fmt::format("petsc ({})", user_pc_ ? factor_kind_ : "mumps")
                     : fmt::format("petsc ({} + {})", kt, pt);
@@ -196,7 +219,9 @@ class PetscSolver final : public LinearSolver {
     if (!A_) return false;
     PetscScalar* bb = nullptr;
     if (!ok(VecGetArray(b_, &bb), "VecGetArray")) return false;
-    std::copy(b.data() + lo_, b.data() + hi_, bb);
+    // Several processes: b's owned entries are the first (the local equations).
+    const int from = several_ ? 0 : lo_;
+    std::copy(b.data() + from, b.data() + from + (hi_ - lo_), bb);
     VecRestoreArray(b_, &bb);
     if (!ok(KSPSolve(ksp_, b_, x_), "KSPSolve")) return false;
     KSPConvergedReason reason;
@@ -229,6 +254,17 @@ class PetscSolver final : public LinearSolver {
                             name_, rnorm, bnorm);
       return false;
     }
+    if (several_) {  // the owned entries from PETSc, the ghosts from their owners
+      const PetscScalar* xo = nullptr;
+      VecGetArrayRead(x_, &xo);
+      x.resize(b.size());
+      std::copy(xo, xo + (hi_ - lo_), x.data());
+      VecRestoreArrayRead(x_, &xo);
+      settings_.layout->update_ghosts(x);
+      int finite = x.allFinite() ? 1 : 0, all = 0;
+      MPI_Allreduce(&finite, &all, 1, MPI_INT, MPI_MIN, comm_);
+      return all != 0;
+    }
     if (!ok(VecScatterBegin(to_all_, x_, x_all_, INSERT_VALUES, SCATTER_FORWARD), "scatter") ||
         !ok(VecScatterEnd(to_all_, x_, x_all_, INSERT_VALUES, SCATTER_FORWARD), "scatter"))
       return false;
@@ -259,7 +295,11 @@ class PetscSolver final : public LinearSolver {
       const int first = outer[j], count = outer[j + 1] - first;
       if (count == 0) continue;
       index_.assign(inner + first, inner + first + count);
-      const PetscInt col = static_cast<PetscInt>(j);
+      PetscInt col = static_cast<PetscInt>(j);
+      if (several_) {
+        for (PetscInt& i : index_) i = global_[static_cast<size_t>(i)];
+        col = global_[static_cast<size_t>(j)];
+      }
       PetscErrorCode code = 0;
       if (!transposed) {
         code = MatSetValues(M, count, index_.data(), 1, &col, v + first, ADD_VALUES);
@@ -308,13 +348,14 @@ class PetscSolver final : public LinearSolver {
   bool set_near_null_space(int n) {
     const MatX modes = settings_.near_null_space();
     if (modes.rows() != n) return true;  // none for these equations
-    const MatX q = orthonormal_columns(modes);
+    const MatX q = orthonormal_columns(modes, several_ ? settings_.layout : nullptr);
     std::vector<Vec> vecs(q.cols());
     for (Eigen::Index k = 0; k < q.cols(); ++k) {
       VecDuplicate(x_, &vecs[k]);
       PetscScalar* a = nullptr;
       VecGetArray(vecs[k], &a);
-      for (int i = lo_; i < hi_; ++i) a[i - lo_] = q(i, k);
+      const int from = several_ ? 0 : lo_;  // several: the owned rows come first
+      for (int i = lo_; i < hi_; ++i) a[i - lo_] = q(i - lo_ + from, k);
       VecRestoreArray(vecs[k], &a);
     }
     MatNullSpace space;
@@ -342,6 +383,8 @@ class PetscSolver final : public LinearSolver {
   bool user_pc_ = false, user_side_ = false, user_factor_ = false, direct_ = true;
   std::string name_ = "petsc", factor_kind_, status_;
   int bs_ = 1, lo_ = 0, hi_ = 0, negative_ = -1;
+  bool several_ = false;          // local equations (settings_.layout)
+  std::vector<PetscInt> global_;  // several: global equation of each local one
   PetscReal anorm_ = 0;
   std::vector<PetscInt> index_;       // add_share's row (column) indices of one column
   std::vector<PetscScalar> negated_;  // add_share's values of one column, negated

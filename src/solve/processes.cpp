@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #ifdef VELUM_HAVE_PETSC
@@ -159,6 +160,56 @@ long min(long value) {
   }
 #endif
   return value;
+}
+
+double max(double value) {
+#ifdef VELUM_HAVE_PETSC
+  if (my_count > 1) {
+    double out = value;
+    MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
+    return out;
+  }
+#endif
+  return value;
+}
+
+namespace {
+
+template <class T>
+std::vector<std::vector<T>> exchange_of(const std::vector<std::vector<T>>& send) {
+#ifdef VELUM_HAVE_PETSC
+  if (my_count > 1) {
+    const MPI_Datatype type = std::is_same_v<T, double> ? MPI_DOUBLE : MPI_LONG;
+    const auto p = static_cast<size_t>(my_count);
+    std::vector<int> send_count(p), recv_count(p), send_at(p + 1, 0), recv_at(p + 1, 0);
+    for (size_t q = 0; q < p; ++q) send_count[q] = static_cast<int>(send[q].size());
+    MPI_Alltoall(send_count.data(), 1, MPI_INT, recv_count.data(), 1, MPI_INT, PETSC_COMM_WORLD);
+    for (size_t q = 0; q < p; ++q) {
+      send_at[q + 1] = send_at[q] + send_count[q];
+      recv_at[q + 1] = recv_at[q] + recv_count[q];
+    }
+    std::vector<T> out(static_cast<size_t>(send_at[p])), in(static_cast<size_t>(recv_at[p]));
+    for (size_t q = 0; q < p; ++q)
+      std::copy(send[q].begin(), send[q].end(), out.begin() + send_at[q]);
+    MPI_Alltoallv(out.data(), send_count.data(), send_at.data(), type, in.data(), recv_count.data(),
+                  recv_at.data(), type, PETSC_COMM_WORLD);
+    std::vector<std::vector<T>> received(p);
+    for (size_t q = 0; q < p; ++q)
+      received[q].assign(in.begin() + recv_at[q], in.begin() + recv_at[q + 1]);
+    return received;
+  }
+#endif
+  return send;
+}
+
+}  // namespace
+
+std::vector<std::vector<double>> exchange(const std::vector<std::vector<double>>& send) {
+  return exchange_of(send);
+}
+
+std::vector<std::vector<long>> exchange(const std::vector<std::vector<long>>& send) {
+  return exchange_of(send);
 }
 
 int owner(long k, long total) {

@@ -51,10 +51,11 @@ bool newton_solve(SecondOrderSystem& sys, LinearSolver& solver, const SparseMatr
 // stress-free membrane's first Newton step overshoots by orders of magnitude: this turns
 // those 16-iteration first increments into a few.
 template <class Evaluate>
-double line_search(VecX& u, VecX& r, const VecX& du, double s0, const Evaluate& evaluate) {
+double line_search(const SecondOrderSystem& sys, VecX& u, VecX& r, const VecX& du, double s0,
+                   const Evaluate& evaluate) {
   constexpr double kEta = 0.5;
   constexpr int kTrials = 8;
-  double sb = du.dot(r);
+  double sb = sys.dot(du, r);
   if (std::isfinite(sb) && sb <= kEta * -s0) return 1.0;
   double a = 0, sa = s0, b = 1, alpha = 1;
   int side = 1;  // which end moved last (Illinois: halve the other end's slope if it repeats)
@@ -64,7 +65,7 @@ double line_search(VecX& u, VecX& r, const VecX& du, double s0, const Evaluate& 
     u += (next - alpha) * du;
     alpha = next;
     evaluate(u, r, nullptr);
-    const double s = du.dot(r);
+    const double s = sys.dot(du, r);
     if (std::isfinite(s) && std::abs(s) <= kEta * -s0) break;
     if (!std::isfinite(s) || s > 0) {
       b = alpha, sb = s;
@@ -103,7 +104,7 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
   // solution a converged iterate may have left.
   auto contraction = [&] { return dn_prev > 0 ? dn / dn_prev : 1.0; };
   auto allowed = [&] {
-    return std::max(ns.tolerance * (u - u_start).norm(), 1e-14 * (1 + u.norm()));
+    return std::max(ns.tolerance * sys.norm(u - u_start), 1e-14 * (1 + sys.norm(u)));
   };
   // A chord step reuses the factorisation of an earlier iterate of this solve (one
   // back-substitution instead of a tangent and a factorisation). It is taken when the last
@@ -132,14 +133,14 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
     evaluate(u, r, have_tangent ? &J : nullptr);
     // A carried factorisation whose chord step raised the residual belongs to a state too
     // far from this step's: the step starts again from its predictor, with a fresh tangent.
-    if (it == 1 && carried && rep.factorizations == 0 && !(r.norm() <= rep.residuals[0])) {
+    if (it == 1 && carried && rep.factorizations == 0 && !(sys.norm(r) <= rep.residuals[0])) {
       u -= du;
       evaluate(u, r, &J);
       have_tangent = true;
       dn_prev = 0;
     }
     if (it > 0 && search && s0 < 0) {
-      const double alpha = line_search(u, r, du, s0, evaluate);
+      const double alpha = line_search(sys, u, r, du, s0, evaluate);
       if (alpha != 1) {
         evaluate(u, r, &J);  // the tangent at the point accepted
         have_tangent = true;
@@ -147,7 +148,7 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
         dn_prev = 0;  // a cut step says nothing about the contraction
       }
     }
-    const double rn = r.norm();
+    const double rn = sys.norm(r);
     rep.residuals.push_back(rn);
     if (!std::isfinite(rn)) {
       rep.reason = fmt::format("non-finite residual at Newton iteration {}", it);
@@ -197,23 +198,23 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
       // of 2.5e-11 on the Hencky membrane): before paying for a factorisation, measure the
       // distance J⁻¹ r with the one already made (a back-substitution).
       if (distance > limit) chord_ready = solver.solve(-r, du);
-      if (distance <= limit || (chord_ready && du.norm() <= limit)) {
+      if (distance <= limit || (chord_ready && sys.norm(du) <= limit)) {
         rep.converged = true;
         return rep;
       }
     }
     if (it == ns.max_iterations) break;
     const bool chord = may_chord && !have_tangent && (it == 0 || fell_fast(it)) &&
-                       (chord_ready || solver.solve(-r, du)) && du.allFinite();
+                       (chord_ready || solver.solve(-r, du)) && sys.all_finite(du);
     if (!chord) {
       if (!have_tangent) evaluate(u, r, &J);
       if (!newton_solve(sys, solver, J, r, du, rep.reason)) return rep;
       ++rep.factorizations;
     }
-    s0 = du.dot(r);
+    s0 = sys.dot(du, r);
     u += du;
     dn_prev = dn;
-    dn = du.norm();
+    dn = sys.norm(du);
     rep.iterations = it + 1;
   }
   rep.reason = with_diagnosis(
@@ -320,7 +321,7 @@ StepReport CentralDifference::start(SecondOrderSystem& sys, LinearSolver&, doubl
   sys.evaluate(t, s.u, s.v, zero_, 0, 0, 0, r_, nullptr);
   s.a = -r_.cwiseQuotient(sys.lumped_mass());
   StepReport rep;
-  rep.converged = s.a.allFinite();
+  rep.converged = sys.all_finite(s.a);
   if (!rep.converged)
     rep.reason =
         "a node without mass: central difference needs a positive lumped mass at every free DOF";
@@ -336,7 +337,7 @@ StepReport CentralDifference::step(SecondOrderSystem& sys, LinearSolver&, double
   zero_.setZero(sys.size());
   sys.evaluate(t + h, u, vhalf, zero_, 0, 0, 0, r_, nullptr);
   const VecX a = -r_.cwiseQuotient(sys.lumped_mass());
-  if (!a.allFinite()) {
+  if (!sys.all_finite(a)) {
     rep.reason = "non-finite acceleration (step above the stable limit?)";
     return rep;
   }
@@ -397,10 +398,10 @@ void StaticNewton::remember(const SecondOrderSystem& sys, double t, double h, co
     parabolic_ -= u;
     du_.noalias() = J_ * linear_;
     sys.complete(du_);  // J_ may be this process's share
-    const double by_line = du_.squaredNorm();
+    const double by_line = sys.squared_norm(du_);
     du_.noalias() = J_ * parabolic_;
     sys.complete(du_);  // J_ may be this process's share
-    prefer_parabola_ = du_.squaredNorm() < by_line;
+    prefer_parabola_ = sys.squared_norm(du_) < by_line;
   } else {
     prefer_parabola_ = false;
   }
@@ -461,20 +462,23 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
   return rep;
 }
 
-std::vector<double> StaticNewton::save() const {
+std::vector<double> StaticNewton::save(const SecondOrderSystem& sys) const {
+  // Empty or the system's size on every process alike (the same steps were taken).
+  const VecX u1 = u_prev_.size() ? sys.to_global(u_prev_) : VecX(),
+             u2 = u_prev2_.size() ? sys.to_global(u_prev2_) : VecX();
   std::vector<double> m = {h_prev_,
                            h_prev2_,
                            t_prev_,
                            prefer_parabola_ ? 1.0 : 0.0,
                            static_cast<double>(negative_pivots_),
-                           static_cast<double>(u_prev_.size()),
-                           static_cast<double>(u_prev2_.size())};
-  m.insert(m.end(), u_prev_.data(), u_prev_.data() + u_prev_.size());
-  m.insert(m.end(), u_prev2_.data(), u_prev2_.data() + u_prev2_.size());
+                           static_cast<double>(u1.size()),
+                           static_cast<double>(u2.size())};
+  m.insert(m.end(), u1.data(), u1.data() + u1.size());
+  m.insert(m.end(), u2.data(), u2.data() + u2.size());
   return m;
 }
 
-void StaticNewton::restore(const std::vector<double>& m) {
+void StaticNewton::restore(const SecondOrderSystem& sys, const std::vector<double>& m) {
   if (m.size() < 7) throw std::invalid_argument("static predictor memory: too short");
   const auto n1 = static_cast<Eigen::Index>(m[5]), n2 = static_cast<Eigen::Index>(m[6]);
   if (m.size() != static_cast<size_t>(7 + n1 + n2))
@@ -484,6 +488,8 @@ void StaticNewton::restore(const std::vector<double>& m) {
   negative_pivots_ = static_cast<int>(m[4]);
   u_prev_ = Eigen::Map<const VecX>(m.data() + 7, n1);
   u_prev2_ = Eigen::Map<const VecX>(m.data() + 7 + n1, n2);
+  if (n1) u_prev_ = sys.to_local(u_prev_);
+  if (n2) u_prev2_ = sys.to_local(u_prev2_);
 }
 
 double stable_time_step(SecondOrderSystem& sys, double t, const State& s) {
@@ -494,9 +500,11 @@ double stable_time_step(SecondOrderSystem& sys, double t, const State& s) {
   VecX x = VecX::Ones(sys.size());
   double lambda = 0;
   for (int it = 0; it < 50; ++it) {
-    const VecX y = (K * x).cwiseQuotient(m);
-    const double l = y.norm() / x.norm();
-    x = y / y.norm();
+    VecX Kx = K * x;
+    sys.complete(Kx);  // K may be this process's share
+    const VecX y = Kx.cwiseQuotient(m);
+    const double l = sys.norm(y) / sys.norm(x);
+    x = y / sys.norm(y);
     if (std::abs(l - lambda) < 1e-4 * l) {
       lambda = l;
       break;

@@ -17,7 +17,7 @@ bool LowRankCorrectedSolver::factorize(const SparseMatrix& A) {
     Z_.col(j) = z;
   }
   if (k == 0) return true;
-  const MatX C = MatX::Identity(k, k) + W_.transpose() * Z_;
+  const MatX C = MatX::Identity(k, k) + sys_.transposed_product(W_, Z_);
   capacitance_.compute(C);
   // J + U Wᵀ is singular exactly when I + Wᵀ J⁻¹ U is: a pivot lost against the matrix's size.
   const double pivot = capacitance_.matrixLU().diagonal().cwiseAbs().minCoeff();
@@ -28,8 +28,8 @@ bool LowRankCorrectedSolver::factorize(const SparseMatrix& A) {
 bool LowRankCorrectedSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (!sparse_.solve(b, x)) return false;
   if (Z_.cols() == 0) return true;
-  x.noalias() -= Z_ * capacitance_.solve(W_.transpose() * x);
-  return x.allFinite();
+  x.noalias() -= Z_ * capacitance_.solve(sys_.transposed_product(W_, x));
+  return sys_.all_finite(x);
 }
 
 std::string LowRankCorrectedSolver::status() const {

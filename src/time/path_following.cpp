@@ -87,25 +87,26 @@ bool PathTracer::constraint(Control control, double size, const VecX& du, double
       delta_t = 0;
       return true;
     case Control::kDisplacement:  // the controlled equation's increment stays `size`
-      delta_t = -a[path_.equation] / b[path_.equation];
+      delta_t = -sys_.global_entry(a, path_.equation) / sys_.global_entry(b, path_.equation);
       return std::isfinite(delta_t);
     case Control::kArcLength:
       break;
   }
   if (path_.constraint == PathSettings::Constraint::kRiks) {
     // The correction is normal to the predictor: pred · (a + δt b) = 0.
-    delta_t = -pred_u_.dot(a) / pred_u_.dot(b);
+    delta_t = -sys_.dot(pred_u_, a) / sys_.dot(pred_u_, b);
     return std::isfinite(delta_t);
   }
   // Crisfield: ‖du + a + δt b‖² = Δs², of the two roots the one that turns the increment
   // least (the other goes back along the path).
   const VecX w = du + a;
-  const double A = b.squaredNorm(), B = 2 * b.dot(w), C = w.squaredNorm() - size * size;
+  const double A = sys_.squared_norm(b), B = 2 * sys_.dot(b, w),
+               C = sys_.squared_norm(w) - size * size;
   const double disc = B * B - 4 * A * C;
   if (!(disc >= 0) || !(A > 0)) return false;
   const double root = std::sqrt(disc);
   const double t1 = (-B + root) / (2 * A), t2 = (-B - root) / (2 * A);
-  delta_t = (w + t1 * b).dot(du) >= (w + t2 * b).dot(du) ? t1 : t2;
+  delta_t = sys_.dot(w + t1 * b, du) >= sys_.dot(w + t2 * b, du) ? t1 : t2;
   return true;
 }
 
@@ -127,15 +128,15 @@ StepReport PathTracer::step(Control control, double size) {
   // Predictor along the tangent.
   double dt = size;
   if (control == Control::kDisplacement) {
-    dt = size / v_[path_.equation];
+    dt = size / sys_.global_entry(v_, path_.equation);
     if (!std::isfinite(dt)) {
       rep.reason = "the controlled displacement does not move with the load";
       return rep;
     }
   } else if (control == Control::kArcLength) {
-    dt = size / v_.norm();
+    dt = size / sys_.norm(v_);
     // Keep going the way the path went: through a limit point t turns back, u goes on.
-    const double along = du_prev_.size() ? du_prev_.dot(v_) : 1.0;
+    const double along = du_prev_.size() ? sys_.dot(du_prev_, v_) : 1.0;
     if (along < 0) dt = -dt;
   }
   VecX du = dt * v_;
@@ -147,7 +148,7 @@ StepReport PathTracer::step(Control control, double size) {
     cand_t_ = t_ + dt;
     load_rate(cand_u_, cand_t_, q_);
     sys_.evaluate(cand_t_, cand_u_, zero_, zero_, 1.0, 0.0, 0.0, r_, &J_);
-    const double rn = r_.norm();
+    const double rn = sys_.norm(r_);
     rep.residuals.push_back(rn);
     if (!std::isfinite(rn)) {
       rep.reason = fmt::format("non-finite residual at iteration {}", it);
@@ -157,7 +158,7 @@ StepReport PathTracer::step(Control control, double size) {
     const double target =
         std::max({newton_.tolerance * ref, newton_.abs_residual, sys_.residual_noise()});
     if (it > 0 && rn <= target &&
-        dn <= std::max(newton_.tolerance * du.norm(), 1e-14 * (1 + cand_u_.norm())))
+        dn <= std::max(newton_.tolerance * sys_.norm(du), 1e-14 * (1 + sys_.norm(cand_u_))))
       break;
     if (it == newton_.max_iterations) {
       rep.reason =
@@ -181,7 +182,7 @@ StepReport PathTracer::step(Control control, double size) {
     a_ += delta_t * b_;
     du += a_;
     dt += delta_t;
-    dn = a_.norm();
+    dn = sys_.norm(a_);
     rep.iterations = it + 1;
   }
   if (std::string inv = sys_.inverted_element(t_, u_, cand_t_, cand_u_); !inv.empty()) {
@@ -239,11 +240,11 @@ TimeLoopResult run_path_following(
   };
   const bool by_arc = path.method == PathSettings::Method::kArcLength;
   const bool by_displacement = path.method == PathSettings::Method::kDisplacement;
-  if (by_displacement && (path.equation < 0 || path.equation >= sys.size())) {
+  if (by_displacement && (path.equation < 0 || path.equation >= sys.global_size())) {
     return failed("displacement control: the controlled component is not free");
   }
   // Displacement control marches a pseudo-time tau over [t0, t_end].
-  const double d_start = by_displacement ? s.u[path.equation] : 0;
+  const double d_start = by_displacement ? sys.global_entry(s.u, path.equation) : 0;
   const double d_rate = by_displacement ? (path.displacement - d_start) / span : 0;
   double tau = cfg.t0;
   // Arc length without a given Δs: the first step is a load step of cfg.step, and Δs is
@@ -285,7 +286,7 @@ TimeLoopResult run_path_following(
       continue;
     }
     if (measuring) {
-      ctl.size = ctl.largest = (tracer.candidate_u() - tracer.u()).norm();
+      ctl.size = ctl.largest = sys.norm(tracer.candidate_u() - tracer.u());
       ctl.smallest = ctl.size * cfg.min_step / cfg.step;
       measuring = false;
       if (!(ctl.size > 0)) {

@@ -24,7 +24,8 @@ void DynamicRelaxation::update_masses(SecondOrderSystem& sys, double t, const Ve
   // A node whose equations have almost no stiffness yet (the centre of a flat sheet held on
   // two symmetry planes keeps only its normal component) would take a huge first step into a
   // stiffness it did not know of: no mass is lighter than a tenth of the mean.
-  const double mean = rows.size() > 0 ? rows.mean() : 0.0;
+  const double mean =
+      sys.global_size() > 0 ? sys.sum(rows) / static_cast<double>(sys.global_size()) : 0.0;
   m_ = 0.5 * rows.cwiseMax(mean > 0 ? 0.1 * mean : 1.0);
 }
 
@@ -39,7 +40,7 @@ bool DynamicRelaxation::relax(SecondOrderSystem& sys, double t, VecX& u, double 
   update_masses(sys, t, u);
   for (long it = 0; it < budget; ++it) {
     sys.evaluate(t, u, zero_, zero_, 1.0, 0.0, 0.0, r_, nullptr);
-    const double rn = r_.norm();
+    const double rn = sys.norm(r_);
     if (!std::isfinite(rn)) {
       why = fmt::format("dynamic relaxation: non-finite residual after {} iterations", iterations_);
       return false;
@@ -69,10 +70,11 @@ bool DynamicRelaxation::relax(SecondOrderSystem& sys, double t, VecX& u, double 
     // Half-step velocities: v(n+½) = v(n−½) + M⁻¹ R(n), R = −r, Δτ = 1; v(½) = ½ M⁻¹ R(0).
     const double first = restart ? 0.5 : 1.0;
     double ke_new = 0;
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < sys.owned_size(); ++i) {  // the ghosts are another process's
       const double vi = (restart ? 0.0 : v_[i]) - first * r_[i] / m_[i];
       ke_new += 0.5 * m_[i] * vi * vi;
     }
+    ke_new = sys.sum_over_processes(ke_new);
     if (!restart && ke_new < ke) {
       // Kinetic energy peaked between the half steps: the peak lies at x(n) − ½ v(n−½)
       // (Barnes's correction for a kinetic energy quadratic in time). Start again from rest.
@@ -97,7 +99,7 @@ bool DynamicRelaxation::relax(SecondOrderSystem& sys, double t, VecX& u, double 
   why = fmt::format(
       "dynamic relaxation did not reach {:.1e} of the force scale in {} iterations (residual "
       "{:.3e}, scale {:.3e})",
-      rel_target, budget, r_.norm(), std::max(ref_, sys.force_scale()));
+      rel_target, budget, sys.norm(r_), std::max(ref_, sys.force_scale()));
   return false;
 }
 
@@ -114,7 +116,7 @@ StepReport DynamicRelaxation::step(SecondOrderSystem& sys, LinearSolver& solver,
     std::string why;
     const bool reached = relax(sys, t + h, u, rel, relaxation.max_iterations - iterations_, why);
     rep.iterations = static_cast<int>(std::min<long>(iterations_, 1L << 30));
-    if (!reached && !u.allFinite()) {
+    if (!reached && !sys.all_finite(u)) {
       rep.reason = why;
       return rep;
     }

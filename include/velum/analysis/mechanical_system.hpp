@@ -30,6 +30,17 @@ class MechanicalSystem final : public SecondOrderSystem {
   const std::vector<int>& equation_groups() const override { return equation_node_; }
   std::string inverted_element(double t_from, const VecX& u_from, double t_to,
                                const VecX& u_to) const override;
+  // Several processes: the equation vectors are this process's local equations (owned,
+  // then ghosts; DofMap::layout()), reduced over the owned ones.
+  bool distributed() const override { return dofs_.layout().distributed(); }
+  int owned_size() const override { return dofs_.layout().owned(); }
+  long global_size() const override { return dofs_.global_equations(); }
+  double sum_over_processes(double local) const override;
+  double max_over_processes(double local) const override;
+  double global_entry(const VecX& x, int eq) const override;
+  VecX to_global(const VecX& x) const override;
+  VecX to_local(const VecX& whole) const override;
+  const EquationLayout& layout() const { return dofs_.layout(); }
 
   const Model& model() const { return model_; }
   const DofMap& dofs() const { return dofs_; }
@@ -45,7 +56,8 @@ class MechanicalSystem final : public SecondOrderSystem {
   NodePositions displacements(double t, const VecX& u) const;
   NodePositions velocities(const VecX& v) const;
   /// External forces at time t for displacements u (full, global); no internal forces are
-  /// assembled. Overwrites last_external().
+  /// assembled. Overwrites last_external(). On several processes, this process's share
+  /// (Assembler::LocalShare), as reactions() below.
   const NodePositions& external_forces(double t, const VecX& u, const VecX& v);
   /// Reactions: internal minus external force at eliminated components (full, global; zero
   /// at free components). Valid after evaluate() at the same state.
@@ -62,7 +74,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   double gas_pressure(int i) const { return gas_pressure_[i]; }
 
   double kinetic_energy(const VecX& v) const {
-    return v.squaredNorm() == 0 ? 0.0 : 0.5 * v.dot(mass_times(v));
+    return squared_norm(v) == 0 ? 0.0 : 0.5 * dot(v, mass_times(v));
   }
   double strain_energy(double t, const VecX& u) const;
 
@@ -74,6 +86,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   // (their forces are in Fp_).
   void assemble_external(double t, const VecX& v, SparseMatrix* Kload, bool fused = false);
   bool has_drag() const;
+  double distributed_force_scale();
 
   const Model& model_;
   DofMap dofs_;

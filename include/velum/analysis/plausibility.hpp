@@ -8,6 +8,7 @@
 #include <functional>
 #include <string>
 
+#include "velum/assembly/assembler.hpp"
 #include "velum/model/model.hpp"
 #include "velum/time/integrators.hpp"
 
@@ -40,10 +41,14 @@ class PlausibilityCheck {
   void final_balance(double t, double held, double work, double work_scale,
                      const std::function<void(std::string)>& warn) const;
   double model_size() const { return size_; }
+  /// Several processes: each holds the displacements of its own nodes only; the checks
+  /// count each node on the process keeping it (Assembler::keeps_node) and reduce.
+  void share_nodes(const Assembler& a) { assembler_ = &a; }
 
  private:
   PlausibilityLimits limits_;
   double size_ = 0;
+  const Assembler* assembler_ = nullptr;
 };
 
 }  // namespace velum

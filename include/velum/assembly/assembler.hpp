@@ -35,9 +35,11 @@ void combine_values(SparseMatrix& A, double a, const SparseMatrix* B, double b);
 
 class Assembler {
  public:
-  /// `partition`: how the elements are shared under mpirun (ignored on one process).
-  Assembler(const Model& model, const DofMap& dofs,
-            ElementPartition partition = ElementPartition::kRows);
+  /// `partition`: how the elements are shared under mpirun (ignored on one process). On
+  /// several processes, localizes `dofs` to the nodes of this process's elements and kept
+  /// nodes (DofMap::localize): its matrices and equation vectors are then over the local
+  /// equations.
+  Assembler(const Model& model, DofMap& dofs, ElementPartition partition = ElementPartition::kRows);
 
   /// A matrix over the equations with the full pattern and zero values (the pattern is
   /// rebuilt from the mesh, but for the first call: the assembler keeps only the positions it

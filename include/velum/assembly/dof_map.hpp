@@ -3,10 +3,16 @@
 // plane normal and two in-plane axes) and their normal component is eliminated.
 // Vectors over all DOFs ("full", 3 x nodes, global Cartesian) and over the equations
 // ("reduced", size num_equations(), local frames where a node has one) map both ways.
+//
+// On several processes (docs/parallel.md) the equations are numbered globally first (the
+// same on every process); once the elements are shared out, localize() gives each process
+// its local equations (EquationLayout: the ones it owns, then its ghosts) and equation()
+// answers in those, -1 for a node this process holds no copy of.
 #pragma once
 
 #include <vector>
 
+#include "velum/assembly/equation_layout.hpp"
 #include "velum/model/model.hpp"
 
 namespace velum {
@@ -15,10 +21,26 @@ class DofMap {
  public:
   explicit DofMap(const Model& model);
 
-  int num_equations() const { return neq_; }
+  /// This process's equations (all of them on one process).
+  int num_equations() const { return layout_.local(); }
+  /// Equations over every process.
+  int global_equations() const { return neq_; }
   int num_nodes() const { return static_cast<int>(eq_.size() / 3); }
-  /// Equation of node n, local component c; -1 when eliminated.
-  int equation(int n, int c) const { return eq_[3 * n + c]; }
+  /// Equation of node n, local component c; -1 when eliminated (or, once localized, when
+  /// this process holds no copy of the node's equation).
+  int equation(int n, int c) const { return local_.empty() ? eq_[3 * n + c] : local_[3 * n + c]; }
+  /// The same in the global numbering.
+  int global_equation(int n, int c) const { return eq_[3 * n + c]; }
+  /// Where the global equations start on each process when owned in whole nodes where
+  /// possible (as PETSc splits a matrix of block size 3): count() + 1 entries.
+  std::vector<long> row_start() const;
+  /// Equations come three to a node (every node has all or none).
+  bool whole_nodes() const { return whole_nodes_; }
+  /// This process keeps a copy of node n (its elements or its nodal terms reach it): its
+  /// local equations become the ones it owns, then those of held nodes owned elsewhere. A
+  /// collective call; nothing on one process.
+  void localize(const std::vector<char>& held);
+  const EquationLayout& layout() const { return layout_; }
   /// Index into frames() for node n, or -1 (global axes).
   int frame(int n) const { return frame_of_[n]; }
   const Mat3& rotation(int f) const { return frames_[f]; }
@@ -38,7 +60,10 @@ class DofMap {
   }
 
  private:
-  std::vector<int> eq_;
+  std::vector<int> eq_;     // global
+  std::vector<int> local_;  // local (empty: not localized)
+  EquationLayout layout_;
+  bool whole_nodes_ = true;
   std::vector<int> frame_of_;
   std::vector<Mat3> frames_;
   int neq_ = 0;

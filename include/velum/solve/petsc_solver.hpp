@@ -16,6 +16,7 @@
 #include <memory>
 #include <string>
 
+#include "velum/assembly/equation_layout.hpp"
 #include "velum/math/types.hpp"
 #include "velum/solve/linear_solver.hpp"
 
@@ -32,6 +33,10 @@ struct PetscSolverSettings {
   std::function<MatX()> near_null_space;
   /// 3 when equations 3k, 3k+1, 3k+2 are one node's for every k; otherwise 1.
   int block_size = 1;
+  /// Several processes: the matrices and vectors handed to the solver are over this
+  /// process's local equations (owned, then ghosts); the solver maps them to the global
+  /// numbering and owns the rows the layout says. Null or not distributed: global.
+  const EquationLayout* layout = nullptr;
 };
 
 /// Throws std::runtime_error when this build has no PETSc.

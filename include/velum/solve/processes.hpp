@@ -41,6 +41,12 @@ std::vector<double> gather(double value);
 std::vector<double> gather(const std::vector<double>& values);
 /// The smallest of every process's `value`, on every process. A collective call.
 long min(long value);
+/// The largest of every process's `value`, on every process. A collective call.
+double max(double value);
+/// Point to point: send[p] goes to process p; returns received[p], what process p sent
+/// here (its send[rank()]). A collective call; on one process, send itself.
+std::vector<std::vector<double>> exchange(const std::vector<std::vector<double>>& send);
+std::vector<std::vector<long>> exchange(const std::vector<std::vector<long>>& send);
 /// The process that owns item k of `total` split into count() contiguous, even ranges (as
 /// PETSc splits rows).
 int owner(long k, long total);

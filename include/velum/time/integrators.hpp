@@ -58,8 +58,15 @@ class TimeIntegrator {
   virtual StepReport start(SecondOrderSystem& sys, LinearSolver& solver, double t, State& s);
   /// What the integrator keeps between steps (predictor history), for a checkpoint, and its
   /// restoration; nothing for the one-step schemes.
-  virtual std::vector<double> save() const { return {}; }
-  virtual void restore(const std::vector<double>& memory) { (void)memory; }
+  /// restoration; nothing for the one-step schemes. Vectors in the global numbering
+  /// (SecondOrderSystem::to_global: save is a collective call on several processes).
+  virtual std::vector<double> save(const SecondOrderSystem& sys) const {
+    (void)sys;
+    return {};
+  }
+  virtual void restore(const SecondOrderSystem& sys, const std::vector<double>& memory) {
+    (void)sys, (void)memory;
+  }
 
   NewtonSettings newton;
 };
@@ -124,8 +131,8 @@ class StaticNewton : public TimeIntegrator {
     r.converged = true;
     return r;
   }
-  std::vector<double> save() const override;
-  void restore(const std::vector<double>& memory) override;
+  std::vector<double> save(const SecondOrderSystem& sys) const override;
+  void restore(const SecondOrderSystem& sys, const std::vector<double>& memory) override;
 
  private:
   // The start of Newton for the step from t to t + h into u; true when extrapolated.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/SparseCore>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,69 @@ class SecondOrderSystem {
   /// |J|): on several processes each holds its share of J, and the shares' vectors are summed
   /// here (every process then holds the same whole vector). Nothing on one process.
   virtual void complete(VecX& from_jacobian) const { (void)from_jacobian; }
+
+  // Reductions over the equations. On several processes (docs/parallel.md) each holds the
+  // equations it owns, first, then ghost copies of equations another process owns: a sum
+  // over the equations is a sum over each process's owned ones, summed over the processes
+  // (the same bits on every process, so that every process takes the same decisions). On
+  // one process these are Eigen's own (the same bits as before they existed).
+
+  /// Whether the equation vectors are distributed (owned equations and ghosts).
+  virtual bool distributed() const { return false; }
+  /// Equations this process owns: the first owned_size() entries of an equation vector.
+  virtual int owned_size() const { return size(); }
+  /// Equations over all the processes.
+  virtual long global_size() const { return size(); }
+  /// Sum (max) over the processes of each one's `local`, the same on every process.
+  virtual double sum_over_processes(double local) const { return local; }
+  virtual double max_over_processes(double local) const { return local; }
+  /// Entry `eq` of the global numbering of x (the owner's value, on every process).
+  virtual double global_entry(const VecX& x, int eq) const { return x[eq]; }
+
+  /// An equation vector in the global numbering, whole, on the first process (empty on the
+  /// others; a collective call): what a checkpoint writes. x itself on one process.
+  virtual VecX to_global(const VecX& x) const { return x; }
+  /// This process's equations of a whole vector in the global numbering (every process
+  /// holds it: a checkpoint read back). `whole` itself on one process.
+  virtual VecX to_local(const VecX& whole) const { return whole; }
+
+  double dot(const VecX& a, const VecX& b) const {
+    if (!distributed()) return a.dot(b);
+    const int n = owned_size();
+    return sum_over_processes(a.head(n).dot(b.head(n)));
+  }
+  double squared_norm(const VecX& a) const { return distributed() ? dot(a, a) : a.squaredNorm(); }
+  double norm(const VecX& a) const { return distributed() ? std::sqrt(dot(a, a)) : a.norm(); }
+  /// The largest |entry| (0 for none).
+  double max_abs(const VecX& a) const {
+    if (!distributed()) return a.size() ? a.cwiseAbs().maxCoeff() : 0.0;
+    const int n = owned_size();
+    return max_over_processes(n > 0 ? a.head(n).cwiseAbs().maxCoeff() : 0.0);
+  }
+  /// Whether every entry is finite, on every process.
+  bool all_finite(const VecX& a) const {
+    if (!distributed()) return a.allFinite();
+    return max_over_processes(a.allFinite() ? 0.0 : 1.0) == 0.0;
+  }
+  /// The sum of every entry.
+  double sum(const VecX& a) const {
+    return distributed() ? sum_over_processes(a.head(owned_size()).sum()) : a.sum();
+  }
+  /// Wᵀ Z over the equations (columns of equation vectors).
+  MatX transposed_product(const MatX& W, const MatX& Z) const {
+    if (!distributed()) return W.transpose() * Z;
+    const int n = owned_size();
+    MatX P = W.topRows(n).transpose() * Z.topRows(n);
+    for (Eigen::Index k = 0; k < P.size(); ++k) P.data()[k] = sum_over_processes(P.data()[k]);
+    return P;
+  }
+  VecX transposed_product(const MatX& W, const VecX& x) const {
+    if (!distributed()) return W.transpose() * x;
+    const int n = owned_size();
+    VecX p = W.topRows(n).transpose() * x.head(n);
+    for (Eigen::Index k = 0; k < p.size(); ++k) p[k] = sum_over_processes(p[k]);
+    return p;
+  }
 };
 
 }  // namespace velum
