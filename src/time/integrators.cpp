@@ -357,10 +357,13 @@ bool StaticNewton::predict(const SecondOrderSystem& sys, double t, double h, con
   // parabola (its error is third order in the step), a kink in it or a first, stress-free
   // increment the line. The residual, not the distance, because the in-plane error it weighs
   // most sets the stresses and through them the tangent the chord steps reuse.
-  continuous_ = h_prev_ > 0 && std::abs(t - t_prev_) <= 1e-12 * (1 + std::abs(t)) &&
-                u_prev_.size() == s.u.size();
+  // The sizes judged on every process alike (one with no local equations holds empty ones).
+  auto fits = [&](const VecX& x) {
+    return sys.sum_over_processes(x.size() == s.u.size() ? 0.0 : 1.0) == 0.0;
+  };
+  continuous_ = h_prev_ > 0 && std::abs(t - t_prev_) <= 1e-12 * (1 + std::abs(t)) && fits(u_prev_);
   const bool extrapolate = extrapolate_ && continuous_;
-  second_ = extrapolate && h_prev2_ > 0 && u_prev2_.size() == s.u.size();
+  second_ = extrapolate && h_prev2_ > 0 && fits(u_prev2_);
   if (extrapolate) linear_ = s.u + (h / h_prev_) * (s.u - u_prev_);
   if (second_) {
     // Lagrange through (t − h_prev − h_prev2, u_prev2), (t − h_prev, u_prev), (t, u) at t + h.
@@ -463,9 +466,11 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
 }
 
 std::vector<double> StaticNewton::save(const SecondOrderSystem& sys) const {
-  // Empty or the system's size on every process alike (the same steps were taken).
-  const VecX u1 = u_prev_.size() ? sys.to_global(u_prev_) : VecX(),
-             u2 = u_prev2_.size() ? sys.to_global(u_prev2_) : VecX();
+  // Empty or the system's size on every process alike (the same steps were taken; a process
+  // with no local equations holds empty ones either way).
+  auto held = [&](const VecX& x) { return sys.sum_over_processes(x.size() ? 1.0 : 0.0) > 0; };
+  const VecX u1 = held(u_prev_) ? sys.to_global(u_prev_) : VecX(),
+             u2 = held(u_prev2_) ? sys.to_global(u_prev2_) : VecX();
   std::vector<double> m = {h_prev_,
                            h_prev2_,
                            t_prev_,

@@ -27,6 +27,7 @@ class PathTracer {
   void accept() {
     factorised_at_start_ = factorised_at_candidate_;
     du_prev_ = cand_u_ - u_;
+    moved_ = true;
     dt_prev_ = cand_t_ - t_;
     u_ = cand_u_;
     t_ = cand_t_;
@@ -55,6 +56,7 @@ class PathTracer {
   VecX u_;
   double t_;
   VecX du_prev_;                          ///< the last accepted increment (direction of travel)
+  bool moved_ = false;                    ///< du_prev_ holds one (it may have no local entries)
   double dt_prev_ = 0;                    ///< ... and its change of t
   bool factorised_at_start_ = false;      ///< the solver holds J at (u_, t_)
   bool factorised_at_candidate_ = false;  ///< ... at the candidate (after a converged step)
@@ -136,7 +138,7 @@ StepReport PathTracer::step(Control control, double size) {
   } else if (control == Control::kArcLength) {
     dt = size / sys_.norm(v_);
     // Keep going the way the path went: through a limit point t turns back, u goes on.
-    const double along = du_prev_.size() ? sys_.dot(du_prev_, v_) : 1.0;
+    const double along = moved_ ? sys_.dot(du_prev_, v_) : 1.0;
     if (along < 0) dt = -dt;
   }
   VecX du = dt * v_;
