@@ -92,26 +92,38 @@ class SecondOrderSystem {
   /// holds it: a checkpoint read back). `whole` itself on one process.
   virtual VecX to_local(const VecX& whole) const { return whole; }
 
-  double dot(const VecX& a, const VecX& b) const {
+  // Templates: an expression is reduced as it stands (a temporary of it could round
+  // differently where the compiler fuses a multiply and an add).
+  template <class A, class B>
+  double dot(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) const {
     if (!distributed()) return a.dot(b);
     const int n = owned_size();
     return sum_over_processes(a.head(n).dot(b.head(n)));
   }
-  double squared_norm(const VecX& a) const { return distributed() ? dot(a, a) : a.squaredNorm(); }
-  double norm(const VecX& a) const { return distributed() ? std::sqrt(dot(a, a)) : a.norm(); }
+  template <class A>
+  double squared_norm(const Eigen::MatrixBase<A>& a) const {
+    return distributed() ? dot(a, a) : a.squaredNorm();
+  }
+  template <class A>
+  double norm(const Eigen::MatrixBase<A>& a) const {
+    return distributed() ? std::sqrt(dot(a, a)) : a.norm();
+  }
   /// The largest |entry| (0 for none).
-  double max_abs(const VecX& a) const {
+  template <class A>
+  double max_abs(const Eigen::MatrixBase<A>& a) const {
     if (!distributed()) return a.size() ? a.cwiseAbs().maxCoeff() : 0.0;
     const int n = owned_size();
     return max_over_processes(n > 0 ? a.head(n).cwiseAbs().maxCoeff() : 0.0);
   }
   /// Whether every entry is finite, on every process.
-  bool all_finite(const VecX& a) const {
+  template <class A>
+  bool all_finite(const Eigen::MatrixBase<A>& a) const {
     if (!distributed()) return a.allFinite();
     return max_over_processes(a.allFinite() ? 0.0 : 1.0) == 0.0;
   }
   /// The sum of every entry.
-  double sum(const VecX& a) const {
+  template <class A>
+  double sum(const Eigen::MatrixBase<A>& a) const {
     return distributed() ? sum_over_processes(a.head(owned_size()).sum()) : a.sum();
   }
   /// Wᵀ Z over the equations (columns of equation vectors).
