@@ -17,18 +17,30 @@ EquationLayout::EquationLayout(std::vector<long> row_start, std::vector<long> gh
   owned_ = static_cast<int>(row_start_[rank + 1] - first_);
   total_ = row_start_.back();
   // Each ghost is asked of its owner; the owner keeps, per asking process, which of its
-  // equations to send (in the order asked: ascending).
-  receive_.assign(p, {});
+  // equations to send (in the order asked: ascending). Ghosts are ascending and the owners'
+  // ranges in rank order: the ghosts come grouped by owner, in rank order.
   std::vector<std::vector<long>> ask(p);
+  receive_count_.assign(p, 0);
   for (size_t k = 0; k < ghosts_.size(); ++k) {
     const auto q = static_cast<size_t>(owner(ghosts_[k]));
     ask[q].push_back(ghosts_[k]);
-    receive_[q].push_back(owned_ + static_cast<int>(k));
+    receive_.push_back(owned_ + static_cast<int>(k));
+    ++receive_count_[q];
   }
   const auto asked = processes::exchange(ask);
-  send_.assign(p, {});
-  for (size_t q = 0; q < p; ++q)
-    for (long g : asked[q]) send_[q].push_back(static_cast<int>(g - first_));
+  send_count_.assign(p, 0);
+  for (size_t q = 0; q < p; ++q) {
+    for (long g : asked[q]) send_.push_back(static_cast<int>(g - first_));
+    send_count_[q] = static_cast<int>(asked[q].size());
+  }
+  send_at_.assign(p, 0);
+  receive_at_.assign(p, 0);
+  for (size_t q = 1; q < p; ++q) {
+    send_at_[q] = send_at_[q - 1] + send_count_[q - 1];
+    receive_at_[q] = receive_at_[q - 1] + receive_count_[q - 1];
+  }
+  out_.resize(std::max(send_.size(), receive_.size()));
+  in_.resize(out_.size());
 }
 
 int EquationLayout::owner(long g) const {
@@ -56,22 +68,17 @@ double EquationLayout::norm(const VecX& a) const {
 
 void EquationLayout::update_ghosts(VecX& x) const {
   if (!distributed_) return;
-  std::vector<std::vector<double>> out(send_.size());
-  for (size_t q = 0; q < send_.size(); ++q)
-    for (int i : send_[q]) out[q].push_back(x[i]);
-  const auto in = processes::exchange(out);
-  for (size_t q = 0; q < receive_.size(); ++q)
-    for (size_t k = 0; k < receive_[q].size(); ++k) x[receive_[q][k]] = in[q][k];
+  for (size_t k = 0; k < send_.size(); ++k) out_[k] = x[send_[k]];
+  processes::exchange(out_.data(), send_count_, send_at_, in_.data(), receive_count_, receive_at_);
+  for (size_t k = 0; k < receive_.size(); ++k) x[receive_[k]] = in_[k];
 }
 
 void EquationLayout::sum_to_owners(VecX& x) const {
   if (!distributed_) return;
-  std::vector<std::vector<double>> out(receive_.size());
-  for (size_t q = 0; q < receive_.size(); ++q)
-    for (int i : receive_[q]) out[q].push_back(x[i]);
-  const auto in = processes::exchange(out);
-  for (size_t q = 0; q < send_.size(); ++q)
-    for (size_t k = 0; k < send_[q].size(); ++k) x[send_[q][k]] += in[q][k];
+  for (size_t k = 0; k < receive_.size(); ++k) out_[k] = x[receive_[k]];
+  processes::exchange(out_.data(), receive_count_, receive_at_, in_.data(), send_count_, send_at_);
+  // In rank order of the senders, after the owner's own part: the same bits on any run.
+  for (size_t k = 0; k < send_.size(); ++k) x[send_[k]] += in_[k];
   update_ghosts(x);
 }
 

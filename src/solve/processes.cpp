@@ -212,6 +212,17 @@ std::vector<std::vector<long>> exchange(const std::vector<std::vector<long>>& se
   return exchange_of(send);
 }
 
+void exchange(const double* out, const std::vector<int>& out_count, const std::vector<int>& out_at,
+              double* in, const std::vector<int>& in_count, const std::vector<int>& in_at) {
+#ifdef VELUM_HAVE_PETSC
+  if (my_count > 1)
+    MPI_Alltoallv(out, out_count.data(), out_at.data(), MPI_DOUBLE, in, in_count.data(),
+                  in_at.data(), MPI_DOUBLE, PETSC_COMM_WORLD);
+#else
+  (void)out, (void)out_count, (void)out_at, (void)in, (void)in_count, (void)in_at;
+#endif
+}
+
 int owner(long k, long total) {
   const long base = total / my_count, extra = total % my_count;
   // The first `extra` processes hold base + 1 items.

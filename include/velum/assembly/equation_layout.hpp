@@ -60,8 +60,12 @@ class EquationLayout {
   long first_ = 0, total_ = 0;
   std::vector<long> row_start_{0, 0};
   std::vector<long> ghosts_;
-  std::vector<std::vector<int>> receive_;  // per process: local ghost indices it sends us
-  std::vector<std::vector<int>> send_;     // per process: local owned indices it reads
+  // The forward exchange (owners to ghosts), built once: the owned entries sent to each
+  // process, concatenated in rank order, and the ghosts received from each, likewise; counts
+  // and offsets per process. The reverse exchange is the same pattern the other way.
+  std::vector<int> send_, receive_;
+  std::vector<int> send_count_, send_at_, receive_count_, receive_at_;
+  mutable std::vector<double> out_, in_;  // buffers, reused
 };
 
 }  // namespace velum

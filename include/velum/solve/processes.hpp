@@ -47,6 +47,10 @@ double max(double value);
 /// here (its send[rank()]). A collective call; on one process, send itself.
 std::vector<std::vector<double>> exchange(const std::vector<std::vector<double>>& send);
 std::vector<std::vector<long>> exchange(const std::vector<std::vector<long>>& send);
+/// The same with a fixed pattern (MPI_Alltoallv): out[out_at[p] .. + out_count[p]) goes to
+/// process p, what p sends lands at in[in_at[p] ..). A collective call; nothing on one.
+void exchange(const double* out, const std::vector<int>& out_count, const std::vector<int>& out_at,
+              double* in, const std::vector<int>& in_count, const std::vector<int>& in_at);
 /// The process that owns item k of `total` split into count() contiguous, even ranges (as
 /// PETSc splits rows).
 int owner(long k, long total);
