@@ -151,26 +151,31 @@ std::vector<double> gather(const std::vector<double>& values) {
   return values;
 }
 
-long min(long value) {
+namespace {
+
+// The smallest (largest) of every process's `value`, on every process.
+template <class T>
+T all_reduce(T value, [[maybe_unused]] bool largest) {
 #ifdef VELUM_HAVE_PETSC
   if (my_count > 1) {
-    long out = value;
-    MPI_Allreduce(&value, &out, 1, MPI_LONG, MPI_MIN, PETSC_COMM_WORLD);
+    T out = value;
+    const bool real = std::is_same_v<T, double>;  // outside the call: PETSc wraps it in a macro
+    MPI_Allreduce(&value, &out, 1, real ? MPI_DOUBLE : MPI_LONG, largest ? MPI_MAX : MPI_MIN,
+                  PETSC_COMM_WORLD);
     return out;
   }
 #endif
   return value;
 }
 
+}  // namespace
+
+long min(long value) {
+  return all_reduce(value, false);
+}
+
 double max(double value) {
-#ifdef VELUM_HAVE_PETSC
-  if (my_count > 1) {
-    double out = value;
-    MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
-    return out;
-  }
-#endif
-  return value;
+  return all_reduce(value, true);
 }
 
 namespace {

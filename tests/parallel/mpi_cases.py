@@ -274,13 +274,19 @@ def run(cmd, env):
     return p
 
 
+def fresh(out):
+    """An empty output folder `out` and the environment of a test's runs: one thread each,
+    mpirun allowed as root and on more processes than cores."""
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    return dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
+                OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+
+
 def main():
     velum, out, case = sys.argv[1], sys.argv[2], sys.argv[3]
     counts = [int(n) for n in sys.argv[4:]] or [2, 3]
-    shutil.rmtree(out, ignore_errors=True)
-    os.makedirs(out)
-    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
-               OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+    env = fresh(out)
     for solver in ("auto", "petsc"):
         with open(os.path.join(out, f"{solver}.yaml"), "w") as f:
             f.write(model(case, solver))

@@ -9,7 +9,6 @@ decision the first takes (the reductions over the equations). The histories must
 Usage: mpi_path.py VELUM OUTDIR
 """
 import os
-import shutil
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -54,10 +53,7 @@ CASES = {
 
 def main():
     velum, out = sys.argv[1], sys.argv[2]
-    shutil.rmtree(out, ignore_errors=True)
-    os.makedirs(out)
-    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
-               OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+    env = mpi_cases.fresh(out)
     errors, rows = [], []
     for name, (end, step, path) in CASES.items():
         text = TRUSS.replace("END", end).replace("STEP", step).replace("PATH", path)

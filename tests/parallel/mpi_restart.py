@@ -13,7 +13,6 @@ and after the restart, valid pieces (per frame a .pvtu naming two pieces that ho
 once and every node) with the one-process frame's values (mpi_cases.frame_errors).
 """
 import os
-import shutil
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -22,10 +21,7 @@ import mpi_cases  # noqa: E402
 
 def main():
     velum, out = sys.argv[1], sys.argv[2]
-    shutil.rmtree(out, ignore_errors=True)
-    os.makedirs(out)
-    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
-               OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+    env = mpi_cases.fresh(out)
     text = mpi_cases.model("dynamic", "petsc").replace("output:\n",
                                                       "output:\n  checkpoint: {steps: 3}\n", 1)
     if "end: 0.04," not in text:
