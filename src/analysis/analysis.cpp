@@ -127,9 +127,9 @@ class EnergyAccount {
     for (const NodePositions* P : {&U_prev_, &F_prev_, &R_prev_}) {
       NodePositions W = *P;
       if (P == &U_prev_)
-        for (int n = 0; n < W.cols(); ++n)
-          if (!a.keeps_node(n)) W.col(n).setZero();
-      processes::sum(W.data(), static_cast<long>(W.size()));
+        a.whole_from_keepers(W);
+      else
+        processes::sum(W.data(), static_cast<long>(W.size()));  // the forces' shares
       put(m, W.data(), W.size());
     }
     const VecX v = sys_.to_global(v_prev_);
@@ -148,10 +148,7 @@ class EnergyAccount {
     vmv_prev_ = kUnknown;
     at = take(m, at, v_prev_.data(), v_prev_.size());
     if (sys_.distributed()) {  // back to this process's shares and equations
-      const Assembler& a = sys_.assembler();
-      for (NodePositions* P : {&F_prev_, &R_prev_})
-        for (int n = 0; n < P->cols(); ++n)
-          if (!a.keeps_node(n)) P->col(n).setZero();
+      for (NodePositions* P : {&F_prev_, &R_prev_}) sys_.assembler().keep_kept_nodes(*P);
       v_prev_ = sys_.to_local(v_prev_);
     }
     return at;

@@ -7,8 +7,6 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "velum/solve/processes.hpp"
-
 namespace velum {
 namespace {
 
@@ -136,11 +134,7 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
       }
       ++rep_out.updates;
       NodePositions U = sys.displacements(t_next, s.u);
-      if (sys.distributed()) {  // whole on every process: each node from its keeper
-        for (int n = 0; n < U.cols(); ++n)
-          if (!sys.assembler().keeps_node(n)) U.col(n).setZero();
-        processes::sum(U.data(), static_cast<long>(U.size()));
-      }
+      sys.assembler().whole_from_keepers(U);  // several processes: each node from its keeper
       x += U;
       // Back towards the nominal stabilizer once an update has gone through.
       stabilizer = std::max(ff.stiffness, stabilizer / 10);

@@ -95,14 +95,8 @@ struct NodalState {
 
 NodalState nodal(const MechanicalSystem& sys, double t, const State& s) {
   NodalState n{sys.displacements(t, s.u), sys.velocities(s.v), sys.velocities(s.a)};
-  if (sys.distributed()) {  // whole on every process: the next step's nodes are others
-    const Assembler& a = sys.assembler();
-    for (NodePositions* P : {&n.U, &n.V, &n.A}) {
-      for (int i = 0; i < P->cols(); ++i)
-        if (!a.keeps_node(i)) P->col(i).setZero();
-      processes::sum(P->data(), static_cast<long>(P->size()));
-    }
-  }
+  // Whole on every process (several processes): the next step's nodes are others.
+  for (NodePositions* P : {&n.U, &n.V, &n.A}) sys.assembler().whole_from_keepers(*P);
   return n;
 }
 

@@ -307,6 +307,18 @@ void Assembler::reduce(NodePositions& F) const {
   if (shared()) processes::sum(F.data(), static_cast<long>(F.size()));
 }
 
+void Assembler::keep_kept_nodes(NodePositions& P) const {
+  if (node_kept_.empty()) return;
+  for (Eigen::Index n = 0; n < P.cols(); ++n)
+    if (!node_kept_[n]) P.col(n).setZero();
+}
+
+void Assembler::whole_from_keepers(NodePositions& P) const {
+  if (!several_) return;
+  keep_kept_nodes(P);
+  processes::sum(P.data(), static_cast<long>(P.size()));
+}
+
 void Assembler::sum_at_shared_nodes(std::span<const std::pair<double*, int>> arrays) const {
   if (!several_) return;
   size_t per_node = 0;

@@ -102,12 +102,8 @@ bool PathTracer::constraint(Control control, double size, const VecX& du, double
   // Crisfield: ‖du + a + δt b‖² = Δs², of the two roots the one that turns the increment
   // least (the other goes back along the path).
   const VecX w = du + a;
-  double A = 0, B = 0, C = 0;
-  if (!sys_.distributed()) {  // as it always read: the compiler may fuse w·w − Δs² (bit for bit)
-    A = b.squaredNorm(), B = 2 * b.dot(w), C = w.squaredNorm() - size * size;
-  } else {
-    A = sys_.squared_norm(b), B = 2 * sys_.dot(b, w), C = sys_.squared_norm(w) - size * size;
-  }
+  const double A = sys_.squared_norm(b), B = 2 * sys_.dot(b, w),
+               C = sys_.squared_norm(w) - size * size;
   const double disc = B * B - 4 * A * C;
   if (!(disc >= 0) || !(A > 0)) return false;
   const double root = std::sqrt(disc);

@@ -103,6 +103,13 @@ class Assembler {
   bool keeps_node(int n) const { return node_kept_.empty() || node_kept_[n] != 0; }
   /// Nodes held by elements of more than one process, ascending (empty on one process).
   const std::vector<int>& shared_node_list() const { return shared_list_; }
+  /// Keeps node n's column of P only where keeps_node(n) (zero elsewhere); nothing on one
+  /// process.
+  void keep_kept_nodes(NodePositions& P) const;
+  /// A per-node array whole on every process: each node's column as the process keeping it
+  /// holds it (keep_kept_nodes, then summed over the processes). A collective call; nothing
+  /// on one process.
+  void whole_from_keepers(NodePositions& P) const;
   /// Completes per-node partial sums at the shared nodes: each array holds `per_node`
   /// consecutive values per node (a 3 x nodes NodePositions: 3), this process's share; on
   /// return the shared nodes' entries hold the sum over the processes (the same bits on
