@@ -66,11 +66,9 @@ std::vector<long> DofMap::row_start() const {
   // Contiguous ranges, whole blocks of three when the equations come so, as even as PETSc's
   // own split (PetscSolver uses these).
   const int size = processes::count(), bs = whole_nodes_ && neq_ % 3 == 0 ? 3 : 1;
-  const long blocks = neq_ / bs, base = blocks / size, extra = blocks % size;
   std::vector<long> start(static_cast<size_t>(size) + 1);
   for (int r = 0; r <= size; ++r)
-    start[static_cast<size_t>(r)] = bs * (r * base + std::min<long>(r, extra));
-  start.back() = neq_;
+    start[static_cast<size_t>(r)] = processes::range_start(neq_, bs, size, r);
   return start;
 }
 

@@ -97,9 +97,8 @@ class PetscSolver final : public LinearSolver {
         global_[static_cast<size_t>(i)] = static_cast<PetscInt>(layout->global(i));
     } else {
       // Contiguous rows, whole blocks, as even as PETSc's own split.
-      const int blocks = n / bs_, base = blocks / size, extra = blocks % size;
-      lo_ = bs_ * (rank * base + std::min(rank, extra));
-      hi_ = lo_ + bs_ * (base + (rank < extra ? 1 : 0));
+      lo_ = static_cast<int>(processes::range_start(n, bs_, size, rank));
+      hi_ = static_cast<int>(processes::range_start(n, bs_, size, rank + 1));
     }
     const int local = hi_ - lo_;
     Mat pre = nullptr;

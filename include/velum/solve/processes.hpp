@@ -54,6 +54,13 @@ void exchange(const double* out, const std::vector<int>& out_count, const std::v
 /// The process that owns item k of `total` split into count() contiguous, even ranges (as
 /// PETSc splits rows).
 int owner(long k, long total);
+/// Where part r of `total` items split into `parts` contiguous ranges of whole blocks of
+/// `block` items (total a multiple of it), as even as PETSc's own split, starts; r = parts
+/// gives `total`.
+inline long range_start(long total, int block, int parts, int r) {
+  const long blocks = total / block, base = blocks / parts, extra = blocks % parts;
+  return block * (r * base + (r < extra ? r : extra));
+}
 /// A partition of a graph (vertices 0 .. n − 1, the neighbours of v at
 /// adjacency[offsets[v] .. offsets[v + 1]), ascending, without v) into count() parts by
 /// PT-Scotch through PETSc's MatPartitioning: part[v] on every process, the same. A collective
