@@ -113,8 +113,9 @@ class EnergyAccount {
   /// which the trapezoidal work is only as good as the steps are fine (a softening truss in
   /// one step: 29% off), and no blow-up hides there.
   bool balanced() const { return dynamic_; }
-  // On several processes (a collective call) the whole arrays, as one process keeps them:
-  // the displacements of the nodes each process keeps, the forces' shares summed.
+  // On several processes (a collective call) the whole arrays on the first process, as one
+  // process keeps them: each node's displacement and forces from the process keeping it (the
+  // forces' shares completed at the shared nodes first).
   void save(std::vector<double>& m) const {
     m.push_back(held0_);
     m.push_back(work_scale_);
@@ -126,10 +127,15 @@ class EnergyAccount {
     const Assembler& a = sys_.assembler();
     for (const NodePositions* P : {&U_prev_, &F_prev_, &R_prev_}) {
       NodePositions W = *P;
-      if (P == &U_prev_)
-        a.whole_from_keepers(W);
-      else
-        processes::sum(W.data(), static_cast<long>(W.size()));  // the forces' shares
+      if (W.size() == 0) {  // no reactions kept (alike on every process)
+        put(m, W.data(), 0);
+        continue;
+      }
+      if (P != &U_prev_) {
+        const std::pair<double*, int> share[] = {{W.data(), 3}};
+        a.sum_at_shared_nodes(share);
+      }
+      W = a.gather_nodes(W);
       put(m, W.data(), W.size());
     }
     const VecX v = sys_.to_global(v_prev_);
@@ -147,8 +153,11 @@ class EnergyAccount {
     v_prev_.resize(static_cast<Eigen::Index>(m.at(at)));
     vmv_prev_ = kUnknown;
     at = take(m, at, v_prev_.data(), v_prev_.size());
-    if (sys_.distributed()) {  // back to this process's shares and equations
-      for (NodePositions* P : {&F_prev_, &R_prev_}) sys_.assembler().keep_kept_nodes(*P);
+    if (sys_.distributed()) {  // back to this process's nodes, shares and equations
+      const Assembler& a = sys_.assembler();
+      for (NodePositions* P : {&U_prev_, &F_prev_, &R_prev_})
+        if (P->size() != 0) *P = a.piece_of(*P);
+      for (NodePositions* P : {&F_prev_, &R_prev_}) a.keep_kept_nodes(*P);
       v_prev_ = sys_.to_local(v_prev_);
     }
     return at;
@@ -284,7 +293,8 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
   if (settings.type == AnalysisSettings::Type::kStatic &&
       settings.path.method != PathSettings::Method::kLoadControl) {
     PathSettings path = settings.path;
-    if (path.method == PathSettings::Method::kDisplacement)
+    // (Under mpirun set from the whole model before it was shared out.)
+    if (path.method == PathSettings::Method::kDisplacement && path.equation < 0)
       path.equation = sys.dofs().global_equation(path.node, path.component);
     result.integrator = path.method == PathSettings::Method::kDisplacement ? "displacement control"
                         : path.constraint == PathSettings::Constraint::kRiks

@@ -33,6 +33,9 @@ Model update_model(const Model& model, const NodePositions& x, double t, double 
   w.gases = model.gases;
   w.gravity = model.gravity;
   w.functions = model.functions;
+  w.rayleigh_mass = model.rayleigh_mass;
+  w.rayleigh_stiffness = model.rayleigh_stiffness;
+  w.piece = model.piece;  // under mpirun: the same piece, its nodes and partition
   return w;
 }
 
@@ -134,7 +137,7 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
       }
       ++rep_out.updates;
       NodePositions U = sys.displacements(t_next, s.u);
-      sys.assembler().whole_from_keepers(U);  // several processes: each node from its keeper
+      sys.assembler().from_keepers(U);  // several processes: each node from its keeper
       x += U;
       // Back towards the nominal stabilizer once an update has gone through.
       stabilizer = std::max(ff.stiffness, stabilizer / 10);

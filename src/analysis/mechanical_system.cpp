@@ -20,8 +20,8 @@ std::vector<long> node_ids_of(const Model& m, const ElementBlock& b, int e) {
 
 }  // namespace
 
-MechanicalSystem::MechanicalSystem(const Model& model, ElementPartition partition)
-    : model_(model), dofs_(model), assembler_(model, dofs_, partition) {
+MechanicalSystem::MechanicalSystem(const Model& model)
+    : model_(model), dofs_(model), assembler_(model, dofs_) {
   assembler_.mass(nullptr, &lumped_nodes_);
   lumped_eq_.setZero(size());
   equation_node_.assign(size(), 0);
@@ -31,7 +31,12 @@ MechanicalSystem::MechanicalSystem(const Model& model, ElementPartition partitio
         lumped_eq_[eq] = lumped_nodes_[n];
         equation_node_[eq] = n;
       }
-  for (const auto& e : model.edge_loads) edge_forces_.push_back(edge_load_forces(model, e));
+  for (const auto& e : model.edge_loads) {
+    // On a piece: its own elements' edges, completed where processes share nodes.
+    NodePositions& F = edge_forces_.emplace_back(edge_load_forces(model, e));
+    const std::pair<double*, int> parts[] = {{F.data(), 3}};
+    assembler_.sum_at_shared_nodes(parts);
+  }
   for (const auto& g : model.gravity)
     gravity_forces_.push_back(assembler_.gravity_forces(g.acceleration));
   drag_ = has_drag();
@@ -382,15 +387,25 @@ std::string MechanicalSystem::inverted_element(double t_from, const VecX& u_from
   }
   if (processes::count() > 1) first = processes::min(first);
   cell = 0;
-  for (const auto& b : model_.blocks) {
+  for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
+    const ElementBlock& b = *model_.blocks[bi];
     const long e = first - cell;
-    cell += b->size();
-    if (e >= b->size()) continue;
+    cell += b.size();
+    if (e >= b.size()) continue;
+    // Its nodes' ids from the process computing it (a piece holds its own elements' nodes).
+    std::vector<long> ids;
+    if (assembler_.owns(static_cast<int>(bi), static_cast<int>(e)))
+      ids = node_ids_of(model_, b, static_cast<int>(e));
+    if (processes::count() > 1) {
+      std::vector<double> sum(static_cast<size_t>(b.nodes_per_element()), 0.0);
+      for (size_t k = 0; k < ids.size(); ++k) sum[k] = static_cast<double>(ids[k]);
+      processes::sum(sum.data(), static_cast<long>(sum.size()));
+      ids.assign(sum.begin(), sum.end());
+    }
     return fmt::format(
         "{} element {} of set '{}' (nodes {}) turns inside out between t = {:.6g} and "
         "{:.6g}",
-        b->type_name(), e + 1, b->set_name(),
-        fmt::join(node_ids_of(model_, *b, static_cast<int>(e)), " "), t_from, t_to);
+        b.type_name(), e + 1, b.set_name(), fmt::join(ids, " "), t_from, t_to);
   }
   return {};
 }

@@ -5,13 +5,16 @@
 #include <algorithm>
 #include <cmath>
 
+#include "velum/assembly/model_piece.hpp"
 #include "velum/solve/processes.hpp"
 
 namespace velum {
 
 PlausibilityCheck::PlausibilityCheck(const Model& model, PlausibilityLimits limits)
     : limits_(limits) {
-  if (model.num_nodes() > 0)
+  if (model.piece)  // a process's piece: the whole model's size, alike on every process
+    size_ = model.piece->size;
+  else if (model.num_nodes() > 0)
     size_ = (model.X.rowwise().maxCoeff() - model.X.rowwise().minCoeff()).norm();
 }
 
@@ -24,7 +27,7 @@ std::string PlausibilityCheck::check(double t, const NodePositions& U, const Sta
         "implausible: non-finite displacements, velocities or accelerations at "
         "t = {:.6g}",
         t);
-  if (U.cols() > 0 && size_ > 0) {
+  if ((several ? assembler_->global_nodes() : U.cols()) > 0 && size_ > 0) {
     Vec3 mean;
     double spread = 0;
     if (!several) {
@@ -35,7 +38,7 @@ std::string PlausibilityCheck::check(double t, const NodePositions& U, const Sta
       for (int n = 0; n < U.cols(); ++n)
         if (assembler_->keeps_node(n)) sum += U.col(n);
       processes::sum(sum.data(), 3);
-      mean = sum / static_cast<double>(U.cols());
+      mean = sum / static_cast<double>(assembler_->global_nodes());
       for (int n = 0; n < U.cols(); ++n)
         if (assembler_->keeps_node(n)) spread = std::max(spread, (U.col(n) - mean).norm());
       spread = processes::max(spread);

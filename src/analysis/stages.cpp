@@ -96,7 +96,7 @@ struct NodalState {
 NodalState nodal(const MechanicalSystem& sys, double t, const State& s) {
   NodalState n{sys.displacements(t, s.u), sys.velocities(s.v), sys.velocities(s.a)};
   // Whole on every process (several processes): the next step's nodes are others.
-  for (NodePositions* P : {&n.U, &n.V, &n.A}) sys.assembler().whole_from_keepers(*P);
+  for (NodePositions* P : {&n.U, &n.V, &n.A}) sys.assembler().from_keepers(*P);
   return n;
 }
 

@@ -3,7 +3,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <numeric>
 
+#include "velum/assembly/model_piece.hpp"
 #include "velum/solve/processes.hpp"
 
 namespace velum {
@@ -130,116 +132,37 @@ void build_pattern(const Model& model, const DofMap& dofs, const std::vector<std
   }
 }
 
-// The element graph (elements sharing a node are neighbours), elements numbered through the
-// blocks in order: CSR offsets and ascending neighbour lists.
-void element_graph(const Model& model, std::vector<long>& offsets, std::vector<long>& adjacency) {
-  std::vector<long> first(model.blocks.size() + 1, 0);
-  for (size_t b = 0; b < model.blocks.size(); ++b)
-    first[b + 1] = first[b] + model.blocks[b]->size();
-  std::vector<std::vector<long>> at_node(static_cast<size_t>(model.num_nodes()));
-  for (size_t b = 0; b < model.blocks.size(); ++b)
-    for (int e = 0; e < model.blocks[b]->size(); ++e)
-      for (int n : model.blocks[b]->nodes(e))
-        at_node[static_cast<size_t>(n)].push_back(first[b] + e);
-  offsets.assign(1, 0);
-  adjacency.clear();
-  std::vector<long> near;
-  for (size_t b = 0; b < model.blocks.size(); ++b)
-    for (int e = 0; e < model.blocks[b]->size(); ++e) {
-      near.clear();
-      for (int n : model.blocks[b]->nodes(e))
-        for (long other : at_node[static_cast<size_t>(n)])
-          if (other != first[b] + e) near.push_back(other);
-      std::sort(near.begin(), near.end());
-      near.erase(std::unique(near.begin(), near.end()), near.end());
-      adjacency.insert(adjacency.end(), near.begin(), near.end());
-      offsets.push_back(static_cast<long>(adjacency.size()));
-    }
-}
-
 }  // namespace
 
-Assembler::Assembler(const Model& model, DofMap& dofs, ElementPartition partition)
-    : model_(model), dofs_(dofs) {
+Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), dofs_(dofs) {
   neq_ = dofs.num_equations();
-  several_ = processes::count() > 1;
-  const int rank = processes::rank();
-  // PT-Scotch on the element graph when asked for (a collective call); the row rule below
-  // when it is not, or not available.
-  std::vector<int> graph_part;
-  if (several_ && partition == ElementPartition::kScotch) {
-    std::vector<long> offsets, adjacency;
-    element_graph(model, offsets, adjacency);
-    std::string why;
-    if (processes::partition_graph(offsets, adjacency, graph_part, why))
-      partition_ = ElementPartition::kScotch;
-    else
-      partition_note_ = why, graph_part.clear();
-  }
-  // The partition: an element belongs to the process that owns the row of its lowest
-  // equation (rows split in contiguous even ranges, as the PETSc matrix's): with a node
-  // numbering that follows the mesh (bandwidth-reduced, or row by row), a process's elements
-  // form a band whose entries mostly fall in its own rows. An element without equations goes
-  // round-robin.
-  auto owner = [&](const ElementBlock& b, int e) {
-    int lowest = neq_;
-    for (int n : b.nodes(e))
-      for (int c = 0; c < 3; ++c)
-        if (const int q = dofs.equation(n, c); q >= 0) lowest = std::min(lowest, q);
-    return lowest < neq_ ? processes::owner(lowest, neq_) : e % processes::count();
-  };
-  std::vector<int> holder(static_cast<size_t>(model.num_nodes()), -1);  // -2: shared
-  std::vector<int> lowest(static_cast<size_t>(model.num_nodes()), 0);   // the lowest holder
-  size_t cell = 0;  // the element's index through the blocks
-  for (const auto& bp : model.blocks) {
-    auto& own = own_.emplace_back();
-    auto& local = local_.emplace_back(bp->size(), -1);
-    for (int e = 0; e < bp->size(); ++e, ++cell) {
-      const int p = !several_ ? 0 : graph_part.empty() ? owner(*bp, e) : graph_part[cell];
-      if (p == rank) {
-        local[e] = static_cast<int>(own.size());
-        own.push_back(e);
-      }
-      for (int n : bp->nodes(e)) {
-        int& h = holder[static_cast<size_t>(n)];
-        int& low = lowest[static_cast<size_t>(n)];
-        low = h == -1 ? p : std::min(low, p);
-        h = (h == -1 || h == p) ? p : -2;
-      }
+  if (const ModelPiece* piece = model.piece.get()) {  // shared out by share_model
+    several_ = true;
+    own_ = piece->own;
+    partition_ = piece->partition;
+    partition_note_ = piece->partition_note;
+    node_kept_ = piece->kept;
+    lone_nodes_ = piece->lone;
+    shared_list_ = piece->shared;
+    shared_nodes_ = piece->element_cut;
+    global_nodes_ = piece->global_nodes;
+  } else {
+    for (const auto& bp : model.blocks) {
+      auto& own = own_.emplace_back(static_cast<size_t>(bp->size()));
+      std::iota(own.begin(), own.end(), 0);
     }
-  }
-  shared_nodes_ = std::count(holder.begin(), holder.end(), -2);
-  if (several_) {
-    node_kept_.assign(holder.size(), 0);
-    for (size_t n = 0; n < holder.size(); ++n) {
-      node_kept_[n] = holder[n] == -1 ? rank == 0 : lowest[n] == rank;
-      if (holder[n] == -2) shared_list_.push_back(static_cast<int>(n));
-    }
-  }
-  auto mine = [&](int block, const std::vector<int>& elems) {
-    std::vector<int> kept;
-    for (int e : elems)
-      if (local_[block][e] >= 0) kept.push_back(e);
-    return kept;
-  };
-  // The first process also holds the diagonal blocks of the point masses' nodes (their mass
-  // and the payload's drag Jacobian are added there once) and of nodes in no element, so
-  // that the shares' patterns together are the one-process pattern. Not every node's: on
-  // several processes those were zeros sent to the other processes at every assembly.
-  if (!several_ || rank == 0) {
-    for (size_t n = 0; n < holder.size(); ++n)
-      if (holder[n] == -1) lone_nodes_.push_back(static_cast<int>(n));
+    // The nodes in no element and the point masses' nodes: their diagonal blocks.
+    std::vector<char> in_element(static_cast<size_t>(model.num_nodes()), 0);
+    for (const auto& bp : model.blocks)
+      for (int n : bp->connectivity()) in_element[static_cast<size_t>(n)] = 1;
+    for (size_t n = 0; n < in_element.size(); ++n)
+      if (!in_element[n]) lone_nodes_.push_back(static_cast<int>(n));
     for (const auto& pm : model.masses) lone_nodes_.push_back(pm.node);
+    global_nodes_ = model.num_nodes();
   }
-  if (several_) {  // the local equations: those of own elements' nodes and of kept nodes
-    std::vector<char> held(holder.size(), 0);
-    for (size_t bi = 0; bi < model.blocks.size(); ++bi)
-      for (int e : own_[bi])
-        for (int n : model.blocks[bi]->nodes(e)) held[static_cast<size_t>(n)] = 1;
-    for (int n : lone_nodes_) held[static_cast<size_t>(n)] = 1;
-    for (size_t n = 0; n < held.size(); ++n) held[n] = held[n] || node_kept_[n];
-    dofs.localize(held);
-    neq_ = dofs.num_equations();
+  for (size_t b = 0; b < own_.size(); ++b) {
+    auto& local = local_.emplace_back(model.blocks[b]->size(), -1);
+    for (size_t i = 0; i < own_[b].size(); ++i) local[own_[b][i]] = static_cast<int>(i);
   }
   build_pattern(model, dofs, own_, lone_nodes_, first_matrix_);
   nonzeros_ = first_matrix_.nonZeros();
@@ -275,6 +198,12 @@ Assembler::Assembler(const Model& model, DofMap& dofs, ElementPartition partitio
     scatter_.push_back(std::move(map));
   }
   for (const auto& b : model.blocks) max_dofs_ = std::max(max_dofs_, b->dofs_per_element());
+  auto mine = [&](int block, const std::vector<int>& elems) {
+    std::vector<int> kept;
+    for (int e : elems)
+      if (local_[block][e] >= 0) kept.push_back(e);
+    return kept;
+  };
   for (const auto& p : model.pressures) {
     const auto& b = *model.blocks[p.block];
     pressure_colors_.push_back(color_elements(b, mine(p.block, p.elements), model.num_nodes()));
@@ -304,7 +233,9 @@ long Assembler::own_elements() const {
 }
 
 void Assembler::reduce(NodePositions& F) const {
-  if (shared()) processes::sum(F.data(), static_cast<long>(F.size()));
+  if (!shared()) return;
+  const std::pair<double*, int> parts[] = {{F.data(), 3}};
+  sum_at_shared_nodes(parts);
 }
 
 void Assembler::keep_kept_nodes(NodePositions& P) const {
@@ -313,27 +244,58 @@ void Assembler::keep_kept_nodes(NodePositions& P) const {
     if (!node_kept_[n]) P.col(n).setZero();
 }
 
-void Assembler::whole_from_keepers(NodePositions& P) const {
+void Assembler::from_keepers(NodePositions& P) const {
   if (!several_) return;
   keep_kept_nodes(P);
-  processes::sum(P.data(), static_cast<long>(P.size()));
+  const std::pair<double*, int> parts[] = {{P.data(), 3}};
+  sum_at_shared_nodes(parts);
+}
+
+NodePositions Assembler::gather_nodes(const NodePositions& P) const {
+  if (!several_) return P;
+  // Each process sends its kept nodes' columns with their global index (every node is kept
+  // by exactly one process); the first puts them in place.
+  const ModelPiece& piece = *model_.piece;
+  std::vector<double> mine;
+  for (Eigen::Index n = 0; n < P.cols(); ++n)
+    if (node_kept_[static_cast<size_t>(n)])
+      mine.insert(mine.end(), {static_cast<double>(piece.global_node[static_cast<size_t>(n)]),
+                               P(0, n), P(1, n), P(2, n)});
+  const std::vector<double> all = processes::gather_any(mine);
+  NodePositions whole;
+  if (processes::rank() != 0) return whole;
+  whole.setZero(3, piece.global_nodes);
+  for (size_t k = 0; k + 3 < all.size(); k += 4)
+    whole.col(static_cast<Eigen::Index>(all[k])) = Vec3(all[k + 1], all[k + 2], all[k + 3]);
+  return whole;
+}
+
+NodePositions Assembler::piece_of(const NodePositions& whole) const {
+  if (!several_) return whole;
+  const ModelPiece& piece = *model_.piece;
+  NodePositions P(3, static_cast<Eigen::Index>(piece.global_node.size()));
+  for (size_t n = 0; n < piece.global_node.size(); ++n)
+    P.col(static_cast<Eigen::Index>(n)) = whole.col(piece.global_node[n]);
+  return P;
 }
 
 void Assembler::sum_at_shared_nodes(std::span<const std::pair<double*, int>> arrays) const {
   if (!several_) return;
   size_t per_node = 0;
   for (const auto& a : arrays) per_node += static_cast<size_t>(a.second);
-  std::vector<double> packed;
-  packed.reserve(per_node * shared_list_.size());
+  // The list is the same on every process; a node this process does not hold adds zeros.
+  std::vector<double> packed(per_node * shared_list_.size(), 0.0);
+  double* to = packed.data();
   for (const auto& [data, m] : arrays)
-    for (int n : shared_list_)
-      packed.insert(packed.end(), data + static_cast<size_t>(n) * m,
-                    data + static_cast<size_t>(n + 1) * m);
+    for (int n : shared_list_) {
+      if (n >= 0) std::copy(data + static_cast<size_t>(n) * m, data + static_cast<size_t>(n + 1) * m, to);
+      to += m;
+    }
   processes::sum(packed.data(), static_cast<long>(packed.size()));
   const double* from = packed.data();
   for (const auto& [data, m] : arrays)
     for (int n : shared_list_) {
-      std::copy(from, from + m, data + static_cast<size_t>(n) * m);
+      if (n >= 0) std::copy(from, from + m, data + static_cast<size_t>(n) * m);
       from += m;
     }
 }
@@ -549,13 +511,18 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
         (*lumped)[nodes[i]] += hrz ? Me(i, i) * total / diag : Me.row(i).sum();
     }
   }
-  if (lumped && several_) processes::sum(lumped->data(), lumped->size());
-  const bool first = !several_ || processes::rank() == 0;  // a point mass is added once
+  // A point mass is added once, by the first process (its share holds their nodes' blocks),
+  // then the shares are summed where processes share nodes.
+  const bool first = !several_ || processes::rank() == 0;
   for (const auto& pm : model_.masses) {
     if (M && first)
       for (int d = 0; d < 3; ++d)
         if (const int a = dofs_.equation(pm.node, d); a >= 0) M->coeffRef(a, a) += pm.mass;
-    if (lumped) (*lumped)[pm.node] += pm.mass;
+    if (lumped && first) (*lumped)[pm.node] += pm.mass;
+  }
+  if (lumped && several_) {
+    const std::pair<double*, int> parts[] = {{lumped->data(), 1}};
+    sum_at_shared_nodes(parts);
   }
 }
 
@@ -571,8 +538,11 @@ NodePositions Assembler::gravity_forces(const Vec3& g) const {
       for (int i = 0; i < nn; ++i) F.col(nodes[i]) += Me.row(i).sum() * g;
     }
   }
-  if (several_) processes::sum(F.data(), static_cast<long>(F.size()));
-  for (const auto& pm : model_.masses) F.col(pm.node) += pm.mass * g;
+  const bool first = !several_ || processes::rank() == 0;  // a point mass is added once
+  if (first)
+    for (const auto& pm : model_.masses) F.col(pm.node) += pm.mass * g;
+  const std::pair<double*, int> parts[] = {{F.data(), 3}};
+  sum_at_shared_nodes(parts);
   return F;
 }
 

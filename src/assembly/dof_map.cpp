@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
+#include "velum/assembly/model_piece.hpp"
 #include "velum/solve/processes.hpp"
 
 namespace velum {
@@ -52,6 +54,10 @@ DofMap::DofMap(const Model& model) {
       }
     }
   }
+  if (model.piece) {
+    take_piece(*model.piece, eliminated);
+    return;
+  }
   eq_.assign(3 * nn, -1);
   for (int i = 0; i < 3 * nn; ++i)
     if (!eliminated[i]) eq_[i] = neq_++;
@@ -72,17 +78,20 @@ std::vector<long> DofMap::row_start() const {
   return start;
 }
 
-void DofMap::localize(const std::vector<char>& held) {
-  if (processes::count() <= 1) return;
+void DofMap::take_piece(const ModelPiece& piece, const std::vector<char>& eliminated) {
+  eq_ = piece.equation;
+  neq_ = piece.global_equations;
+  whole_nodes_ = piece.whole_nodes;
+  for (size_t i = 0; i < eq_.size(); ++i)
+    if ((eq_[i] < 0) != (eliminated[i] != 0))
+      throw std::logic_error("a piece's constraints differ from the whole model's numbering");
+  // Its local equations: the ones it owns (the row range), then the others' of its nodes.
   const std::vector<long> start = row_start();
   const auto rank = static_cast<size_t>(processes::rank());
   const long first = start[rank], last = start[rank + 1];
   std::vector<long> ghosts;
-  for (size_t n = 0; n < held.size(); ++n)
-    if (held[n])
-      for (int c = 0; c < 3; ++c)
-        if (const long g = eq_[3 * n + static_cast<size_t>(c)]; g >= 0 && (g < first || g >= last))
-          ghosts.push_back(g);
+  for (int g : eq_)
+    if (g >= 0 && (g < first || g >= last)) ghosts.push_back(g);
   std::sort(ghosts.begin(), ghosts.end());  // a node's equations are distinct: no repeats
   layout_ = EquationLayout(start, std::move(ghosts));
   local_.assign(eq_.size(), -1);
@@ -95,7 +104,7 @@ void DofMap::scatter(const VecX& reduced, NodePositions& full) const {
   const std::vector<int>& eq = local_.empty() ? eq_ : local_;
   for (int n = 0; n < nn; ++n) {
     const int* e = eq.data() + 3 * n;
-    if (!local_.empty() && e[0] < 0 && e[1] < 0 && e[2] < 0) continue;  // not held here
+    if (!local_.empty() && e[0] < 0 && e[1] < 0 && e[2] < 0) continue;  // nothing to set
     Vec3 local = to_local(n, full.col(n));
     for (int c = 0; c < 3; ++c)
       if (e[c] >= 0) local[c] = reduced[e[c]];

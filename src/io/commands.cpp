@@ -11,6 +11,7 @@
 
 #include "velum/analysis/form_finding.hpp"
 #include "velum/assembly/dof_map.hpp"
+#include "velum/assembly/model_piece.hpp"
 #include "velum/config.hpp"
 #include "velum/io/checkpoint.hpp"
 #include "velum/io/form_model.hpp"
@@ -208,6 +209,21 @@ void begin_results(const std::filesystem::path& dir, const std::filesystem::path
     }
 }
 
+// Under mpirun: the model cut down to this process's piece (share_model), and the history's
+// nodes renumbered to the piece's (-1, or left out of a reaction's list: another process's).
+void share_out(ModelInput& input) {
+  const std::vector<int> local_of = share_model(input.model, input.analysis.partition);
+  for (HistoryEntry& h : input.output.history) {
+    if (h.node >= 0) h.node = local_of[static_cast<size_t>(h.node)];
+    std::vector<int> nodes;
+    for (int n : h.nodes)
+      if (const int l = local_of[static_cast<size_t>(n)]; l >= 0) nodes.push_back(l);
+    h.nodes = std::move(nodes);
+  }
+  if (PathSettings& path = input.analysis.path; path.node >= 0)
+    path.node = local_of[static_cast<size_t>(path.node)];
+}
+
 }  // namespace
 
 // The output folder, its lock and the results writer (the first process's, under mpirun).
@@ -341,24 +357,35 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   out.directory = input.output.directory;
   if (!input.steps.empty()) return run_staged(input, opt);  // staged_run.cpp
 
-  std::unique_ptr<MechanicalSystem> system;
-  try {
-    system = std::make_unique<MechanicalSystem>(input.model, input.analysis.partition);
-  } catch (const std::exception& e) {
-    out.status = kExitBadInput;
-    out.errors.push_back(fmt::format("{}: {}", input.file.string(), e.what()));
-    return out;
-  }
-  // Each process keeps the section data of the elements it computes only (its output reads
-  // no other: results_writer.cpp), so that the memory per process falls with the processes.
-  if (several)
-    for (size_t b = 0; b < input.model.blocks.size(); ++b)
-      input.model.blocks[b]->keep_only(system->assembler().own(static_cast<int>(b)));
   if (several && input.analysis.solver != SolverKind::kPetsc) {
     out.status = kExitBadInput;
     out.errors.push_back(
         fmt::format("{}: analysis.linear_solver: a run on {} processes needs linear_solver: petsc",
                     input.file.string(), processes::count()));
+    return out;
+  }
+  const int all_nodes = input.model.num_nodes();
+  if (PathSettings& path = input.analysis.path; path.method == PathSettings::Method::kDisplacement) {
+    // Its equation in the whole model's numbering (the node may be another process's).
+    path.equation = DofMap(input.model).global_equation(path.node, path.component);
+    if (path.equation < 0) {
+      out.status = kExitBadInput;
+      out.errors.push_back(fmt::format(
+          "{}: analysis.path: node {} {} is fixed, prescribed or normal to a symmetry plane: "
+          "displacement control needs a free component",
+          input.file.string(), input.model.node_ids[path.node], "xyz"[path.component]));
+      return out;
+    }
+  }
+  std::unique_ptr<MechanicalSystem> system;
+  try {
+    // Several processes: each keeps its piece of the model only (its elements' section data,
+    // the nodes it holds), so that the memory per process falls with the processes.
+    if (several) share_out(input);
+    system = std::make_unique<MechanicalSystem>(input.model);
+  } catch (const std::exception& e) {
+    out.status = kExitBadInput;
+    out.errors.push_back(fmt::format("{}: {}", input.file.string(), e.what()));
     return out;
   }
   std::optional<CheckpointFile> resume;
@@ -392,21 +419,11 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
       return out;
     }
   CheckpointSchedule checkpoints(input.output, input.analysis.time);
-  if (const PathSettings& path = input.analysis.path;
-      path.method == PathSettings::Method::kDisplacement &&
-      system->dofs().global_equation(path.node, path.component) < 0) {
-    out.status = kExitBadInput;
-    out.errors.push_back(fmt::format(
-        "{}: analysis.path: node {} {} is fixed, prescribed or normal to a symmetry plane: "
-        "displacement control needs a free component",
-        input.file.string(), input.model.node_ids[path.node], "xyz"[path.component]));
-    return out;
-  }
   AnalysisSettings settings = input.analysis;
   settings.time.output_interval = input.output.interval;
   if (!opt.quiet)
     say(stderr, "velum: {} nodes, {} elements, {} equations; results in {}\n",
-        input.model.num_nodes(), input.model.num_elements(), system->global_size(),
+        all_nodes, input.model.num_elements(), system->global_size(),
         input.output.directory.string());
   if (several) {  // the partition of the elements (docs/parallel.md)
     const auto own = processes::gather(static_cast<double>(system->assembler().own_elements()));

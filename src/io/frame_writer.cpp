@@ -4,6 +4,7 @@
 
 #include <system_error>
 
+#include "velum/assembly/model_piece.hpp"
 #include "velum/io/results_writer.hpp"
 
 namespace velum::io {
@@ -86,24 +87,22 @@ FrameWriter::FrameWriter(const ModelInput& input, std::filesystem::path results,
   const Model& model = input.model;
   const auto& own = own_;
   const int nn = model.num_nodes();
-  // The piece's nodes: those of its elements; on the first process also the nodes no element
-  // holds, so that the pieces together hold every node.
+  // The piece's points: the nodes of its elements; on the first process also the nodes no
+  // element holds, so that the pieces together hold every node. Each point's index in the
+  // one-process frame is its node's in the whole model.
   std::vector<std::int64_t> local(static_cast<size_t>(nn), -1);
   std::vector<char> used(static_cast<size_t>(nn), pieces > 1 ? 0 : 1);
-  if (pieces > 1) {
-    for (const auto& b : model.blocks)
-      for (int e = 0; e < b->size(); ++e)
-        for (int n : b->nodes(e)) used[static_cast<size_t>(n)] = 2;  // some element holds it
+  if (const ModelPiece* piece = model.piece.get()) {
     for (size_t bi = 0; bi < model.blocks.size(); ++bi)
       for (int e : own[bi])
         for (int n : model.blocks[bi]->nodes(e)) used[static_cast<size_t>(n)] = 1;
-    if (rank == 0)
-      for (char& u : used) u = u == 0 ? 1 : u;
+    for (int n : piece->bare) used[static_cast<size_t>(n)] = 1;
   }
   for (int n = 0; n < nn; ++n)
-    if (used[static_cast<size_t>(n)] == 1) {
+    if (used[static_cast<size_t>(n)]) {
       local[static_cast<size_t>(n)] = static_cast<std::int64_t>(nodes_.size());
       nodes_.push_back(n);
+      if (model.piece) node_index_.push_back(model.piece->global_node[static_cast<size_t>(n)]);
     }
   std::int64_t first = 0;  // the block's first cell in the one-process order
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
@@ -186,7 +185,7 @@ void FrameWriter::write(int index, const FrameValues& v) const {
   xml += app.add("type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\"", points(v.V));
   xml += app.add("type=\"Float64\" Name=\"reaction\" NumberOfComponents=\"3\"", points(v.R));
   xml += app.add("type=\"Int64\" Name=\"node_id\"", at_nodes(model.node_ids));
-  if (piece) xml += app.add("type=\"Int64\" Name=\"node_index\"", nodes_);
+  if (piece) xml += app.add("type=\"Int64\" Name=\"node_index\"", node_index_);
   size_t averaged = 0;
   for (const CellArray& a : v.f.cells)
     if (a.averaged)

@@ -1,5 +1,6 @@
 #include "velum/io/results_writer.hpp"
 
+#include "velum/assembly/model_piece.hpp"
 #include "velum/solve/processes.hpp"
 
 #include <fmt/format.h>
@@ -247,21 +248,24 @@ void ResultsWriter::update_extremes(double t, const NodePositions& U, const Fram
       mine.insert(mine.end(),
                   {local[i]->found ? local[i]->value : std::numeric_limits<double>::quiet_NaN(),
                    static_cast<double>(local[i]->id), static_cast<double>(cell[i])});
-    // The largest displacement over the nodes this process keeps (the first of equal ones).
-    double most = -1, node = -1;
+    // The largest displacement over the nodes this process keeps (the first of equal ones):
+    // its value, its node's index in the whole model and its id.
+    double most = -1, node = -1, id = 0;
+    const ModelPiece& piece = *model.piece;
     for (int n = 0; n < model.num_nodes(); ++n)
       if (system_->assembler().keeps_node(n) && U.col(n).norm() > most)
-        most = U.col(n).norm(), node = n;
-    mine.insert(mine.end(), {most, node});
+        most = U.col(n).norm(), node = piece.global_node[static_cast<size_t>(n)],
+        id = static_cast<double>(model.node_ids[static_cast<size_t>(n)]);
+    mine.insert(mine.end(), {most, node, id});
     const std::vector<double> all = processes::gather(mine);
     if (!records_) return;
     most = -1, node = -1;  // over the processes: the first node of equal ones
     for (size_t p = 0; p < all.size() / mine.size(); ++p) {
-      const double* v = all.data() + (p + 1) * mine.size() - 2;
-      if (v[1] >= 0 && (v[0] > most || (v[0] == most && v[1] < node))) most = v[0], node = v[1];
+      const double* v = all.data() + (p + 1) * mine.size() - 3;
+      if (v[1] >= 0 && (v[0] > most || (v[0] == most && v[1] < node)))
+        most = v[0], node = v[1], id = v[2];
     }
-    if (node >= 0)
-      max_displacement_.offer(most, model.node_ids[static_cast<size_t>(node)], t, true);
+    if (node >= 0) max_displacement_.offer(most, static_cast<long>(id), t, true);
     for (int i = 0; i < 4; ++i) {
       // The best over the processes; of equal values the first cell in the model's order.
       double best = std::numeric_limits<double>::quiet_NaN(), id = 0, at = 0;

@@ -77,9 +77,11 @@ class MembraneBlock final : public ElementBlock {
   std::string_view type_name() const override { return Shape::kName; }
   ElementKind kind() const override { return ElementKind::kMembrane; }
   bool prestressed() const override { return law_->has_prestress(); }
-  std::unique_ptr<ElementBlock> on_reference(const NodePositions& X,
-                                             double stabilizer) const override {
+  std::unique_ptr<ElementBlock> rebuilt(std::vector<int> connectivity, const NodePositions& X,
+                                        double stabilizer,
+                                        std::span<const int> listed) const override {
     BlockSetupReport report;
+    const bool any = !connectivity.empty();  // a piece may hold none of the block's elements
     const SheetAxes* axes = axes_ ? &*axes_ : nullptr;
     std::unique_ptr<ElementBlock> out;
     if (stabilizer > 0 && law_->has_prestress()) {
@@ -88,16 +90,16 @@ class MembraneBlock final : public ElementBlock {
       const SheetLaw ff = SheetLaw(PlaneStressLaw::matrix(law_->elastic().name(),
                                                           (stabilizer * s0 / q) * law_->Q()))
                               .with_prestress(law_->prestress());
-      out = make_membrane_block(Shape::kName, set_name(), connectivity(), X, ff, density(), t0_,
-                                axes, integration_, report);
+      out = make_membrane_block(Shape::kName, set_name(), std::move(connectivity), X, ff,
+                                density(), t0_, axes, integration_, report);
     } else {
-      out = make_membrane_block(Shape::kName, set_name(), connectivity(), X, *law_, density(), t0_,
-                                axes, integration_, report);
+      out = make_membrane_block(Shape::kName, set_name(), std::move(connectivity), X, *law_,
+                                density(), t0_, axes, integration_, report);
     }
-    if (!(report.worst_jacobian > 0))
+    if (any && !(report.worst_jacobian > 0))
       throw std::invalid_argument(fmt::format(
           "{} element {} of set '{}' degenerates (zero or negative area) on the new reference",
-          Shape::kName, report.worst_element + 1, set_name()));
+          Shape::kName, element_number(report.worst_element, listed), set_name()));
     return out;
   }
   bool tension_field() const override { return law_->wrinkling(); }
@@ -294,17 +296,19 @@ class CableBlock final : public ElementBlock {
   std::string_view type_name() const override { return Shape::kName; }
   ElementKind kind() const override { return ElementKind::kCable; }
   bool prestressed() const override { return law_.S0 != 0; }
-  std::unique_ptr<ElementBlock> on_reference(const NodePositions& X,
-                                             double stabilizer) const override {
+  std::unique_ptr<ElementBlock> rebuilt(std::vector<int> connectivity, const NodePositions& X,
+                                        double stabilizer,
+                                        std::span<const int> listed) const override {
     BlockSetupReport report;
+    const bool any = !connectivity.empty();  // a piece may hold none of the block's elements
     CableLaw law = law_;
     if (stabilizer > 0 && law_.S0 > 0) law.E = stabilizer * law_.S0;
-    auto out = make_cable_block(Shape::kName, set_name(), connectivity(), X, law, density(), area_,
-                                integration_, report);
-    if (!(report.worst_jacobian > 0))
+    auto out = make_cable_block(Shape::kName, set_name(), std::move(connectivity), X, law,
+                                density(), area_, integration_, report);
+    if (any && !(report.worst_jacobian > 0))
       throw std::invalid_argument(
           fmt::format("{} element {} of set '{}' has zero length on the new reference",
-                      Shape::kName, report.worst_element + 1, set_name()));
+                      Shape::kName, element_number(report.worst_element, listed), set_name()));
     return out;
   }
   int nodes_per_element() const override { return kN; }
@@ -372,6 +376,36 @@ class CableBlock final : public ElementBlock {
 };
 
 }  // namespace
+
+std::unique_ptr<ElementBlock> ElementBlock::on_reference(const NodePositions& X,
+                                                         double stabilizer) const {
+  if (slot_.empty()) return rebuilt(connectivity_, X, stabilizer, {});
+  // A piece: the held elements only (the others have no nodes here), then every element's
+  // numbering back, their data at the same slots.
+  std::vector<int> held, conn;
+  for (int e = 0; e < size(); ++e)
+    if (holds(e)) {
+      held.push_back(e);
+      const auto nodes = this->nodes(e);
+      conn.insert(conn.end(), nodes.begin(), nodes.end());
+    }
+  auto out = rebuilt(std::move(conn), X, stabilizer, held);
+  out->connectivity_ = connectivity_;
+  out->slot_ = slot_;
+  return out;
+}
+
+void ElementBlock::keep_piece(std::span<const int> elements, const std::vector<int>& local_of) {
+  keep_only(elements);
+  const int n = nodes_per_element();
+  std::vector<int> renumbered(connectivity_.size(), -1);
+  for (int e : elements)
+    for (int k = 0; k < n; ++k) {
+      const size_t at = static_cast<size_t>(e) * static_cast<size_t>(n) + static_cast<size_t>(k);
+      renumbered[at] = local_of[static_cast<size_t>(connectivity_[at])];
+    }
+  connectivity_ = std::move(renumbered);
+}
 
 int nodes_of_type(std::string_view t) {
   if (t == "tri3") return 3;

@@ -47,36 +47,51 @@ void add_edge(const NodePositions& X, const std::vector<int>& nodes, const Vec3&
 }
 }  // namespace
 
-NodePositions edge_load_forces(const Model& model, const EdgeLoad& load) {
-  NodePositions F = NodePositions::Zero(3, model.num_nodes());
+std::vector<EdgeLoad::Edge> boundary_edges(const Model& model, const EdgeLoad& load) {
   const std::unordered_set<int> in_set(load.nodes.begin(), load.nodes.end());
   // Count every membrane edge by its sorted end nodes: boundary edges appear once.
   std::map<std::pair<int, int>, int> count;
-  std::vector<std::vector<int>> candidates;
-  for (const auto& b : model.blocks) {
+  std::vector<EdgeLoad::Edge> candidates;
+  for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
+    const auto& b = model.blocks[bi];
     if (b->kind() != ElementKind::kMembrane) continue;
     const auto edges = edges_of(b->type_name());
     for (int e = 0; e < b->size(); ++e) {
       const auto nodes = b->nodes(e);
-      for (const auto& ed : edges) {
+      for (size_t side = 0; side < edges.size(); ++side) {
+        const auto& ed = edges[side];
         const int a = nodes[ed[0]], c = nodes[ed[1]];
         ++count[{std::min(a, c), std::max(a, c)}];
         bool all = true;
-        std::vector<int> global;
-        for (int l : ed) {
-          global.push_back(nodes[l]);
-          all = all && in_set.count(nodes[l]);
-        }
-        if (all) candidates.push_back(std::move(global));
+        for (int l : ed) all = all && in_set.count(nodes[l]);
+        if (all) candidates.push_back({static_cast<int>(bi), e, static_cast<int>(side)});
       }
     }
   }
+  std::vector<EdgeLoad::Edge> out;
   for (const auto& ed : candidates) {
-    if (count[{std::min(ed[0], ed[1]), std::max(ed[0], ed[1])}] != 1) continue;
-    if (ed.size() == 2)
-      add_edge<shape::Line2>(model.X, ed, load.force_per_length, F);
+    const auto& b = model.blocks[static_cast<size_t>(ed.block)];
+    const std::vector<int> local = edges_of(b->type_name())[static_cast<size_t>(ed.side)];
+    const int a = b->nodes(ed.element)[local[0]], c = b->nodes(ed.element)[local[1]];
+    if (count[{std::min(a, c), std::max(a, c)}] == 1) out.push_back(ed);
+  }
+  return out;
+}
+
+NodePositions edge_load_forces(const Model& model, const EdgeLoad& load) {
+  NodePositions F = NodePositions::Zero(3, model.num_nodes());
+  const std::vector<EdgeLoad::Edge> found = load.resolved ? std::vector<EdgeLoad::Edge>{}
+                                                          : boundary_edges(model, load);
+  for (const auto& ed : load.resolved ? load.edges : found) {
+    const auto& b = model.blocks[static_cast<size_t>(ed.block)];
+    const auto nodes = b->nodes(ed.element);
+    const std::vector<int> local = edges_of(b->type_name())[static_cast<size_t>(ed.side)];
+    std::vector<int> side;
+    for (int l : local) side.push_back(nodes[l]);
+    if (side.size() == 2)
+      add_edge<shape::Line2>(model.X, side, load.force_per_length, F);
     else
-      add_edge<shape::Line3>(model.X, {ed[0], ed[1], ed[2]}, load.force_per_length, F);
+      add_edge<shape::Line3>(model.X, side, load.force_per_length, F);
   }
   return F;
 }

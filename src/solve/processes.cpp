@@ -151,6 +151,23 @@ std::vector<double> gather(const std::vector<double>& values) {
   return values;
 }
 
+std::vector<double> gather_any(const std::vector<double>& values) {
+#ifdef VELUM_HAVE_PETSC
+  if (my_count > 1) {
+    const int n = static_cast<int>(values.size());
+    std::vector<int> counts(my_rank == 0 ? static_cast<size_t>(my_count) : 0), at;
+    MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, PETSC_COMM_WORLD);
+    int total = 0;
+    for (int c : counts) at.push_back(total), total += c;
+    std::vector<double> all(static_cast<size_t>(total));
+    MPI_Gatherv(values.data(), n, MPI_DOUBLE, all.data(), counts.data(), at.data(), MPI_DOUBLE, 0,
+                PETSC_COMM_WORLD);
+    return all;
+  }
+#endif
+  return values;
+}
+
 namespace {
 
 // The smallest (largest) of every process's `value`, on every process.

@@ -14,9 +14,9 @@ namespace velum {
 
 class MechanicalSystem final : public SecondOrderSystem {
  public:
-  /// `partition`: how the elements are shared under mpirun (one process: all of them).
-  explicit MechanicalSystem(const Model& model,
-                            ElementPartition partition = ElementPartition::kRows);
+  /// The whole model, or under mpirun a process's piece of it (share_model): its own elements
+  /// and nodes.
+  explicit MechanicalSystem(const Model& model);
 
   int size() const override { return dofs_.num_equations(); }
   void evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu, double cv,

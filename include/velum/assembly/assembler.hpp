@@ -3,11 +3,12 @@
 // share a node: threads then write disjoint entries, without locks, and every entry receives
 // its contributions in the same order whatever the thread count (deterministic results).
 //
-// On several MPI processes (docs/parallel.md) each process owns a share of the elements (an
-// element goes to the process that owns the row of its lowest equation) and computes only
-// those: its matrices hold its share of the sum (their pattern: its elements' couplings), the
-// solver adds the shares; its vectors (forces, lumped masses, gas volumes and gradients) are
-// summed over the processes here, so that every process holds the whole, identical vector.
+// On several MPI processes (docs/parallel.md) the model is a process's piece (share_model,
+// model_piece.hpp): its own elements and the nodes it holds. It computes only those: its
+// matrices hold its share of the sum (their pattern: its elements' couplings), the solver adds
+// the shares; its per-node vectors (forces, lumped masses, gas gradients) are over the
+// piece's nodes, summed over the processes here where processes share nodes (outside a
+// LocalShare), so that every process holds the total at every node it holds.
 #pragma once
 
 #include <Eigen/Core>
@@ -35,11 +36,9 @@ void combine_values(SparseMatrix& A, double a, const SparseMatrix* B, double b);
 
 class Assembler {
  public:
-  /// `partition`: how the elements are shared under mpirun (ignored on one process). On
-  /// several processes, localizes `dofs` to the nodes of this process's elements and kept
-  /// nodes (DofMap::localize): its matrices and equation vectors are then over the local
-  /// equations.
-  Assembler(const Model& model, DofMap& dofs, ElementPartition partition = ElementPartition::kRows);
+  /// Every element of `model`, or, on a piece of a shared model, its own (the piece's
+  /// partition); matrices and equation vectors over `dofs`' local equations.
+  Assembler(const Model& model, const DofMap& dofs);
 
   /// A matrix over the equations with the full pattern and zero values (the pattern is
   /// rebuilt from the mesh, but for the first call: the assembler keeps only the positions it
@@ -100,21 +99,32 @@ class Assembler {
   /// whole-model vectors of gravity and edge loads) to its share of a sum over the processes:
   /// the lowest process whose elements hold n, or the first when no element does. Every
   /// node on one process.
-  bool keeps_node(int n) const { return node_kept_.empty() || node_kept_[n] != 0; }
-  /// Nodes held by elements of more than one process, ascending (empty on one process).
-  const std::vector<int>& shared_node_list() const { return shared_list_; }
+  /// n < 0 (a node this process does not hold): false.
+  bool keeps_node(int n) const {
+    return n >= 0 && (node_kept_.empty() || node_kept_[static_cast<size_t>(n)] != 0);
+  }
+  /// Nodes of the whole model (the piece's nodes are model.num_nodes()).
+  int global_nodes() const { return global_nodes_; }
   /// Keeps node n's column of P only where keeps_node(n) (zero elsewhere); nothing on one
   /// process.
   void keep_kept_nodes(NodePositions& P) const;
-  /// A per-node array whole on every process: each node's column as the process keeping it
-  /// holds it (keep_kept_nodes, then summed over the processes). A collective call; nothing
-  /// on one process.
-  void whole_from_keepers(NodePositions& P) const;
-  /// Completes per-node partial sums at the shared nodes: each array holds `per_node`
-  /// consecutive values per node (a 3 x nodes NodePositions: 3), this process's share; on
-  /// return the shared nodes' entries hold the sum over the processes (the same bits on
-  /// every process), the other entries are untouched. One reduction of the shared nodes'
-  /// values only. A collective call; nothing on one process.
+  /// Each node's column of a per-node array as the process keeping it holds it, at every
+  /// node this process holds (keep_kept_nodes, then summed at the shared nodes). A collective
+  /// call; nothing on one process.
+  void from_keepers(NodePositions& P) const;
+  /// A per-node array in the whole model's node order on the first process (each node from
+  /// its keeper; empty on the others): what a checkpoint writes. P itself on one process. A
+  /// collective call.
+  NodePositions gather_nodes(const NodePositions& P) const;
+  /// The piece's columns of a whole-model per-node array (the inverse of gather_nodes, on
+  /// every process); `whole` itself on one process.
+  NodePositions piece_of(const NodePositions& whole) const;
+  /// Completes per-node partial sums at the shared nodes (those more than one process holds):
+  /// each array holds `per_node` consecutive values per node of the piece (a 3 x nodes
+  /// NodePositions: 3), this process's share; on return the shared nodes' entries hold the
+  /// sum over the processes (the same bits on every process), the other entries are
+  /// untouched. One reduction of the shared nodes' values only. A collective call; nothing on
+  /// one process.
   void sum_at_shared_nodes(std::span<const std::pair<double*, int>> arrays) const;
 
   /// While alive, the vector results of internal, pressure and gas_derivatives are this
@@ -154,7 +164,7 @@ class Assembler {
   };
 
   using Colors = std::vector<std::vector<int>>;
-  // Sums a vector over the processes (nothing on one process or for a local share).
+  // Sums a per-node vector at the shared nodes (nothing on one process or for a local share).
   void reduce(NodePositions& F) const;
   bool shared() const { return several_ && !share_only_; }
 
@@ -171,7 +181,8 @@ class Assembler {
   std::vector<std::vector<int>> local_;          // per block: element -> index into own_ (-1: not)
   std::vector<char> node_kept_;                  // per node: keeps_node (empty on one process)
   std::vector<int> lone_nodes_;                  // own diagonal blocks, no own element: Assembler()
-  std::vector<int> shared_list_;                 // shared_node_list()
+  std::vector<int> shared_list_;                 // ModelPiece::shared (-1: not held here)
+  int global_nodes_ = 0;
   std::vector<Colors> colors_;                   // per block: own elements
   std::vector<std::unique_ptr<int[]>> scatter_;  // per block: own x dofs² positions
   mutable SparseMatrix first_matrix_;    // the pattern built for scatter_, given to the first

@@ -4,10 +4,10 @@
 // Vectors over all DOFs ("full", 3 x nodes, global Cartesian) and over the equations
 // ("reduced", size num_equations(), local frames where a node has one) map both ways.
 //
-// On several processes (docs/parallel.md) the equations are numbered globally first (the
-// same on every process); once the elements are shared out, localize() gives each process
-// its local equations (EquationLayout: the ones it owns, then its ghosts) and equation()
-// answers in those, -1 for a node this process holds no copy of.
+// On a process's piece of a shared model (docs/parallel.md, model_piece.hpp) the nodes are the
+// piece's and the global numbering is the whole model's, made before it was shared
+// (ModelPiece::equation); each process holds its local equations (EquationLayout: the ones it
+// owns, then its ghosts) and equation() answers in those.
 #pragma once
 
 #include <vector>
@@ -26,8 +26,8 @@ class DofMap {
   /// Equations over every process.
   int global_equations() const { return neq_; }
   int num_nodes() const { return static_cast<int>(eq_.size() / 3); }
-  /// Equation of node n, local component c; -1 when eliminated (or, once localized, when
-  /// this process holds no copy of the node's equation).
+  /// Equation of node n, local component c, in this process's local numbering; -1 when
+  /// eliminated.
   int equation(int n, int c) const { return local_.empty() ? eq_[3 * n + c] : local_[3 * n + c]; }
   /// The same in the global numbering.
   int global_equation(int n, int c) const { return eq_[3 * n + c]; }
@@ -36,10 +36,6 @@ class DofMap {
   std::vector<long> row_start() const;
   /// Equations come three to a node (every node has all or none).
   bool whole_nodes() const { return whole_nodes_; }
-  /// This process keeps a copy of node n (its elements or its nodal terms reach it): its
-  /// local equations become the ones it owns, then those of held nodes owned elsewhere. A
-  /// collective call; nothing on one process.
-  void localize(const std::vector<char>& held);
   const EquationLayout& layout() const { return layout_; }
   /// Index into frames() for node n, or -1 (global axes).
   int frame(int n) const { return frame_of_[n]; }
@@ -60,8 +56,11 @@ class DofMap {
   }
 
  private:
+  // A piece's numbering: the global one it was given, its local equations (a collective call).
+  void take_piece(const ModelPiece& piece, const std::vector<char>& eliminated);
+
   std::vector<int> eq_;     // global
-  std::vector<int> local_;  // local (empty: not localized)
+  std::vector<int> local_;  // local (empty: one process, the same as eq_)
   EquationLayout layout_;
   bool whole_nodes_ = true;
   std::vector<int> frame_of_;

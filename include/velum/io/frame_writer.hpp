@@ -58,7 +58,8 @@ class FrameWriter {
   mutable bool weights_complete_ = false;
   // The piece's topology (fixed): its nodes (model indices, ascending) and cells (indices in
   // the one-process cell order) with their connectivity in piece-local node numbers.
-  std::vector<std::int64_t> nodes_, cells_;
+  std::vector<std::int64_t> nodes_, cells_;  // the piece's points (its model's nodes) and cells
+  std::vector<std::int64_t> node_index_;     // several processes: each point's node in the whole model
   std::vector<std::int64_t> conn_, offsets_, element_id_;
   std::vector<std::int32_t> set_index_, material_index_;
   std::vector<std::uint8_t> types_;

@@ -85,20 +85,25 @@ class ElementBlock {
   /// form-finding law instead of the section's: the prestress kept, the elastic law scaled so
   /// that its largest stiffness is `stabilizer` times the largest prestress component
   /// (membranes) or E A = `stabilizer` times the prestress force (cables), no wrinkling; a
-  /// section without prestress keeps its law. Throws std::invalid_argument when an element
+  /// section without prestress keeps its law. After keep_only, only the held elements are set
+  /// up (the new block holds the same ones). Throws std::invalid_argument when an element
   /// degenerates on X.
-  virtual std::unique_ptr<ElementBlock> on_reference(const NodePositions& X,
-                                                     double stabilizer) const = 0;
+  std::unique_ptr<ElementBlock> on_reference(const NodePositions& X, double stabilizer) const;
   /// Whether the section carries a prestress.
   virtual bool prestressed() const = 0;
 
   /// Keeps the section data (integration points, reference geometry) of the listed elements
   /// only (ascending), freeing the others': under mpirun a process computes its own elements
   /// only (docs/parallel.md). Afterwards only the listed elements may be asked for anything
-  /// but their nodes; on_reference still builds every element.
+  /// but their nodes; on_reference builds the listed ones only.
   virtual void keep_only(std::span<const int> elements) = 0;
   /// Whether element e's section data is held (every element until keep_only).
   bool holds(int e) const { return slot_.empty() || slot_[static_cast<size_t>(e)] >= 0; }
+  /// On a process's piece of a shared model (share_model): keep_only(elements), then those
+  /// elements' nodes renumbered through `local_of` (a node of the whole model -> the piece's);
+  /// the other elements keep their index but no nodes (-1): only the listed ones may be asked
+  /// for anything afterwards.
+  void keep_piece(std::span<const int> elements, const std::vector<int>& local_of);
 
  protected:
   ElementBlock(std::string set_name, std::vector<int> connectivity, double density)
@@ -116,6 +121,16 @@ class ElementBlock {
     out.reserve(elements.size());
     for (int e : elements) out.push_back(data[static_cast<size_t>(slot(e))]);
     return out;
+  }
+  /// on_reference's work: the block set up on X with `connectivity` (every element's, or the
+  /// held ones' only); `listed`, when not empty, numbers those elements in this block (for
+  /// messages).
+  virtual std::unique_ptr<ElementBlock> rebuilt(std::vector<int> connectivity,
+                                                const NodePositions& X, double stabilizer,
+                                                std::span<const int> listed) const = 0;
+  /// Element number (1-based, in this block) of the i-th set up of a `listed` list.
+  static int element_number(int i, std::span<const int> listed) {
+    return 1 + (listed.empty() ? i : listed[static_cast<size_t>(i)]);
   }
   /// Records that the section data of `elements` (ascending) now sits at 0, 1, ...
   void set_kept(std::span<const int> elements) {

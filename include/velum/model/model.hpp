@@ -54,6 +54,15 @@ struct EdgeLoad {
   std::vector<int> nodes;
   Vec3 force_per_length = Vec3::Zero();
   int function = -1;
+  /// A membrane element's side (its `side`-th edge, in the shape's edge order).
+  struct Edge {
+    int block = -1, element = -1, side = -1;
+  };
+  /// The boundary edges loaded, once resolved on the whole mesh (share_model: a piece's own
+  /// boundary cannot tell the cut between processes from the mesh's edge), restricted to the
+  /// process's own elements. Not `resolved`: found from the mesh when the forces are made.
+  std::vector<Edge> edges = {};
+  bool resolved = false;
 };
 
 /// A pressure on membrane elements: a follower pressure along g1 x g2 per current area, or,
@@ -97,6 +106,8 @@ struct GravityLoad {
   int function = -1;
 };
 
+struct ModelPiece;  // assembly/model_piece.hpp
+
 struct Model {
   // Nodes
   NodePositions X;                 ///< reference coordinates, 3 x nodes
@@ -119,13 +130,21 @@ struct Model {
 
   double rayleigh_mass = 0, rayleigh_stiffness = 0;
 
+  /// Under mpirun, once shared out (share_model): which part of the whole model this is; its
+  /// nodes are then the piece's, numbered locally. Null: the whole model (one process).
+  std::shared_ptr<const ModelPiece> piece;
+
   int num_nodes() const { return static_cast<int>(X.cols()); }
   int add_node(long id, const Vec3& x);  ///< throws std::invalid_argument on a duplicate id
   double function_value(int f, double t) const { return f < 0 ? 1.0 : functions[f](t); }
   int num_elements() const;
 };
 
-/// Nodal forces (3 x nodes) of an edge load at f(t) = 1: ∫ t H_N dS over boundary edges.
+/// The membrane sides all of whose nodes are in the load's set and that no other element
+/// shares (the mesh's boundary), in the order of the blocks, elements and sides.
+std::vector<EdgeLoad::Edge> boundary_edges(const Model& model, const EdgeLoad& load);
+/// Nodal forces (3 x nodes) of an edge load at f(t) = 1: ∫ t H_N dS over its boundary edges
+/// (on a piece of a shared model: over its own elements' edges only, this process's share).
 NodePositions edge_load_forces(const Model& model, const EdgeLoad& load);
 
 }  // namespace velum

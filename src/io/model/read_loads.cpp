@@ -279,7 +279,10 @@ void Reader::parse_loads(const Node& ls) {
       auto f = vec3(l, "force_per_length", p, true);
       const int fn = function_ref(l, p);
       if (nodes && f) {
-        in_.model.edge_loads.push_back({std::move(*nodes), *f, fn});
+        EdgeLoad& load = in_.model.edge_loads.emplace_back();
+        load.nodes = std::move(*nodes);
+        load.force_per_length = *f;
+        load.function = fn;
         edge_load_nodes_.push_back({l["nodes"], sub(p, "nodes")});
       }
     } else if (*type == "pressure") {

@@ -1,0 +1,186 @@
+#include "velum/assembly/model_piece.hpp"
+
+#include <algorithm>
+
+#include "velum/assembly/dof_map.hpp"
+#include "velum/solve/processes.hpp"
+
+namespace velum {
+namespace {
+
+// The element graph (elements sharing a node are neighbours), elements numbered through the
+// blocks in order: CSR offsets and ascending neighbour lists.
+void element_graph(const Model& model, std::vector<long>& offsets, std::vector<long>& adjacency) {
+  std::vector<long> first(model.blocks.size() + 1, 0);
+  for (size_t b = 0; b < model.blocks.size(); ++b)
+    first[b + 1] = first[b] + model.blocks[b]->size();
+  std::vector<std::vector<long>> at_node(static_cast<size_t>(model.num_nodes()));
+  for (size_t b = 0; b < model.blocks.size(); ++b)
+    for (int e = 0; e < model.blocks[b]->size(); ++e)
+      for (int n : model.blocks[b]->nodes(e))
+        at_node[static_cast<size_t>(n)].push_back(first[b] + e);
+  offsets.assign(1, 0);
+  adjacency.clear();
+  std::vector<long> near;
+  for (size_t b = 0; b < model.blocks.size(); ++b)
+    for (int e = 0; e < model.blocks[b]->size(); ++e) {
+      near.clear();
+      for (int n : model.blocks[b]->nodes(e))
+        for (long other : at_node[static_cast<size_t>(n)])
+          if (other != first[b] + e) near.push_back(other);
+      std::sort(near.begin(), near.end());
+      near.erase(std::unique(near.begin(), near.end()), near.end());
+      adjacency.insert(adjacency.end(), near.begin(), near.end());
+      offsets.push_back(static_cast<long>(adjacency.size()));
+    }
+}
+
+// The list's nodes held here, renumbered (their order kept).
+void restrict_nodes(std::vector<int>& nodes, const std::vector<int>& local_of) {
+  std::vector<int> kept;
+  for (int n : nodes)
+    if (const int l = local_of[static_cast<size_t>(n)]; l >= 0) kept.push_back(l);
+  nodes = std::move(kept);
+}
+
+}  // namespace
+
+std::vector<int> share_model(Model& model, ElementPartition partition) {
+  const int count = processes::count();
+  if (count <= 1) return {};
+  const int rank = processes::rank();
+  const auto nn = static_cast<size_t>(model.num_nodes());
+  auto piece = std::make_shared<ModelPiece>();
+  piece->global_nodes = model.num_nodes();
+  if (model.num_nodes() > 0)
+    piece->size = (model.X.rowwise().maxCoeff() - model.X.rowwise().minCoeff()).norm();
+  const DofMap whole(model);  // the global numbering, the same on every process
+  const long neq = whole.global_equations();
+  const std::vector<long> start = whole.row_start();
+  piece->global_equations = whole.global_equations();
+  piece->whole_nodes = whole.whole_nodes();
+
+  // PT-Scotch on the element graph when asked for (a collective call); the row rule below
+  // when it is not, or not available.
+  std::vector<int> graph_part;
+  if (partition == ElementPartition::kScotch) {
+    std::vector<long> offsets, adjacency;
+    element_graph(model, offsets, adjacency);
+    std::string why;
+    if (processes::partition_graph(offsets, adjacency, graph_part, why))
+      piece->partition = ElementPartition::kScotch;
+    else
+      piece->partition_note = why, graph_part.clear();
+  }
+  // The row rule: an element belongs to the process that owns the row of its lowest equation
+  // (rows split in contiguous even ranges): with a node numbering that follows the mesh
+  // (bandwidth-reduced, or row by row), a process's elements form a band whose entries mostly
+  // fall in its own rows. An element without equations goes round-robin.
+  auto owner = [&](const ElementBlock& b, int e) {
+    long lowest = neq;
+    for (int n : b.nodes(e))
+      for (int c = 0; c < 3; ++c)
+        if (const int q = whole.global_equation(n, c); q >= 0) lowest = std::min(lowest, long{q});
+    return lowest < neq ? processes::owner(lowest, neq) : e % count;
+  };
+  // Per node: the processes whose elements hold it (one, -1 none, -2 several) and the lowest
+  // of them; the processes holding it at all (its elements', its equations' owners', the
+  // first for nodes in no element and point masses' nodes); whether this process does.
+  std::vector<int> element_holder(nn, -1), lowest(nn, 0), holder(nn, -1);
+  std::vector<char> here(nn, 0);
+  auto hold = [&](size_t n, int p) {
+    int& h = holder[n];
+    h = (h == -1 || h == p) ? p : -2;
+    if (p == rank) here[n] = 1;
+  };
+  size_t cell = 0;  // the element's index through the blocks
+  for (const auto& bp : model.blocks) {
+    auto& own = piece->own.emplace_back();
+    for (int e = 0; e < bp->size(); ++e, ++cell) {
+      const int p = graph_part.empty() ? owner(*bp, e) : graph_part[cell];
+      if (p == rank) own.push_back(e);
+      for (int node : bp->nodes(e)) {
+        const auto n = static_cast<size_t>(node);
+        int& h = element_holder[n];
+        lowest[n] = h == -1 ? p : std::min(lowest[n], p);
+        h = (h == -1 || h == p) ? p : -2;
+        hold(n, p);
+      }
+    }
+  }
+  for (size_t n = 0; n < nn; ++n) {
+    if (element_holder[n] == -1) hold(n, 0);
+    for (int c = 0; c < 3; ++c)
+      if (const long g = whole.global_equation(static_cast<int>(n), c); g >= 0)
+        hold(n, static_cast<int>(std::upper_bound(start.begin(), start.end(), g) - start.begin()) -
+                    1);
+  }
+  for (const auto& pm : model.masses) hold(static_cast<size_t>(pm.node), 0);
+
+  // The piece's nodes, in global order.
+  std::vector<int> local_of(nn, -1);
+  for (size_t n = 0; n < nn; ++n)
+    if (here[n]) {
+      local_of[n] = static_cast<int>(piece->global_node.size());
+      piece->global_node.push_back(static_cast<int>(n));
+      for (int c = 0; c < 3; ++c)
+        piece->equation.push_back(whole.global_equation(static_cast<int>(n), c));
+      piece->kept.push_back(element_holder[n] == -1 ? rank == 0 : lowest[n] == rank);
+    }
+  for (size_t n = 0; n < nn; ++n) {
+    if (holder[n] == -2) piece->shared.push_back(local_of[n]);
+    if (element_holder[n] == -2) ++piece->element_cut;
+  }
+  // The first process also holds the diagonal blocks of the point masses' nodes (their mass
+  // and the payload's drag Jacobian are added there once) and of nodes in no element, so
+  // that the shares' patterns together are the one-process pattern.
+  if (rank == 0) {
+    for (size_t n = 0; n < nn; ++n)
+      if (element_holder[n] == -1) piece->bare.push_back(local_of[n]);
+    piece->lone = piece->bare;
+    for (const auto& pm : model.masses) piece->lone.push_back(local_of[static_cast<size_t>(pm.node)]);
+  }
+
+  // Edge loads on the mesh's boundary, found while the mesh is whole: this process's share.
+  for (EdgeLoad& load : model.edge_loads) {
+    load.edges.clear();
+    for (const auto& ed : boundary_edges(model, load))
+      if (std::binary_search(piece->own[static_cast<size_t>(ed.block)].begin(),
+                             piece->own[static_cast<size_t>(ed.block)].end(), ed.element))
+        load.edges.push_back(ed);
+    load.resolved = true;
+  }
+
+  // The model cut down to the piece.
+  const auto nl = static_cast<Eigen::Index>(piece->global_node.size());
+  NodePositions X(3, nl);
+  std::vector<long> ids(static_cast<size_t>(nl));
+  for (Eigen::Index i = 0; i < nl; ++i) {
+    const int g = piece->global_node[static_cast<size_t>(i)];
+    X.col(i) = model.X.col(g);
+    ids[static_cast<size_t>(i)] = model.node_ids[static_cast<size_t>(g)];
+  }
+  model.X = std::move(X);
+  model.node_ids = std::move(ids);
+  model.node_index.clear();
+  for (size_t i = 0; i < model.node_ids.size(); ++i)
+    model.node_index[model.node_ids[i]] = static_cast<int>(i);
+  for (size_t b = 0; b < model.blocks.size(); ++b)
+    model.blocks[b]->keep_piece(piece->own[b], local_of);
+  std::vector<PointMass> masses;
+  for (PointMass pm : model.masses)
+    if (const int l = local_of[static_cast<size_t>(pm.node)]; l >= 0) {
+      pm.node = l;
+      masses.push_back(pm);
+    }
+  model.masses = std::move(masses);
+  for (auto& f : model.fixed) restrict_nodes(f.nodes, local_of);
+  for (auto& s : model.symmetry) restrict_nodes(s.nodes, local_of);
+  for (auto& p : model.prescribed) restrict_nodes(p.nodes, local_of);
+  for (auto& p : model.point_loads) restrict_nodes(p.nodes, local_of);
+  for (auto& e : model.edge_loads) restrict_nodes(e.nodes, local_of);
+  model.piece = std::move(piece);
+  return local_of;
+}
+
+}  // namespace velum
