@@ -10,7 +10,8 @@ Usage: mpi_pieces.py VELUM EXAMPLES OUTDIR
   its pressure and volume;
 - braided-sheet-small/model.yaml: a dynamic quad9 sheet pulled by an edge load (the mesh's
   boundary edges found while the mesh is whole: a piece's own boundary would also count the
-  cut between the processes), stresses and fibre angles at points.
+  cut between the processes), stresses and fibre angles at points;
+- a strip (below): a prescribed motion, and a point mass on a node in no element.
 
 Each runs once on one process without mpirun and once under `mpirun -np 2`, both with
 `linear_solver: petsc`; every history column must agree within 1e-8 of its largest magnitude,
@@ -26,6 +27,62 @@ from mpi_cases import compare, frame_errors, fresh, history, run  # noqa: E402
 
 EXAMPLES = ["hypar-roof/hypar-form.yaml", "airbag-gas/model.yaml",
             "braided-sheet-small/model.yaml"]
+
+
+def strip():
+    """A dynamic 12 x 2 quad4 strip held at its left end and pulled by a prescribed motion of
+    its right end (eliminated equations on both processes' nodes), sagging under gravity,
+    with a point mass on a node near the right end (the second process's elements; the
+    first process holds its diagonal block) and a node no element holds (fixed by the
+    reader; on the first process's frame piece only)."""
+    nx, ny, h = 12, 2, 0.1
+    nodes = [[1 + i + (nx + 1) * j, i * h, j * h, 0.0] for j in range(ny + 1) for i in range(nx + 1)]
+    free = len(nodes) + 1
+    nodes.append([free, 0.5, -0.5, 0.0])
+    quads = [[1 + i + (nx + 1) * j, 2 + i + (nx + 1) * j, 2 + i + (nx + 1) * (j + 1),
+              1 + i + (nx + 1) * (j + 1)] for j in range(ny) for i in range(nx)]
+    left = [1 + (nx + 1) * j for j in range(ny + 1)]
+    right = [1 + nx + (nx + 1) * j for j in range(ny + 1)]
+    return f"""title: a strip pulled at one end, sagging, and a falling point mass beside it
+mesh:
+  nodes: {nodes}
+  elements:
+    - {{set: sheet, type: quad4, connectivity: {quads}}}
+  node_sets:
+    left: {left}
+    right: {right}
+materials:
+  fabric: {{type: orthotropic, E1: 2.0e5, E2: 1.0e5, nu12: 0.3, G12: 3.0e4, density: 0.5}}
+sections:
+  - {{elements: sheet, material: fabric, thickness: 0.01, prestress: [100, 50, 0]}}
+masses:
+  - {{node: {nx + (nx + 1)}, mass: 0.2}}
+boundary:
+  - {{nodes: left, fix: [x, y, z]}}
+  - {{nodes: right, displacement: [0.02, 0, 0], function: ramp}}
+loads:
+  - {{type: gravity, acceleration: [0, 0, -9.81], function: ramp}}
+functions:
+  ramp: {{type: ramp, duration: 0.02}}
+analysis:
+  type: dynamic
+  integrator: {{scheme: generalized-alpha, rho_inf: 0.8}}
+  time: {{end: 0.04, step: 4.0e-3, min_step: 1.0e-7, adaptive: true}}
+  newton: {{tolerance: 1.0e-11, max_iterations: 30}}
+  linear_solver: petsc
+output:
+  directory: out
+  interval: 0.01
+  fields: true
+  history:
+    - {{name: mid_uz, quantity: displacement, node: {1 + nx // 2 + (nx + 1)}, component: z}}
+    - {{name: mass_uz, quantity: displacement, node: {nx + (nx + 1)}, component: z}}
+    - {{name: free_uz, quantity: displacement, node: {free}, component: z}}
+    - {{name: left_Rx, quantity: reaction, nodes: left, component: x}}
+    - {{name: right_Rx, quantity: reaction, nodes: right, component: x}}
+    - {{name: W_ext, quantity: external_work}}
+    - {{name: E_kin, quantity: kinetic_energy}}
+"""
 
 
 # Principal directions: a unit vector whose sign is free (and which is any in-plane direction
@@ -58,10 +115,13 @@ def main():
     velum, examples, out = sys.argv[1], sys.argv[2], sys.argv[3]
     env = fresh(out)
     errors = []
-    for example in EXAMPLES:
+    for example in EXAMPLES + ["strip"]:
         name = example.split("/")[0]
-        with open(os.path.join(examples, example)) as f:
-            text = with_petsc(f.read())
+        if example == "strip":
+            text = strip()
+        else:
+            with open(os.path.join(examples, example)) as f:
+                text = with_petsc(f.read())
         if "linear_solver: petsc" not in text:
             sys.exit(f"FAIL: {example}: no analysis section to set the solver in")
         model = os.path.join(out, f"{name}.yaml")
@@ -76,7 +136,7 @@ def main():
             errors += [f"{name}: {e}" for e in frame_errors(one, two, 2, SIGN_FREE, noise_floor)]
     if errors:
         sys.exit("FAIL:\n" + "\n".join(errors))
-    print(f"ok: {len(EXAMPLES)} examples on 2 processes")
+    print(f"ok: {len(EXAMPLES)} examples and the strip on 2 processes")
 
 
 if __name__ == "__main__":
