@@ -416,18 +416,26 @@ std::string MechanicalSystem::diagnose_singular(const SparseMatrix& J) const {
   complete(d);  // the shares' diagonals add up to J's
   d = d.cwiseAbs();
   const double dmax = max_abs(d);
-  std::vector<std::string> bad;
+  // The first 8 in the global numbering (each process's first 8 of its owned equations,
+  // gathered to the first process), and the count over all of them.
+  std::vector<double> first;  // (global equation, node id, component) each
   int count = 0;
   for (int n = 0; n < model_.num_nodes(); ++n)
     for (int c = 0; c < 3; ++c) {
       const int e = dofs_.equation(n, c);
-      if (e >= 0 && e < owned_size() && !(d[e] > 1e-13 * dmax)) {
-        if (++count <= 8) bad.push_back(fmt::format("node {} {}", model_.node_ids[n], "xyz"[c]));
-      }
+      if (e >= 0 && e < owned_size() && !(d[e] > 1e-13 * dmax) && ++count <= 8)
+        first.insert(first.end(),
+                     {static_cast<double>(dofs_.global_equation(n, c)),
+                      static_cast<double>(model_.node_ids[static_cast<size_t>(n)]),
+                      static_cast<double>(c)});
     }
-  // Several processes: the count over all of them (the names: this process's).
   count = static_cast<int>(sum_over_processes(count));
+  if (distributed()) first = processes::gather_any(first);  // in rank order: ascending
   if (count == 0) return {};
+  std::vector<std::string> bad;
+  for (size_t k = 0; k + 2 < first.size() && bad.size() < 8; k += 3)
+    bad.push_back(fmt::format("node {} {}", static_cast<long>(first[k + 1]),
+                              "xyz"[static_cast<int>(first[k + 2])]));
   return fmt::format(
       "{} unconstrained DOF(s) with no stiffness and no mass ({}{}). A flat, unstressed membrane "
       "has no stiffness normal to its plane: give it mass and run a dynamic analysis, add "

@@ -11,7 +11,9 @@ Usage: mpi_pieces.py VELUM EXAMPLES OUTDIR
 - braided-sheet-small/model.yaml: a dynamic quad9 sheet pulled by an edge load (the mesh's
   boundary edges found while the mesh is whole: a piece's own boundary would also count the
   cut between the processes), stresses and fibre angles at points;
-- a strip (below): a prescribed motion, and a point mass on a node in no element.
+- a strip (below): a prescribed motion, a point mass on another process's node, a node in no
+  element;
+- a flat unstressed square: the run fails naming the same unconstrained DOFs as on one process.
 
 Each runs once on one process without mpirun and once under `mpirun -np 2`, both with
 `linear_solver: petsc`; every history column must agree within 1e-8 of its largest magnitude,
@@ -20,6 +22,7 @@ with the one-process values (mpi_cases.frame_errors).
 """
 import os
 import re
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -105,6 +108,48 @@ def noise_floor(name, frame):
     return 0.0
 
 
+def flat():
+    """A flat, unstressed square under pressure: its normal DOFs have no stiffness. The run
+    must fail naming the same first DOFs on two processes as on one (each process finds its
+    own; the first process's message lists the first in the global numbering)."""
+    n, h = 6, 0.1
+    nodes = [[1 + i + (n + 1) * j, i * h, j * h, 0.0] for j in range(n + 1) for i in range(n + 1)]
+    quads = [[1 + i + (n + 1) * j, 2 + i + (n + 1) * j, 2 + i + (n + 1) * (j + 1),
+              1 + i + (n + 1) * (j + 1)] for j in range(n) for i in range(n)]
+    edge = [p[0] for p in nodes if min(p[1], p[2]) < 1e-9 or max(p[1], p[2]) > n * h - 1e-9]
+    # The lower rows' normal DOFs held too: most of the first process's owned equations are
+    # then in the plane, and the first 8 without stiffness lie on both processes.
+    low = [p[0] for p in nodes if p[0] not in edge and p[2] < 2.5 * h]
+    return f"""title: a flat unstressed square under pressure (singular)
+mesh:
+  nodes: {nodes}
+  elements:
+    - {{set: sheet, type: quad4, connectivity: {quads}}}
+  node_sets:
+    edge: {edge}
+    low: {low}
+materials:
+  fabric: {{type: isotropic, E: 1.0e5, nu: 0.3, density: 1.0}}
+sections:
+  - {{elements: sheet, material: fabric, thickness: 0.01}}
+boundary:
+  - {{nodes: edge, fix: [x, y, z]}}
+  - {{nodes: low, fix: [z]}}
+loads:
+  - {{type: pressure, elements: sheet, value: 1.0}}
+analysis:
+  type: static
+  time: {{end: 1.0, step: 1.0}}
+  linear_solver: petsc
+"""
+
+
+def singular_message(cmd, env):
+    p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=300)
+    found = re.search(r"\d+ unconstrained DOF\(s\)[^)]*\)", p.stderr)
+    return p.returncode, found.group(0) if found else None
+
+
 def with_petsc(text):
     """The model with analysis.linear_solver: petsc (replacing any solver it names)."""
     text = re.sub(r"(?m)^  linear_solver:.*\n", "", text)
@@ -134,6 +179,16 @@ def main():
                           history(os.path.join(two, "history.csv")), f"{name}, 2 processes")
         if os.path.isdir(os.path.join(one, "frames")):
             errors += [f"{name}: {e}" for e in frame_errors(one, two, 2, SIGN_FREE, noise_floor)]
+    model = os.path.join(out, "flat.yaml")
+    with open(model, "w") as f:
+        f.write(flat())
+    one = singular_message([velum, "run", model, "-o", os.path.join(out, "flat-1"), "--threads",
+                            "1"], env)
+    two = singular_message(["mpirun", "-np", "2", velum, "run", model, "-o",
+                            os.path.join(out, "flat-2"), "--threads", "1"], env)
+    if one[0] == 0 or two[0] == 0 or not one[1] or one[1] != two[1]:
+        errors.append(f"flat square: one process {one}, two processes {two}: expected a failure "
+                      "naming the same unconstrained DOFs")
     if errors:
         sys.exit("FAIL:\n" + "\n".join(errors))
     print(f"ok: {len(EXAMPLES)} examples and the strip on 2 processes")
