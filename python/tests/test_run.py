@@ -143,7 +143,8 @@ def test_ctrl_c_stops_the_run_and_raises_keyboard_interrupt(tmp_path, square):
     import threading
 
     m = velum.load(square)
-    m["analysis"]["time"].update(step=2.0e-5, adaptive=False)  # 5,000 steps, seconds
+    # 100,000 steps (several seconds; 5,000 ended in 0.33 s on a fast minute, before the timer)
+    m["analysis"]["time"].update(step=1.0e-6, adaptive=False)
     timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
     timer.start()
     try:
