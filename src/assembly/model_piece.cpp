@@ -1,6 +1,7 @@
 #include "velum/assembly/model_piece.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "velum/assembly/dof_map.hpp"
 #include "velum/solve/processes.hpp"
@@ -48,6 +49,7 @@ void restrict_nodes(std::vector<int>& nodes, const std::vector<int>& local_of) {
 std::vector<int> share_model(Model& model, ElementPartition partition) {
   const int count = processes::count();
   if (count <= 1) return {};
+  if (model.piece) throw std::logic_error("share_model: the model is already a piece");
   const int rank = processes::rank();
   const auto nn = static_cast<size_t>(model.num_nodes());
   auto piece = std::make_shared<ModelPiece>();
