@@ -1,8 +1,8 @@
-// An array of doubles on transparent huge pages where the kernel offers them (Linux, THP in
-// "madvise" mode, as on Debian 12): the supernodal factorisations' panels, hundreds of MB
-// written at scattered places, otherwise cost a page fault per 4 kB at their first touch and a
-// TLB miss at most scattered writes. Zeroed when allocated; a plain aligned array
-// elsewhere.
+// An array of doubles (or floats: the mixed-precision Cholesky's panels) on transparent huge
+// pages where the kernel offers them (Linux, THP in "madvise" mode, as on Debian 12): the
+// supernodal factorisations' panels, hundreds of MB written at scattered places, otherwise cost
+// a page fault per 4 kB at their first touch and a TLB miss at most scattered writes. Zeroed when
+// allocated; a plain aligned array elsewhere.
 #pragma once
 
 #include <sys/mman.h>
@@ -14,14 +14,15 @@
 
 namespace velum {
 
-class HugePageArray {
+template <class T>
+class HugePageBuffer {
  public:
   static constexpr std::size_t kHugePage = std::size_t(2) << 20;
 
-  HugePageArray() = default;
-  ~HugePageArray() { std::free(data_); }
-  HugePageArray(const HugePageArray&) = delete;
-  HugePageArray& operator=(const HugePageArray&) = delete;
+  HugePageBuffer() = default;
+  ~HugePageBuffer() { std::free(data_); }
+  HugePageBuffer(const HugePageBuffer&) = delete;
+  HugePageBuffer& operator=(const HugePageBuffer&) = delete;
 
   /// n zeros (the old contents released); with `touch` false, n values the caller must clear
   /// (where each page is first touched decides where the host keeps it). With `huge` false no
@@ -34,7 +35,7 @@ class HugePageArray {
     data_ = nullptr;
     size_ = n;
     if (n == 0) return;
-    const std::size_t bytes = (n * sizeof(double) + kHugePage - 1) / kHugePage * kHugePage;
+    const std::size_t bytes = (n * sizeof(T) + kHugePage - 1) / kHugePage * kHugePage;
     void* p = std::aligned_alloc(kHugePage, bytes);
     if (!p) throw std::bad_alloc();
 #ifdef MADV_HUGEPAGE
@@ -44,12 +45,12 @@ class HugePageArray {
     // ran slower (BM_Factorize/225/5/2: 314 against 237 ms; the virtual machine's host seems to
     // place each page near the thread that first touched it).
     if (touch) std::memset(p, 0, bytes);
-    data_ = static_cast<double*>(p);
+    data_ = static_cast<T*>(p);
   }
-  double* data() {
+  T* data() {
     return data_;
   }
-  const double* data() const {
+  const T* data() const {
     return data_;
   }
   std::size_t size() const {
@@ -57,8 +58,10 @@ class HugePageArray {
   }
 
  private:
-  double* data_ = nullptr;
+  T* data_ = nullptr;
   std::size_t size_ = 0;
 };
+
+using HugePageArray = HugePageBuffer<double>;
 
 }  // namespace velum
