@@ -1,27 +1,29 @@
-// An array of doubles on transparent huge pages where the kernel offers them (Linux, THP in
-// "madvise" mode, as on Debian 12): the supernodal factorisations' panels, hundreds of MB
-// written at scattered places, otherwise cost a page fault per 4 kB at their first touch and a
-// TLB miss at most scattered writes. Zeroed when allocated; a plain aligned array
-// elsewhere.
+// An array of doubles (or floats: the mixed-precision Cholesky's panels) on transparent huge
+// pages where the kernel offers them (Linux, THP in "madvise" mode, as on Debian 12): the
+// supernodal factorisations' panels, hundreds of MB written at scattered places, otherwise cost
+// a page fault per 4 kB at their first touch and a TLB miss at most scattered writes. Zeroed when
+// allocated; mapped directly (mmap), so that its pages go back to the system when released.
 #pragma once
 
 #include <sys/mman.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <new>
 
 namespace velum {
 
-class HugePageArray {
+template <class T>
+class HugePageBuffer {
  public:
   static constexpr std::size_t kHugePage = std::size_t(2) << 20;
 
-  HugePageArray() = default;
-  ~HugePageArray() { std::free(data_); }
-  HugePageArray(const HugePageArray&) = delete;
-  HugePageArray& operator=(const HugePageArray&) = delete;
+  HugePageBuffer() = default;
+  ~HugePageBuffer() { release(); }
+  HugePageBuffer(const HugePageBuffer&) = delete;
+  HugePageBuffer& operator=(const HugePageBuffer&) = delete;
 
   /// n zeros (the old contents released); with `touch` false, n values the caller must clear
   /// (where each page is first touched decides where the host keeps it). With `huge` false no
@@ -30,13 +32,22 @@ class HugePageArray {
   /// the factorisation's) while the split factorisation on two threads gained (7.1 against
   /// 8.2 s): docs/performance.md section 15.
   void assign(std::size_t n, bool touch = true, bool huge = true) {
-    std::free(data_);
-    data_ = nullptr;
+    release();
     size_ = n;
     if (n == 0) return;
-    const std::size_t bytes = (n * sizeof(double) + kHugePage - 1) / kHugePage * kHugePage;
-    void* p = std::aligned_alloc(kHugePage, bytes);
-    if (!p) throw std::bad_alloc();
+    const std::size_t bytes = (n * sizeof(T) + kHugePage - 1) / kHugePage * kHugePage;
+    // Mapped directly, aligned to a huge page by trimming a larger mapping: released, the pages
+    // go back to the system (from malloc's heap they stayed: the mixed-precision Cholesky's
+    // switch between float and double panels kept both in the process's memory).
+    const std::size_t span = bytes + kHugePage;
+    void* mapped = mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (mapped == MAP_FAILED) throw std::bad_alloc();
+    char* base = static_cast<char*>(mapped);
+    const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(base);
+    char* p = base + ((kHugePage - at % kHugePage) % kHugePage);
+    if (p > base) munmap(base, static_cast<std::size_t>(p - base));
+    if (base + span > p + bytes)
+      munmap(p + bytes, static_cast<std::size_t>(base + span - (p + bytes)));
 #ifdef MADV_HUGEPAGE
     if (huge) madvise(p, bytes, MADV_HUGEPAGE);  // advice only: ignored where THP is off
 #endif
@@ -44,12 +55,13 @@ class HugePageArray {
     // ran slower (BM_Factorize/225/5/2: 314 against 237 ms; the virtual machine's host seems to
     // place each page near the thread that first touched it).
     if (touch) std::memset(p, 0, bytes);
-    data_ = static_cast<double*>(p);
+    data_ = reinterpret_cast<T*>(p);
+    bytes_ = bytes;
   }
-  double* data() {
+  T* data() {
     return data_;
   }
-  const double* data() const {
+  const T* data() const {
     return data_;
   }
   std::size_t size() const {
@@ -57,8 +69,16 @@ class HugePageArray {
   }
 
  private:
-  double* data_ = nullptr;
-  std::size_t size_ = 0;
+  void release() {
+    if (data_) munmap(data_, bytes_);
+    data_ = nullptr;
+    bytes_ = 0;
+  }
+
+  T* data_ = nullptr;
+  std::size_t size_ = 0, bytes_ = 0;
 };
+
+using HugePageArray = HugePageBuffer<double>;
 
 }  // namespace velum

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "ordering.hpp"
 #include "velum/solve/blas_kernels.hpp"
@@ -18,9 +19,14 @@
 namespace velum {
 namespace {
 
-using Panel = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
-using ConstPanel = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
-using Segment = Eigen::Map<Eigen::VectorXd>;
+template <class T>
+using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+template <class T>
+using Panel = Eigen::Map<Matrix<T>, 0, Eigen::OuterStride<>>;
+template <class T>
+using ConstPanel = Eigen::Map<const Matrix<T>, 0, Eigen::OuterStride<>>;
+template <class T>
+using Segment = Eigen::Map<Eigen::Matrix<T, Eigen::Dynamic, 1>>;
 
 // The top's dense work is cut into blocks of these many rows (the triangular solve) and
 // columns (the update), whichever thread takes them.
@@ -33,12 +39,13 @@ constexpr std::ptrdiff_t kClearChunk = 1 << 16;
 
 // Lc[rel[i]] −= W[i] for i in [j, m), by runs of rows that land contiguously in Lc: the rows
 // [run[k], run[k + 1]) for k < count, run[0] <= j < run[1] and run[count] = m.
-inline void subtract_runs(double* __restrict Lc, const double* __restrict W, const int* rel,
-                          const int* run, int count, int j) {
+template <class T>
+inline void subtract_runs(T* __restrict Lc, const T* __restrict W, const int* rel, const int* run,
+                          int count, int j) {
   for (int k = 0; k < count; ++k) {
     const int begin = std::max(run[k], j), n = run[k + 1] - begin;
-    double* __restrict d = Lc + rel[begin];
-    const double* __restrict u = W + begin;
+    T* __restrict d = Lc + rel[begin];
+    const T* __restrict u = W + begin;
     for (int i = 0; i < n; ++i) d[i] -= u[i];
   }
 }
@@ -69,6 +76,7 @@ int threads_for(std::size_t works) {
 
 bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   factorized_ = false;
+  float_factor_ = false;
   blas_ = OpenBlasSyrk::loaded().dsyrk ? &OpenBlasSyrk::loaded() : nullptr;
   st_ = analyse_supernodes(A, nested_dissection(A), relax_, Factor::kCholesky);
   splits_ = st_.flops >= split_flops_;
@@ -77,52 +85,118 @@ bool SupernodalCholesky::analyze(const SparseMatrix& A) {
     status_ = "supernodal Cholesky: a supernode's panel holds more than 2^31 values";
     return false;
   }
-  // Huge pages only for a split factorisation that will run on several threads (huge_pages.hpp).
-  const bool huge = splits_ && omp_get_max_threads() > 1;
-  // Two threads' work spaces at least, whatever the count now (it may grow before factorize).
-  // Sized before first_touch, which shares the panels out by it.
-  work_.resize(splits_ ? std::max(2, omp_get_max_threads()) : 1);
-  values_.assign(static_cast<std::size_t>(st_.values), !splits_, huge);
-  if (splits_) first_touch();
-  // Not cleared here: factorize_split clears it before each use.
-  top_copy_.assign(static_cast<std::size_t>(split_.top_values), false, huge);
-  y_.assign(static_cast<std::size_t>(st_.n), 0.0);
-  top_y_.assign(splits_ ? static_cast<std::size_t>(st_.n) : 0, 0.0);
-  // Each work space is made by the thread that uses it, at its first factorisation
-  // (Work::make): its first touches then run on that thread, not all on this one.
-  for (Work& w : work_) w = Work{};
+  release(double_);
+  release(float_);
+  // Mixed: the float panels now, the double ones at the first fallback.
+  mixed_ = precision_ == Precision::kMixed ||
+           (precision_ == Precision::kAuto && st_.flops >= kMixedFlops);
+  counts_ = MixedCounts{};
+  double_pause_ = pause_length_ = 0;
+  if (mixed_) {
+    allocate(float_);
+    a_ = A;  // its pattern; the values are copied at each factorisation
+    a_.makeCompressed();
+  } else {
+    allocate(double_);
+    a_ = SparseMatrix();
+  }
   status_.clear();
   return true;
 }
 
+template <class T>
+void SupernodalCholesky::release(Panels<T>& p) {
+  p.values.assign(0);
+  p.top_copy.assign(0);
+  p.y = {};
+  p.top_y = {};
+  p.work = {};
+  p.allocated = false;
+}
+
+template <class T>
+void SupernodalCholesky::allocate(Panels<T>& p) {
+  if (p.allocated) return;
+  // Huge pages only for a split factorisation that will run on several threads (huge_pages.hpp).
+  const bool huge = splits_ && omp_get_max_threads() > 1;
+  // Two threads' work spaces at least, whatever the count now (it may grow before factorize).
+  // Sized before first_touch, which shares the panels out by it. Each work space is made by
+  // the thread that uses it, at its first factorisation (Work::make): its first touches then
+  // run on that thread, not all on this one.
+  p.work.assign(splits_ ? std::max(2, omp_get_max_threads()) : 1, Work<T>{});
+  p.values.assign(static_cast<std::size_t>(st_.values), !splits_, huge);
+  if (splits_) first_touch(p);
+  // Not cleared here: factorize_split clears it before each use.
+  p.top_copy.assign(static_cast<std::size_t>(split_.top_values), false, huge);
+  p.y.assign(static_cast<std::size_t>(st_.n), T(0));
+  p.top_y.assign(splits_ ? static_cast<std::size_t>(st_.n) : 0, T(0));
+  p.allocated = true;
+}
+
 bool SupernodalCholesky::factorize(const SparseMatrix& A) {
   factorized_ = false;
+  float_factor_ = false;
   if (!st_.matches(A)) {
     status_ = "supernodal Cholesky: the matrix does not have the analysed pattern";
     return false;
   }
   SerialEigen serial;
   SerialOpenBlas serial_blas(OpenBlasSyrk::loaded());
-  for (Work& w : work_) {
+  if (mixed_) {
+    if (A.isCompressed()) {
+      std::copy_n(A.valuePtr(), A.nonZeros(), a_.valuePtr());
+    } else {
+      a_ = A;
+      a_.makeCompressed();
+    }
+    // ‖A‖∞: A is symmetric, its rows' sums are its columns'.
+    a_norm_ = 0;
+    for (Eigen::Index j = 0; j < a_.outerSize(); ++j) {
+      double sum = 0;
+      for (SparseMatrix::InnerIterator it(a_, j); it; ++it) sum += std::abs(it.value());
+      a_norm_ = std::max(a_norm_, sum);
+    }
+    if (double_pause_ > 0) {
+      --double_pause_;
+    } else {
+      // One precision's panels in memory at a time (a switch costs their first touches).
+      release(double_);
+      allocate(float_);
+      if (factorize_in(float_, A)) {
+        ++counts_.float_factorizations;
+        return factorized_ = float_factor_ = true;
+      }
+      ++counts_.float_refusals;
+      pause_float();
+    }
+    release(float_);
+  }
+  allocate(double_);
+  return factorized_ = factorize_in(double_, A);
+}
+
+template <class T>
+bool SupernodalCholesky::factorize_in(Panels<T>& p, const SparseMatrix& A) {
+  for (Work<T>& w : p.work) {
     w.smallest = std::numeric_limits<double>::infinity();
     w.largest = 0;
     w.failed = false;
     w.status.clear();
   }
   if (splits_) {
-    factorize_split(A);
+    factorize_split(p, A.valuePtr());
   } else {
-    Work& w = work_[0];
+    Work<T>& w = p.work[0];
     w.make(st_.most_below);
     for (int s = 0; s < st_.supernodes() && !w.failed; ++s) {
-      start_panels(s, A);
-      if (!factor_diagonal(s, w)) break;
-      solve_below(s, 0, st_.below(s));
-      scatter_update(s, w, nullptr);
+      start_panels(p, s, A.valuePtr());
+      if (!factor_diagonal(p, s, w)) break;
+      solve_below(p, s, 0, st_.below(s));
+      scatter_update(p, s, w, static_cast<T*>(nullptr));
     }
   }
   double smallest = std::numeric_limits<double>::infinity(), largest = 0;
-  for (const Work& w : work_) {
+  for (const Work<T>& w : p.work) {
     if (w.failed) {
       status_ = w.status;
       return false;
@@ -137,17 +211,18 @@ bool SupernodalCholesky::factorize(const SparseMatrix& A) {
     return false;
   }
   status_.clear();
-  return factorized_ = true;
+  return true;
 }
 
 // Each group's panels cleared first by the thread that factorises them, the top's by blocks:
 // touched by one thread for all, the two threads' factorisations ran slower (the host seems
 // to keep a page near the virtual CPU that touched it first).
-void SupernodalCholesky::first_touch() {
-  const int threads = threads_for(work_.size());
+template <class T>
+void SupernodalCholesky::first_touch(Panels<T>& p) {
+  const int threads = threads_for(p.work.size());
   auto clear = [&](int s) {
-    std::fill_n(values_.data() + st_.l_panel[s],
-                std::ptrdiff_t(st_.width(s) + st_.below(s)) * st_.width(s), 0.0);
+    std::fill_n(p.values.data() + st_.l_panel[s],
+                std::ptrdiff_t(st_.width(s) + st_.below(s)) * st_.width(s), T(0));
   };
   const int ntop = static_cast<int>(split_.top.size());
 #pragma omp parallel num_threads(threads)
@@ -188,23 +263,27 @@ bool SupernodalCholesky::plan_panels() {
   return true;
 }
 
-// Supernode t's panel cleared and given A's entries.
-void SupernodalCholesky::start_panel(int t, const double* a) {
-  double* L = values_.data() + st_.l_panel[t];
-  std::fill_n(L, std::ptrdiff_t(st_.width(t) + st_.below(t)) * st_.width(t), 0.0);
-  for (int k = load_begin_[t]; k < load_begin_[t + 1]; ++k) L[loads_[k].at] = a[loads_[k].a];
+// Supernode t's panel cleared and given A's entries (rounded to T).
+template <class T>
+void SupernodalCholesky::start_panel(Panels<T>& p, int t, const double* a) {
+  T* L = p.values.data() + st_.l_panel[t];
+  std::fill_n(L, std::ptrdiff_t(st_.width(t) + st_.below(t)) * st_.width(t), T(0));
+  for (int k = load_begin_[t]; k < load_begin_[t + 1]; ++k)
+    L[loads_[k].at] = static_cast<T>(a[loads_[k].a]);
 }
 
-void SupernodalCholesky::start_panels(int s, const SparseMatrix& A) {
-  for (int k = start_begin_[s]; k < start_begin_[s + 1]; ++k) start_panel(starts_[k], A.valuePtr());
+template <class T>
+void SupernodalCholesky::start_panels(Panels<T>& p, int s, const double* a) {
+  for (int k = start_begin_[s]; k < start_begin_[s + 1]; ++k) start_panel(p, starts_[k], a);
 }
 
 // Cholesky of the diagonal block (its lower triangle).
-bool SupernodalCholesky::factor_diagonal(int s, Work& work) {
+template <class T>
+bool SupernodalCholesky::factor_diagonal(Panels<T>& p, int s, Work<T>& work) {
   const int f = st_.first[s], w = st_.width(s), m = st_.below(s);
-  double* l = values_.data() + st_.l_panel[s];
-  Panel D(l, w, w, Eigen::OuterStride<>(w + m));
-  const Eigen::Index failed = Eigen::internal::llt_inplace<double, Eigen::Lower>::blocked(D);
+  T* l = p.values.data() + st_.l_panel[s];
+  Panel<T> D(l, w, w, Eigen::OuterStride<>(w + m));
+  const Eigen::Index failed = Eigen::internal::llt_inplace<T, Eigen::Lower>::blocked(D);
   // llt_inplace stops at a pivot <= 0, not at a NaN: the diagonal says which.
   for (int k = 0; k < (failed >= 0 ? static_cast<int>(failed) + 1 : w); ++k) {
     const double d = D(k, k);
@@ -222,52 +301,62 @@ bool SupernodalCholesky::factor_diagonal(int s, Work& work) {
 }
 
 // L's rows [begin, end) below the diagonal block: A21 L11⁻ᵀ.
-void SupernodalCholesky::solve_below(int s, int begin, int end) {
+template <class T>
+void SupernodalCholesky::solve_below(Panels<T>& p, int s, int begin, int end) {
   if (end <= begin) return;
   const int w = st_.width(s), m = st_.below(s);
-  double* l = values_.data() + st_.l_panel[s];
-  const Panel D(l, w, w, Eigen::OuterStride<>(w + m));
-  Panel Lb(l + w + begin, end - begin, w, Eigen::OuterStride<>(w + m));
-  D.triangularView<Eigen::Lower>().transpose().solveInPlace<Eigen::OnTheRight>(Lb);
+  T* l = p.values.data() + st_.l_panel[s];
+  const Panel<T> D(l, w, w, Eigen::OuterStride<>(w + m));
+  Panel<T> Lb(l + w + begin, end - begin, w, Eigen::OuterStride<>(w + m));
+  D.template triangularView<Eigen::Lower>().transpose().template solveInPlace<Eigen::OnTheRight>(
+      Lb);
 }
 
 // A22 −= L21 L21ᵀ (its lower triangle) into the L panels of the supernodes that own the rows
 // below s: by columns, the diagonal and below (subtract_update).
-void SupernodalCholesky::scatter_update(int s, Work& work, double* top_copy) {
+template <class T>
+void SupernodalCholesky::scatter_update(Panels<T>& p, int s, Work<T>& work, T* top_copy) {
   const int w = st_.width(s), m = st_.below(s);
   if (m == 0) return;
-  double* l = values_.data() + st_.l_panel[s];
-  const Panel Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
-  if (blas_ && w >= kBlasWidth) {
-    const int ld = w + m;
-    const double one = 1, zero = 0;
-    blas_->dsyrk("L", "N", &m, &w, &one, l + w, &ld, &zero, work.update.data(), &m);
-  } else {
-    Eigen::Map<Eigen::MatrixXd> W(work.update.data(), m, m);
-    W.triangularView<Eigen::Lower>() = Lb * Lb.transpose();
+  T* l = p.values.data() + st_.l_panel[s];
+  const Panel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
+  bool done = false;
+  if constexpr (std::is_same_v<T, double>) {
+    if (blas_ && w >= kBlasWidth) {
+      const int ld = w + m;
+      const double one = 1, zero = 0;
+      blas_->dsyrk("L", "N", &m, &w, &one, l + w, &ld, &zero, work.update.data(), &m);
+      done = true;
+    }
   }
-  subtract_update(s, 0, m, m, work, top_copy);
+  if (!done) {
+    Eigen::Map<Matrix<T>> W(work.update.data(), m, m);
+    W.template triangularView<Eigen::Lower>() = Lb * Lb.transpose();
+  }
+  subtract_update(p, s, 0, m, m, work, top_copy);
 }
 
 // The update's columns [begin, end), the rows from begin down (the lower triangle of its top
 // square, the rectangle below), into the panels they reach. Different columns reach different
 // panel columns: threads may take different column blocks of one supernode.
-void SupernodalCholesky::update_columns(int s, int begin, int end, Work& work) {
+template <class T>
+void SupernodalCholesky::update_columns(Panels<T>& p, int s, int begin, int end, Work<T>& work) {
   const int w = st_.width(s), m = st_.below(s), rows = m - begin, cols = end - begin;
-  const double* l = values_.data() + st_.l_panel[s];
-  const ConstPanel Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
-  Eigen::Map<Eigen::MatrixXd> W(work.update.data(), rows, cols);
+  const T* l = p.values.data() + st_.l_panel[s];
+  const ConstPanel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
+  Eigen::Map<Matrix<T>> W(work.update.data(), rows, cols);
   const auto B = Lb.middleRows(begin, cols);
-  W.topRows(cols).triangularView<Eigen::Lower>() = B * B.transpose();
+  W.topRows(cols).template triangularView<Eigen::Lower>() = B * B.transpose();
   if (rows > cols) W.bottomRows(rows - cols).noalias() = Lb.bottomRows(rows - cols) * B.transpose();
-  subtract_update(s, begin, end, rows, work, nullptr);
+  subtract_update(p, s, begin, end, rows, work, static_cast<T*>(nullptr));
 }
 
 // The update's columns [begin, end), held in work.update from row `begin` down (column j at
 // (j − begin) ldw, row i at i − begin), subtracted from the panels they reach. With
 // `top_copy`, what goes to the top's panels goes to their copy there instead.
-void SupernodalCholesky::subtract_update(int s, int begin, int end, std::ptrdiff_t ldw, Work& work,
-                                         double* top_copy) {
+template <class T>
+void SupernodalCholesky::subtract_update(Panels<T>& p, int s, int begin, int end,
+                                         std::ptrdiff_t ldw, Work<T>& work, T* top_copy) {
   const int m = st_.below(s);
   const int* b = st_.rows.data() + st_.below_begin[s];
   for (int g = st_.target_begin[s]; g < st_.target_begin[s + 1]; ++g) {
@@ -275,16 +364,16 @@ void SupernodalCholesky::subtract_update(int s, int begin, int end, std::ptrdiff
     if (tg.end <= begin || tg.begin >= end) continue;
     const int t = tg.supernode, ft = st_.first[t];
     const std::ptrdiff_t ldl = st_.width(t) + st_.below(t);
-    double* L = top_copy && split_.top_offset[t] >= 0 ? top_copy + split_.top_offset[t]
-                                                      : values_.data() + st_.l_panel[t];
+    T* L = top_copy && split_.top_offset[t] >= 0 ? top_copy + split_.top_offset[t]
+                                                 : p.values.data() + st_.l_panel[t];
     const int* rel = st_.relative.data() + tg.rel - tg.begin;
     const int first = std::max(tg.begin, begin);
     int* run = work.runs.data();
     const int count = find_runs(rel, first, m, run);
     for (int j = first, r = 0; j < std::min(tg.end, end); ++j) {
       while (run[r + 1] <= j) ++r;
-      double* Lc = L + (b[j] - ft) * ldl;
-      const double* Wj = work.update.data() + (j - begin) * ldw - begin;
+      T* Lc = L + (b[j] - ft) * ldl;
+      const T* Wj = work.update.data() + (j - begin) * ldw - begin;
       subtract_runs(Lc, Wj, rel, run + r, count - r, j);
     }
   }
@@ -293,70 +382,72 @@ void SupernodalCholesky::subtract_update(int s, int begin, int end, std::ptrdiff
 // Both groups at once (one thread each; one thread takes both in turn), each writing its
 // updates of the top into its own place (group 0 the panels, group 1 their copy); the copy
 // added; then the top's supernodes in order, each one's row and column blocks shared.
-void SupernodalCholesky::factorize_split(const SparseMatrix& A) {
-  const int threads = threads_for(work_.size());
-  double* copy = top_copy_.data();
+template <class T>
+void SupernodalCholesky::factorize_split(Panels<T>& p, const double* a) {
+  const int threads = threads_for(p.work.size());
+  T* copy = p.top_copy.data();
   const std::ptrdiff_t nc = split_.top_values;
   const int ntop = static_cast<int>(split_.top.size());
   bool failed = false;
 #pragma omp parallel num_threads(threads)
   {
     const int me = omp_get_thread_num(), team = omp_get_num_threads();
-    Work& work = work_[me];
+    Work<T>& work = p.work[me];
     work.make(st_.most_below);
 #pragma omp for schedule(static)
     for (std::ptrdiff_t c = 0; c < nc; c += kClearChunk)
-      std::fill(copy + c, copy + std::min(nc, c + kClearChunk), 0.0);
+      std::fill(copy + c, copy + std::min(nc, c + kClearChunk), T(0));
 #pragma omp for schedule(dynamic)
-    for (int k = 0; k < ntop; ++k) start_panel(split_.top[k], A.valuePtr());
+    for (int k = 0; k < ntop; ++k) start_panel(p, split_.top[k], a);
     for (int g = me; g < 2 && !work.failed; g += team) {
       const double start = thread_seconds();
       for (const int s : split_.members[g]) {
-        start_panels(s, A);
-        if (!factor_diagonal(s, work)) break;
-        solve_below(s, 0, st_.below(s));
-        scatter_update(s, work, g == 1 ? copy : nullptr);
+        start_panels(p, s, a);
+        if (!factor_diagonal(p, s, work)) break;
+        solve_below(p, s, 0, st_.below(s));
+        scatter_update(p, s, work, g == 1 ? copy : nullptr);
       }
       split_seconds_.group[g] = thread_seconds() - start;
     }
 #pragma omp barrier
     const double top_start = thread_seconds();
 #pragma omp single
-    for (const Work& w : work_) failed = failed || w.failed;
+    for (const Work<T>& w : p.work) failed = failed || w.failed;
     if (!failed) {
 #pragma omp for schedule(dynamic)
       for (int k = 0; k < ntop; ++k) {
         const int t = split_.top[k];
         const std::ptrdiff_t size = std::ptrdiff_t(st_.width(t) + st_.below(t)) * st_.width(t);
-        double* L = values_.data() + st_.l_panel[t];
-        const double* C = copy + split_.top_offset[t];
+        T* L = p.values.data() + st_.l_panel[t];
+        const T* C = copy + split_.top_offset[t];
         for (std::ptrdiff_t i = 0; i < size; ++i) L[i] += C[i];
       }
       for (const int s : split_.top) {
 #pragma omp single
-        failed = !factor_diagonal(s, work);
+        failed = !factor_diagonal(p, s, work);
         if (failed) break;
         const int m = st_.below(s);
 #pragma omp for schedule(static)
-        for (int r = 0; r < m; r += kRowBlock) solve_below(s, r, std::min(m, r + kRowBlock));
+        for (int r = 0; r < m; r += kRowBlock) solve_below(p, s, r, std::min(m, r + kRowBlock));
 #pragma omp for schedule(dynamic)
         for (int c = 0; c < m; c += kColumnBlock)
-          update_columns(s, c, std::min(m, c + kColumnBlock), work);
+          update_columns(p, s, c, std::min(m, c + kColumnBlock), work);
       }
     }
     if (me == 0) split_seconds_.top = thread_seconds() - top_start;
   }
 }
 
-void SupernodalCholesky::forward(int s, double* y, double* top_y, Work& work) {
+template <class T>
+void SupernodalCholesky::forward(Panels<T>& p, int s, T* y, T* top_y, Work<T>& work) {
   const int f = st_.first[s], w = st_.width(s), m = st_.below(s);
-  const double* l = values_.data() + st_.l_panel[s];
-  const ConstPanel D(l, w, w, Eigen::OuterStride<>(w + m));
-  Segment ys(y + f, w);
-  D.triangularView<Eigen::Lower>().solveInPlace(ys);
+  const T* l = p.values.data() + st_.l_panel[s];
+  const ConstPanel<T> D(l, w, w, Eigen::OuterStride<>(w + m));
+  Segment<T> ys(y + f, w);
+  D.template triangularView<Eigen::Lower>().solveInPlace(ys);
   if (m == 0) return;
-  const ConstPanel Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
-  Segment g(work.gather.data(), m);
+  const ConstPanel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
+  Segment<T> g(work.gather.data(), m);
   g.noalias() = Lb * ys;
   const int* r = st_.rows.data() + st_.below_begin[s];
   if (!top_y) {
@@ -365,71 +456,160 @@ void SupernodalCholesky::forward(int s, double* y, double* top_y, Work& work) {
   }
   for (int k = st_.target_begin[s]; k < st_.target_begin[s + 1]; ++k) {
     const SupernodalStructure::Target& tg = st_.targets[k];
-    double* z = split_.group[tg.supernode] == TreeSplit::kTop ? top_y : y;
+    T* z = split_.group[tg.supernode] == TreeSplit::kTop ? top_y : y;
     for (int i = tg.begin; i < tg.end; ++i) z[r[i]] -= g[i];
   }
 }
 
-void SupernodalCholesky::backward(int s, double* y, Work& work) {
+template <class T>
+void SupernodalCholesky::backward(Panels<T>& p, int s, T* y, Work<T>& work) {
   const int f = st_.first[s], w = st_.width(s), m = st_.below(s);
-  const double* l = values_.data() + st_.l_panel[s];
-  Segment ys(y + f, w);
+  const T* l = p.values.data() + st_.l_panel[s];
+  Segment<T> ys(y + f, w);
   if (m > 0) {
     const int* r = st_.rows.data() + st_.below_begin[s];
-    Segment g(work.gather.data(), m);
+    Segment<T> g(work.gather.data(), m);
     for (int i = 0; i < m; ++i) g[i] = y[r[i]];
-    const ConstPanel Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
+    const ConstPanel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
     ys.noalias() -= Lb.transpose() * g;
   }
-  const ConstPanel D(l, w, w, Eigen::OuterStride<>(w + m));
-  D.triangularView<Eigen::Lower>().transpose().solveInPlace(ys);
+  const ConstPanel<T> D(l, w, w, Eigen::OuterStride<>(w + m));
+  D.template triangularView<Eigen::Lower>().transpose().solveInPlace(ys);
 }
 
 bool SupernodalCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (!factorized_ || b.size() != st_.n) return false;
-  const int n = st_.n;
   SerialEigen serial;
-  for (int k = 0; k < n; ++k) y_[k] = b[st_.order[k]];
-  if (splits_) {
-    solve_split();
-  } else {
-    for (int s = 0; s < st_.supernodes(); ++s) forward(s, y_.data(), nullptr, work_[0]);
-    for (int s = st_.supernodes() - 1; s >= 0; --s) backward(s, y_.data(), work_[0]);
-  }
-  x.resize(n);
-  for (int k = 0; k < n; ++k) x[st_.order[k]] = y_[k];
+  if (float_factor_) return solve_refined(b, x);
+  solve_with(double_, b, x);
   return x.allFinite();
 }
 
-// Forward: the groups at once, group 1's updates of the top's rows in top_y_ (added after);
+template <class T>
+void SupernodalCholesky::solve_with(Panels<T>& p, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  const int n = st_.n;
+  T* y = p.y.data();
+  // A float solve of b / ‖b‖∞: neither overflows nor underflows in the panels' range.
+  double scale = 1;
+  if constexpr (!std::is_same_v<T, double>) {
+    scale = b.lpNorm<Eigen::Infinity>();
+    if (!(scale > 0) || !std::isfinite(scale)) scale = 1;
+  }
+  for (int k = 0; k < n; ++k) y[k] = static_cast<T>(b[st_.order[k]] / scale);
+  if (splits_) {
+    solve_split(p);
+  } else {
+    for (int s = 0; s < st_.supernodes(); ++s)
+      forward(p, s, y, static_cast<T*>(nullptr), p.work[0]);
+    for (int s = st_.supernodes() - 1; s >= 0; --s) backward(p, s, y, p.work[0]);
+  }
+  x.resize(n);
+  for (int k = 0; k < n; ++k) x[st_.order[k]] = static_cast<double>(y[k]) * scale;
+}
+
+// r = b − A x, r_i from A's column i (A is symmetric): each entry summed in the same order
+// whatever the threads, which share the columns.
+double SupernodalCholesky::backward_error(const Eigen::VectorXd& b, const Eigen::VectorXd& x,
+                                          Eigen::VectorXd& r) {
+  const int n = st_.n;
+  r.resize(n);
+  const int* start = a_.outerIndexPtr();
+  const int* row = a_.innerIndexPtr();
+  const double* value = a_.valuePtr();
+  double rn = 0;
+  const int threads = splits_ ? omp_get_max_threads() : 1;
+#pragma omp parallel for schedule(static) reduction(max : rn) num_threads(threads)
+  for (int i = 0; i < n; ++i) {
+    double sum = 0;
+    for (int k = start[i]; k < start[i + 1]; ++k) sum += value[k] * x[row[k]];
+    r[i] = b[i] - sum;
+    rn = std::max(rn, std::abs(r[i]));
+  }
+  if (!r.allFinite()) return std::numeric_limits<double>::quiet_NaN();
+  return rn == 0 ? 0 : rn / (a_norm_ * x.lpNorm<Eigen::Infinity>());
+}
+
+// The float factor's solution corrected in double (the iterative refinement of Wilkinson,
+// Moler): x ← x + L⁻ᵀ L⁻¹ (b − A x) with L in float and the residual in double, which converges
+// to the double solution's accuracy when cond(A) times float's rounding is well below one.
+bool SupernodalCholesky::solve_refined(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  solve_with(float_, b, x);
+  ++counts_.float_solves;
+  double error = backward_error(b, x, r_);
+  // LAPACK's DSPOSV: refined when ‖r‖∞ <= √n ε ‖A‖∞ ‖x‖∞ (ε = 2⁻⁵³).
+  const double target = std::sqrt(double(st_.n)) * kRoundoff;
+  bool refined = false;
+  int corrections = 0;
+  for (; corrections < kMostRefinements && !(error <= target); ++corrections) {
+    solve_with(float_, r_, dx_);
+    ++counts_.float_solves;
+    refined = true;
+    x += dx_;
+    const double before = error;
+    error = backward_error(b, x, r_);
+    if (!(error <= 0.5 * before)) break;  // stalled, or not finite
+  }
+  if (refined) ++counts_.refined_solves;
+  counts_.last_backward_error = error;
+  if (error <= target) {
+    if (corrections > kSlowRefinements)
+      pause_float();  // more work than the float factor saved
+    else
+      pause_length_ = 0;
+    return x.allFinite();
+  }
+  pause_float();
+  // Not refined to the double factor's accuracy: the double factor, kept for this matrix.
+  ++counts_.double_fallbacks;
+  float_factor_ = false;
+  release(float_);
+  allocate(double_);
+  SerialOpenBlas serial_blas(OpenBlasSyrk::loaded());
+  if (!factorize_in(double_, a_)) {
+    factorized_ = false;
+    return false;
+  }
+  solve_with(double_, b, x);
+  counts_.last_backward_error = backward_error(b, x, r_);
+  return x.allFinite();
+}
+
+// The next 1, 2, 4 ... 64 factorisations in double.
+void SupernodalCholesky::pause_float() {
+  pause_length_ = std::clamp(2 * pause_length_, 1, 64);
+  double_pause_ = pause_length_;
+}
+
+// Forward: the groups at once, group 1's updates of the top's rows in top_y (added after);
 // the top on one thread, forward and back; the groups back at once (they read the top's rows
 // and write their own).
-void SupernodalCholesky::solve_split() {
-  const int threads = threads_for(work_.size());
-  double* y = y_.data();
-  double* top_y = top_y_.data();
+template <class T>
+void SupernodalCholesky::solve_split(Panels<T>& p) {
+  const int threads = threads_for(p.work.size());
+  T* y = p.y.data();
+  T* top_y = p.top_y.data();
   const int ntop = static_cast<int>(split_.top.size());
 #pragma omp parallel num_threads(threads)
   {
     const int me = omp_get_thread_num(), team = omp_get_num_threads();
-    Work& work = work_[me];
+    Work<T>& work = p.work[me];
     work.make(st_.most_below);  // a thread that sat out the factorisation
 #pragma omp for schedule(static)
     for (int k = 0; k < ntop; ++k)
       for (int j = st_.first[split_.top[k]]; j < st_.first[split_.top[k] + 1]; ++j) top_y[j] = 0;
     for (int g = me; g < 2; g += team)
-      for (const int s : split_.members[g]) forward(s, y, g == 1 ? top_y : nullptr, work);
+      for (const int s : split_.members[g]) forward(p, s, y, g == 1 ? top_y : nullptr, work);
 #pragma omp barrier
 #pragma omp single
     {
       for (const int t : split_.top)
         for (int j = st_.first[t]; j < st_.first[t + 1]; ++j) y[j] += top_y[j];
-      for (const int t : split_.top) forward(t, y, nullptr, work);
-      for (int k = ntop - 1; k >= 0; --k) backward(split_.top[k], y, work);
+      for (const int t : split_.top) forward(p, t, y, static_cast<T*>(nullptr), work);
+      for (int k = ntop - 1; k >= 0; --k) backward(p, split_.top[k], y, work);
     }
     for (int g = me; g < 2; g += team)
       for (auto s = split_.members[g].rbegin(); s != split_.members[g].rend(); ++s)
-        backward(*s, y, work);
+        backward(p, *s, y, work);
   }
 }
 

@@ -14,6 +14,12 @@
 // separators with each supernode's dense work shared. The split and the blocks the work is cut
 // into depend on the matrix's structure alone: one thread or two give the same result to the
 // bit (not the same as below `split_flops`, to round-off).
+//
+// Precision::kMixed (and kAuto above kMixedFlops, `auto`'s choice): the same factorisation with
+// float panels (Eigen's float kernels: more values per vector, half the bytes), each solve
+// refined in double against A as factorised, and the double factorisation where the float one
+// is refused or its refinement falls short, so that every solve is as accurate as the double
+// factor's. The same structure and split: one thread or two still give the same bits.
 #pragma once
 
 #include <string>
@@ -33,9 +39,27 @@ class SupernodalCholesky final : public LinearSolver {
   /// Factorisations below this many flops run as one sequence of supernodes on the calling
   /// thread (a tree split costs more than it gives there).
   static constexpr double kSplitFlops = 5e7;
+  /// The panels' scalar: double, or float with iterative refinement in double (kMixed): each
+  /// solve corrects x by the float factor's solution of the residual r = b − A x, computed in
+  /// double with A as factorised, until ‖r‖∞ <= √n ε ‖A‖∞ ‖x‖∞ (ε = kRoundoff, double's unit
+  /// roundoff: LAPACK's DSPOSV's test), in at most kMostRefinements corrections while each one
+  /// at least halves ‖r‖∞ / (‖A‖∞ ‖x‖∞); otherwise the matrix is factorised in double and
+  /// solved with that (as is a matrix whose float factorisation fails). After such a fallback,
+  /// or a solve that took more than kSlowRefinements corrections (each costs about 0.6 of a
+  /// double solve; the float factorisation saves about 2.5 double solves at 150k equations:
+  /// beyond 6 a factor costs more than it saves), the next 1, 2, 4 ... 64 factorisations are
+  /// in double (a float factor that serves resets the count). One precision's panels are in
+  /// memory at a time. kAuto: kMixed for factorisations of at least kMixedFlops, kDouble below
+  /// (docs/performance.md, section 20).
+  enum class Precision { kDouble, kMixed, kAuto };
+  static constexpr int kMostRefinements = 10;
+  static constexpr int kSlowRefinements = 6;
+  static constexpr double kRoundoff = 0x1p-53;
+  static constexpr double kMixedFlops = 4e8;
 
-  explicit SupernodalCholesky(const Amalgamation& relax = {}, double split_flops = kSplitFlops)
-      : relax_(relax), split_flops_(split_flops) {}
+  explicit SupernodalCholesky(const Amalgamation& relax = {}, double split_flops = kSplitFlops,
+                              Precision precision = Precision::kDouble)
+      : relax_(relax), split_flops_(split_flops), precision_(precision) {}
   std::string_view name() const override { return "supernodal-cholesky"; }
   bool symmetric_only() const override { return true; }
   bool analyze(const SparseMatrix& A) override;
@@ -58,10 +82,26 @@ class SupernodalCholesky final : public LinearSolver {
   const SplitSeconds& split_seconds() const { return split_seconds_; }
   /// min l_kk² / max l_kk² of the last factorisation.
   double pivot_ratio() const { return pivot_ratio_; }
+  /// Mixed precision: whether the last factorisation is the float one (else double); since the
+  /// analysis, the float factorisations that succeeded and those refused (a pivot not positive
+  /// in float: the double factorisation followed), the float solves (the first of each solve
+  /// and its corrections), the solves that were refined, and those whose refinement fell short
+  /// (the double factorisation and solve followed).
+  bool float_factor() const { return float_factor_; }
+  struct MixedCounts {
+    long float_factorizations = 0, float_refusals = 0;
+    long float_solves = 0, refined_solves = 0, double_fallbacks = 0;
+    double last_backward_error = 0;  ///< ‖r‖∞ / (‖A‖∞ ‖x‖∞) of the last mixed solve
+  };
+  const MixedCounts& mixed_counts() const { return counts_; }
+  /// Whether factorisations of the analysed pattern try float first (kMixed, or kAuto above
+  /// kMixedFlops).
+  bool mixed() const { return mixed_; }
 
  private:
+  template <class T>
   struct Work {  ///< one thread's
-    std::vector<double> update, gather;
+    std::vector<T> update, gather;
     std::vector<int> runs;  ///< a scatter's runs of contiguous rows
     double smallest = 0, largest = 0;
     bool failed = false;
@@ -70,30 +110,64 @@ class SupernodalCholesky final : public LinearSolver {
     void make(int most_below) {
       const std::size_t mb = static_cast<std::size_t>(std::max(most_below, 1));
       if (runs.size() == mb + 1) return;
-      update.assign(mb * mb, 0.0);
-      gather.assign(mb, 0.0);
+      update.assign(mb * mb, T(0));
+      gather.assign(mb, T(0));
       runs.assign(mb + 1, 0);
     }
+  };
+  /// L's panels in one precision, with the work spaces of the factorisation and solves.
+  template <class T>
+  struct Panels {
+    HugePageBuffer<T> values, top_copy;  ///< the L panels; the top's panels' copy (tree_split.hpp)
+    std::vector<T> y, top_y;
+    std::vector<Work<T>> work;
+    bool allocated = false;  ///< for the current analysis
   };
 
   using Load = SupernodalStructure::Load;
   bool plan_panels();
-  void first_touch();
-  void start_panel(int t, const double* a);
-  void start_panels(int s, const SparseMatrix& A);
-  bool factor_diagonal(int s, Work& w);
-  void solve_below(int s, int begin, int end);
-  void scatter_update(int s, Work& w, double* top_copy);
-  void update_columns(int s, int begin, int end, Work& w);
-  void subtract_update(int s, int begin, int end, std::ptrdiff_t ldw, Work& w, double* top_copy);
-  void factorize_split(const SparseMatrix& A);
-  void forward(int s, double* y, double* top_y, Work& w);
-  void backward(int s, double* y, Work& w);
-  void solve_split();
+  template <class T>
+  void allocate(Panels<T>& p);  ///< unless allocated
+  template <class T>
+  void release(Panels<T>& p);
+  template <class T>
+  void first_touch(Panels<T>& p);
+  template <class T>
+  bool factorize_in(Panels<T>& p, const SparseMatrix& A);
+  template <class T>
+  void start_panel(Panels<T>& p, int t, const double* a);
+  template <class T>
+  void start_panels(Panels<T>& p, int s, const double* a);
+  template <class T>
+  bool factor_diagonal(Panels<T>& p, int s, Work<T>& w);
+  template <class T>
+  void solve_below(Panels<T>& p, int s, int begin, int end);
+  template <class T>
+  void scatter_update(Panels<T>& p, int s, Work<T>& w, T* top_copy);
+  template <class T>
+  void update_columns(Panels<T>& p, int s, int begin, int end, Work<T>& w);
+  template <class T>
+  void subtract_update(Panels<T>& p, int s, int begin, int end, std::ptrdiff_t ldw, Work<T>& w,
+                       T* top_copy);
+  template <class T>
+  void factorize_split(Panels<T>& p, const double* a);
+  template <class T>
+  void forward(Panels<T>& p, int s, T* y, T* top_y, Work<T>& w);
+  template <class T>
+  void backward(Panels<T>& p, int s, T* y, Work<T>& w);
+  template <class T>
+  void solve_split(Panels<T>& p);
+  /// x = A⁻¹ b with the factor in p (b and x may be the same vector).
+  template <class T>
+  void solve_with(Panels<T>& p, const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  bool solve_refined(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  void pause_float();
+  double backward_error(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r);
 
   const OpenBlasSyrk* blas_ = nullptr;  ///< OpenBLAS's dsyrk for the wider updates, or none
   Amalgamation relax_;
   double split_flops_;
+  Precision precision_;
   SupernodalStructure st_;
   TreeSplit split_;
   bool splits_ = false;
@@ -101,9 +175,15 @@ class SupernodalCholesky final : public LinearSolver {
   std::vector<int> starts_;
   std::vector<int> load_begin_;  ///< A's entries in t's panel: loads_[load_begin_[t] .. [t + 1])
   std::vector<Load> loads_;
-  HugePageArray values_, top_copy_;  ///< the L panels; the top's panels' copy (tree_split.hpp)
-  std::vector<double> y_, top_y_;
-  std::vector<Work> work_;
+  Panels<double> double_;
+  Panels<float> float_;
+  bool float_factor_ = false;
+  SparseMatrix a_;  ///< mixed: A as last factorised (the refinement's residuals), and ‖A‖∞
+  double a_norm_ = 0;
+  Eigen::VectorXd r_, dx_;  ///< mixed: a residual and a correction
+  bool mixed_ = false;
+  int double_pause_ = 0, pause_length_ = 0;  ///< factorisations left in double; the next pause's
+  MixedCounts counts_;
   bool factorized_ = false;
   double pivot_ratio_ = 0;
   SplitSeconds split_seconds_;

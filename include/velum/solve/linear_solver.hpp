@@ -15,7 +15,8 @@ namespace velum {
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 /// kAuto: while the matrix is numerically symmetric (|A - Aᵀ| <= 1e-10 |A|, checked at every
-/// factorisation) a supernodal Cholesky while it is positive definite and MUMPS's LDLᵀ when
+/// factorisation) a supernodal Cholesky (float panels refined in double from 4e8 flops, as
+/// accurate as double's) while it is positive definite and MUMPS's LDLᵀ when
 /// it is not (without MUMPS in the build: CHOLMOD while it is positive definite), otherwise the
 /// supernodal LU (rows exchanged within supernodes only; KLU or, above 6,000 equations, UMFPACK for
 /// a factorisation it refuses) up to 125,000 equations and UMFPACK above. kMumps: LDLᵀ when

@@ -9,11 +9,14 @@
 #include <omp.h>
 
 #include <Eigen/Dense>
+#include <array>
 #include <random>
 #include <vector>
 
 #include "membrane_grid.hpp"
 #include "solve/supernodal_cholesky.hpp"
+#include "square_membrane.hpp"
+#include "velum/analysis/mechanical_system.hpp"
 #include "velum/solve/linear_solver.hpp"
 
 namespace velum {
@@ -275,6 +278,165 @@ TEST(SupernodalCholesky, TreeSplitOfAForestAndOfAChain) {
         EXPECT_TRUE(x == first);
     }
   }
+}
+
+// Mixed precision (float panels, refinement in double).
+using Precision = SupernodalCholesky::Precision;
+
+// LAPACK's DSPOSV test, which the refinement stops at: ‖b − A x‖∞ / (‖A‖∞ ‖x‖∞).
+double backward_error(const SparseMatrix& A, const Eigen::VectorXd& x, const Eigen::VectorXd& b) {
+  double norm = 0;
+  for (int j = 0; j < A.outerSize(); ++j) norm = std::max(norm, A.col(j).cwiseAbs().sum());
+  return (b - A * x).lpNorm<Eigen::Infinity>() / (norm * x.lpNorm<Eigen::Infinity>());
+}
+
+// A mixed solve as accurate as the double one: LAPACK's test met, the same solution to the
+// condition number's measure, the float factor kept and each solve refined.
+void expect_double_accuracy(const SparseMatrix& A, double agreement) {
+  const Eigen::VectorXd b = rhs(A.rows());
+  SupernodalCholesky exact, mixed({}, SupernodalCholesky::kSplitFlops, Precision::kMixed);
+  ASSERT_TRUE(exact.refactorize(A)) << exact.status();
+  ASSERT_TRUE(mixed.refactorize(A)) << mixed.status();
+  EXPECT_TRUE(mixed.float_factor());
+  EXPECT_FALSE(exact.float_factor());
+  Eigen::VectorXd x, y;
+  ASSERT_TRUE(exact.solve(b, y));
+  ASSERT_TRUE(mixed.solve(b, x));
+  const double target = std::sqrt(double(A.rows())) * SupernodalCholesky::kRoundoff;
+  EXPECT_LE(backward_error(A, x, b), target);
+  EXPECT_LE(mixed.mixed_counts().last_backward_error, target);
+  EXPECT_LE((x - y).norm(), agreement * y.norm());
+  const SupernodalCholesky::MixedCounts& c = mixed.mixed_counts();
+  EXPECT_EQ(c.float_factorizations, 1);
+  EXPECT_EQ(c.refined_solves, 1);  // float's rounding alone is far above the target
+  EXPECT_GE(c.float_solves, 2);
+  EXPECT_LE(c.float_solves, 4);
+  EXPECT_EQ(c.double_fallbacks, 0);
+  EXPECT_TRUE(mixed.float_factor());
+  // A second solve with the same factor, and a zero right-hand side.
+  ASSERT_TRUE(mixed.solve(2.0 * b, x));
+  EXPECT_LE((x - 2.0 * y).norm(), 2 * agreement * y.norm());
+  ASSERT_TRUE(mixed.solve(Eigen::VectorXd::Zero(A.rows()), x));
+  EXPECT_EQ(x.norm(), 0.0);
+}
+
+TEST(MixedCholesky, RefinesRandomMembraneMatricesToDoubleAccuracy) {
+  for (const int drop : {0, 7})
+    expect_double_accuracy(spd_membrane_matrix(30, 27, 21, drop), 1e-13);
+}
+
+// The pressurised square's K + M (3 equations per free node, quad4, 40 x 40 elements) and the
+// stress-free clamped dome's stiffness, ill-conditioned enough that float's factor needs more
+// corrections (or none of it stands: then the double factor solves).
+TEST(MixedCholesky, RefinesTheSquareMembraneToDoubleAccuracy) {
+  auto model = pressurised_square(40);
+  MechanicalSystem sys(*model);
+  VecX u = VecX::Zero(sys.size()), v = u, a = u, r;
+  SparseMatrix J;
+  sys.evaluate(0.0, u, v, a, 1.0, 0.0, 1.0, r, &J);
+  expect_double_accuracy(J, 1e-12);
+}
+
+// A membrane graph's weighted Laplacian (weights in [0.5, 1.5], positive semi-definite with
+// the constant vector in its null space) shifted by δ: cond ≈ 100 / δ. Rounded to float, its
+// smallest eigenvalue moves by about 1e-7 either way: from δ = 1e-2 the float factor's
+// corrections converge; towards δ = 1e-8 they stall (the float matrix's lowest eigenvalue
+// several times δ's) or the float factorisation meets a pivot that is not positive, and the
+// double factor solves, always to double's accuracy.
+TEST(MixedCholesky, FallsBackToDoubleWhereRefinementCannotConverge) {
+  const MembraneGrid grid(20, 18, 0);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> weight(0.5, 1.5);
+  std::vector<Eigen::Triplet<double>> t;
+  std::vector<double> degree(grid.n, 0.0);
+  grid.for_each_coupling([&](int row, int col) {
+    if (row >= col) return;
+    const double w = weight(rng);
+    t.emplace_back(row, col, -w);
+    t.emplace_back(col, row, -w);
+    degree[row] += w;
+    degree[col] += w;
+  });
+  const std::size_t off_diagonal = t.size();
+  long refused = 0, fallbacks = 0, refined = 0;
+  for (const double delta : {1e-2, 1e-5, 1e-6, 3e-7, 1e-7, 5e-8, 1e-8}) {
+    t.resize(off_diagonal);
+    for (int c = 0; c < grid.n; ++c) t.emplace_back(c, c, degree[c] + delta);
+    SparseMatrix A(grid.n, grid.n);
+    A.setFromTriplets(t.begin(), t.end());
+    const Eigen::VectorXd b = rhs(A.rows());
+    SupernodalCholesky exact, mixed({}, SupernodalCholesky::kSplitFlops, Precision::kMixed);
+    ASSERT_TRUE(exact.refactorize(A)) << exact.status();
+    ASSERT_TRUE(mixed.refactorize(A)) << mixed.status();
+    Eigen::VectorXd x, y;
+    ASSERT_TRUE(exact.solve(b, y));
+    ASSERT_TRUE(mixed.solve(b, x));
+    const double target = std::sqrt(double(A.rows())) * SupernodalCholesky::kRoundoff;
+    EXPECT_LE(backward_error(A, x, b), target) << delta;
+    const SupernodalCholesky::MixedCounts& c = mixed.mixed_counts();
+    refused += c.float_refusals;
+    fallbacks += c.double_fallbacks;
+    refined += c.double_fallbacks == 0 && c.float_refusals == 0;
+    if (c.double_fallbacks + c.float_refusals > 0) {
+      // The double factor's own solution, to the bit.
+      EXPECT_FALSE(mixed.float_factor());
+      EXPECT_TRUE(x == y) << delta;
+    } else {
+      EXPECT_LE((x - y).norm(), 1e-13 / delta * y.norm()) << delta;
+    }
+    if (delta == 1e-2) {
+      EXPECT_EQ(c.double_fallbacks + c.float_refusals, 0);
+    }
+  }
+  // After a fallback the next factorisation is in double, the one after in float again; kAuto
+  // keeps a matrix this small in double.
+  SupernodalCholesky mixed({}, SupernodalCholesky::kSplitFlops, Precision::kMixed);
+  const std::array<double, 3> shifts = {5e-8, 1e-2, 1e-2};
+  const std::array<bool, 3> in_float = {false, false, true};  // after each one's first solve
+  for (int k = 0; k < 3; ++k) {
+    t.resize(off_diagonal);
+    for (int c = 0; c < grid.n; ++c) t.emplace_back(c, c, degree[c] + shifts[k]);
+    SparseMatrix A(grid.n, grid.n);
+    A.setFromTriplets(t.begin(), t.end());
+    ASSERT_TRUE(mixed.refactorize(A)) << mixed.status();
+    EXPECT_TRUE(mixed.mixed());
+    Eigen::VectorXd x;
+    ASSERT_TRUE(mixed.solve(rhs(A.rows()), x));
+    EXPECT_LE(backward_error(A, x, rhs(A.rows())),
+              std::sqrt(double(A.rows())) * SupernodalCholesky::kRoundoff);
+    EXPECT_EQ(mixed.float_factor(), in_float[k]) << k;
+    SupernodalCholesky automatic({}, SupernodalCholesky::kSplitFlops, Precision::kAuto);
+    ASSERT_TRUE(automatic.refactorize(A));
+    EXPECT_FALSE(automatic.mixed());
+    EXPECT_FALSE(automatic.float_factor());
+  }
+  EXPECT_EQ(mixed.mixed_counts().double_fallbacks, 1);
+  EXPECT_EQ(mixed.mixed_counts().float_factorizations, 2);
+  // As measured: refined from 1e-2 to 1e-7 (in 2 to 10 corrections), stalled at 3e-7 and 5e-8,
+  // refused at 1e-8.
+  EXPECT_GE(refined, 3);
+  EXPECT_GE(fallbacks, 1);
+  EXPECT_GE(refused, 1);
+}
+
+// Above the split threshold the float factor and the refinement are the same, to the bit, on one
+// thread and on two.
+TEST(MixedCholesky, TreeSplitOnTwoThreadsMatchesOneThreadToTheBit) {
+  const SparseMatrix A = spd_membrane_matrix(40, 33, 9, 7);
+  const Eigen::VectorXd b = rhs(A.rows());
+  std::vector<Eigen::VectorXd> solutions;
+  for (const int threads : {1, 2, 1, 2}) {
+    const ThreadCount scope(threads);
+    SupernodalCholesky split({}, 0.0, Precision::kMixed);
+    ASSERT_TRUE(split.refactorize(A)) << split.status();
+    ASSERT_TRUE(split.splits());
+    EXPECT_TRUE(split.float_factor());
+    Eigen::VectorXd x;
+    ASSERT_TRUE(split.solve(b, x));
+    EXPECT_LE(backward_error(A, x, b), std::sqrt(double(A.rows())) * SupernodalCholesky::kRoundoff);
+    solutions.push_back(x);
+  }
+  for (const Eigen::VectorXd& x : solutions) EXPECT_TRUE(x == solutions.front());
 }
 
 }  // namespace

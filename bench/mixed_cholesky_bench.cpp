@@ -1,0 +1,96 @@
+// The supernodal Cholesky with float panels and iterative refinement in double (kMixed) against
+// double panels, on one thread (pin it: taskset -c 0). Matrices (first argument): 0 the
+// pressurised square's K + M (well conditioned), 1 the clamped square domed by a tenth of its
+// side, its stiffness K at rest (a stress-free membrane: in-plane stiffness only, out of plane
+// through the curvature), 2 the stiffness at rest of the model file named by VELUM_MODEL (the
+// Hencky dome of bench/compare-fenicsx, for instance; skipped without it). Second argument:
+// elements per side (0 and 1); third: 0 double, 1 mixed. Time per factorisation; counters:
+// `solve_ms` (the best of five solves, refinement included), `backward_error`
+// (‖b − A x‖∞ / (‖A‖∞ ‖x‖∞)), `float_solves` per solve, `fallbacks` to the double
+// factor, `gflops` of the factorisation.
+#include <benchmark/benchmark.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <limits>
+
+#include "solve/supernodal_cholesky.hpp"
+#include "square_membrane.hpp"
+#include "velum/analysis/mechanical_system.hpp"
+#include "velum/io/model_reader.hpp"
+
+namespace {
+
+using namespace velum;
+using io::ModelInput;
+using io::read_model;
+
+// The matrix `which` (above), or an empty one when VELUM_MODEL is not set.
+SparseMatrix matrix(int which, int n) {
+  std::unique_ptr<Model> owned;
+  ModelInput input;
+  const Model* model = nullptr;
+  if (which == 2) {
+    const char* file = std::getenv("VELUM_MODEL");
+    if (!file) return {};
+    input = read_model(file);
+    model = &input.model;
+  } else {
+    owned = which == 0 ? pressurised_square(n) : clamped_square(n, 0.1);
+    model = owned.get();
+  }
+  MechanicalSystem sys(*model);
+  VecX u = VecX::Zero(sys.size()), v = u, a = u, r;
+  SparseMatrix J;
+  sys.evaluate(0.0, u, v, a, 1.0, 0.0, which == 0 ? 1.0 : 0.0, r, &J);
+  return J;
+}
+
+void BM_MixedCholesky(benchmark::State& state) {
+  omp_set_num_threads(1);
+  const SparseMatrix A = matrix(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  if (A.rows() == 0) {
+    state.SkipWithError("VELUM_MODEL names no model file");
+    return;
+  }
+  const auto precision = state.range(2) == 1 ? SupernodalCholesky::Precision::kMixed
+                                             : SupernodalCholesky::Precision::kDouble;
+  SupernodalCholesky chol({}, SupernodalCholesky::kSplitFlops, precision);
+  if (!chol.analyze(A)) {
+    state.SkipWithError("analysis failed");
+    return;
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(chol.factorize(A));
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 2.0);
+  Eigen::VectorXd x;
+  double best = std::numeric_limits<double>::infinity();
+  const long solves_before = chol.mixed_counts().float_solves;
+  for (int k = 0; k < 5; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!chol.solve(b, x)) state.SkipWithError("solve failed");
+    best = std::min(best,
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  Eigen::VectorXd r = b - A * x;
+  double norm = 0;  // ‖A‖∞
+  for (int j = 0; j < A.outerSize(); ++j) norm = std::max(norm, A.col(j).cwiseAbs().sum());
+  state.counters["solve_ms"] = 1e3 * best;
+  state.counters["backward_error"] =
+      r.lpNorm<Eigen::Infinity>() / (norm * x.lpNorm<Eigen::Infinity>());
+  state.counters["float_solves"] = double(chol.mixed_counts().float_solves - solves_before) / 5;
+  state.counters["fallbacks"] = static_cast<double>(chol.mixed_counts().double_fallbacks);
+  state.counters["float_factor"] = chol.float_factor();
+  state.counters["dofs"] = static_cast<double>(A.rows());
+  state.counters["gflops"] = benchmark::Counter(chol.structure().flops * 1e-9,
+                                                benchmark::Counter::kIsIterationInvariantRate);
+  omp_set_num_threads(omp_get_num_procs());
+}
+BENCHMARK(BM_MixedCholesky)
+    ->ArgsProduct({{0, 1}, {100, 200}, {0, 1}})
+    ->Args({2, 0, 0})
+    ->Args({2, 0, 1})
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
