@@ -14,19 +14,18 @@
 #include <type_traits>
 
 #include "ordering.hpp"
+#include "supernodal_panels.hpp"
 #include "velum/solve/blas_kernels.hpp"
 
 namespace velum {
-namespace {
 
-template <class T>
-using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
-template <class T>
-using Panel = Eigen::Map<Matrix<T>, 0, Eigen::OuterStride<>>;
-template <class T>
-using ConstPanel = Eigen::Map<const Matrix<T>, 0, Eigen::OuterStride<>>;
-template <class T>
-using Segment = Eigen::Map<Eigen::Matrix<T, Eigen::Dynamic, 1>>;
+using supernodal::ConstPanel;
+using supernodal::Matrix;
+using supernodal::Panel;
+using supernodal::Segment;
+using supernodal::threads_for;
+
+namespace {
 
 // The top's dense work is cut into blocks of these many rows (the triangular solve) and
 // columns (the update), whichever thread takes them.
@@ -65,11 +64,6 @@ double thread_seconds() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
-// The threads that share a factorisation: two groups of subtrees, more help with the top.
-int threads_for(std::size_t works) {
-  return std::max(1, std::min(static_cast<int>(works), omp_get_max_threads()));
 }
 
 }  // namespace
@@ -438,179 +432,9 @@ void SupernodalCholesky::factorize_split(Panels<T>& p, const double* a) {
   }
 }
 
-template <class T>
-void SupernodalCholesky::forward(Panels<T>& p, int s, T* y, T* top_y, Work<T>& work) {
-  const int f = st_.first[s], w = st_.width(s), m = st_.below(s);
-  const T* l = p.values.data() + st_.l_panel[s];
-  const ConstPanel<T> D(l, w, w, Eigen::OuterStride<>(w + m));
-  Segment<T> ys(y + f, w);
-  D.template triangularView<Eigen::Lower>().solveInPlace(ys);
-  if (m == 0) return;
-  const ConstPanel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
-  Segment<T> g(work.gather.data(), m);
-  g.noalias() = Lb * ys;
-  const int* r = st_.rows.data() + st_.below_begin[s];
-  if (!top_y) {
-    for (int i = 0; i < m; ++i) y[r[i]] -= g[i];
-    return;
-  }
-  for (int k = st_.target_begin[s]; k < st_.target_begin[s + 1]; ++k) {
-    const SupernodalStructure::Target& tg = st_.targets[k];
-    T* z = split_.group[tg.supernode] == TreeSplit::kTop ? top_y : y;
-    for (int i = tg.begin; i < tg.end; ++i) z[r[i]] -= g[i];
-  }
-}
-
-template <class T>
-void SupernodalCholesky::backward(Panels<T>& p, int s, T* y, Work<T>& work) {
-  const int f = st_.first[s], w = st_.width(s), m = st_.below(s);
-  const T* l = p.values.data() + st_.l_panel[s];
-  Segment<T> ys(y + f, w);
-  if (m > 0) {
-    const int* r = st_.rows.data() + st_.below_begin[s];
-    Segment<T> g(work.gather.data(), m);
-    for (int i = 0; i < m; ++i) g[i] = y[r[i]];
-    const ConstPanel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
-    ys.noalias() -= Lb.transpose() * g;
-  }
-  const ConstPanel<T> D(l, w, w, Eigen::OuterStride<>(w + m));
-  D.template triangularView<Eigen::Lower>().transpose().solveInPlace(ys);
-}
-
-bool SupernodalCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  if (!factorized_ || b.size() != st_.n) return false;
-  SerialEigen serial;
-  if (float_factor_) return solve_refined(b, x);
-  solve_with(double_, b, x);
-  return x.allFinite();
-}
-
-template <class T>
-void SupernodalCholesky::solve_with(Panels<T>& p, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  const int n = st_.n;
-  T* y = p.y.data();
-  // A float solve of b / ‖b‖∞: neither overflows nor underflows in the panels' range.
-  double scale = 1;
-  if constexpr (!std::is_same_v<T, double>) {
-    scale = b.lpNorm<Eigen::Infinity>();
-    if (!(scale > 0) || !std::isfinite(scale)) scale = 1;
-  }
-  for (int k = 0; k < n; ++k) y[k] = static_cast<T>(b[st_.order[k]] / scale);
-  if (splits_) {
-    solve_split(p);
-  } else {
-    for (int s = 0; s < st_.supernodes(); ++s)
-      forward(p, s, y, static_cast<T*>(nullptr), p.work[0]);
-    for (int s = st_.supernodes() - 1; s >= 0; --s) backward(p, s, y, p.work[0]);
-  }
-  x.resize(n);
-  for (int k = 0; k < n; ++k) x[st_.order[k]] = static_cast<double>(y[k]) * scale;
-}
-
-// r = b − A x, r_i from A's column i (A is symmetric): each entry summed in the same order
-// whatever the threads, which share the columns.
-double SupernodalCholesky::backward_error(const Eigen::VectorXd& b, const Eigen::VectorXd& x,
-                                          Eigen::VectorXd& r) {
-  const int n = st_.n;
-  r.resize(n);
-  const int* start = a_.outerIndexPtr();
-  const int* row = a_.innerIndexPtr();
-  const double* value = a_.valuePtr();
-  double rn = 0;
-  const int threads = splits_ ? omp_get_max_threads() : 1;
-#pragma omp parallel for schedule(static) reduction(max : rn) num_threads(threads)
-  for (int i = 0; i < n; ++i) {
-    double sum = 0;
-    for (int k = start[i]; k < start[i + 1]; ++k) sum += value[k] * x[row[k]];
-    r[i] = b[i] - sum;
-    rn = std::max(rn, std::abs(r[i]));
-  }
-  if (!r.allFinite()) return std::numeric_limits<double>::quiet_NaN();
-  return rn == 0 ? 0 : rn / (a_norm_ * x.lpNorm<Eigen::Infinity>());
-}
-
-// The float factor's solution corrected in double (the iterative refinement of Wilkinson,
-// Moler): x ← x + L⁻ᵀ L⁻¹ (b − A x) with L in float and the residual in double, which converges
-// to the double solution's accuracy when cond(A) times float's rounding is well below one.
-bool SupernodalCholesky::solve_refined(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  solve_with(float_, b, x);
-  ++counts_.float_solves;
-  double error = backward_error(b, x, r_);
-  // LAPACK's DSPOSV: refined when ‖r‖∞ <= √n ε ‖A‖∞ ‖x‖∞ (ε = 2⁻⁵³).
-  const double target = std::sqrt(double(st_.n)) * kRoundoff;
-  bool refined = false;
-  int corrections = 0;
-  for (; corrections < kMostRefinements && !(error <= target); ++corrections) {
-    solve_with(float_, r_, dx_);
-    ++counts_.float_solves;
-    refined = true;
-    x += dx_;
-    const double before = error;
-    error = backward_error(b, x, r_);
-    if (!(error <= 0.5 * before)) break;  // stalled, or not finite
-  }
-  if (refined) ++counts_.refined_solves;
-  counts_.last_backward_error = error;
-  if (error <= target) {
-    if (corrections > kSlowRefinements)
-      pause_float();  // more work than the float factor saved
-    else
-      pause_length_ = 0;
-    return x.allFinite();
-  }
-  pause_float();
-  // Not refined to the double factor's accuracy: the double factor, kept for this matrix.
-  ++counts_.double_fallbacks;
-  float_factor_ = false;
-  release(float_);
-  allocate(double_);
-  SerialOpenBlas serial_blas(OpenBlasSyrk::loaded());
-  if (!factorize_in(double_, a_)) {
-    factorized_ = false;
-    return false;
-  }
-  solve_with(double_, b, x);
-  counts_.last_backward_error = backward_error(b, x, r_);
-  return x.allFinite();
-}
-
-// The next 1, 2, 4 ... 64 factorisations in double.
-void SupernodalCholesky::pause_float() {
-  pause_length_ = std::clamp(2 * pause_length_, 1, 64);
-  double_pause_ = pause_length_;
-}
-
-// Forward: the groups at once, group 1's updates of the top's rows in top_y (added after);
-// the top on one thread, forward and back; the groups back at once (they read the top's rows
-// and write their own).
-template <class T>
-void SupernodalCholesky::solve_split(Panels<T>& p) {
-  const int threads = threads_for(p.work.size());
-  T* y = p.y.data();
-  T* top_y = p.top_y.data();
-  const int ntop = static_cast<int>(split_.top.size());
-#pragma omp parallel num_threads(threads)
-  {
-    const int me = omp_get_thread_num(), team = omp_get_num_threads();
-    Work<T>& work = p.work[me];
-    work.make(st_.most_below);  // a thread that sat out the factorisation
-#pragma omp for schedule(static)
-    for (int k = 0; k < ntop; ++k)
-      for (int j = st_.first[split_.top[k]]; j < st_.first[split_.top[k] + 1]; ++j) top_y[j] = 0;
-    for (int g = me; g < 2; g += team)
-      for (const int s : split_.members[g]) forward(p, s, y, g == 1 ? top_y : nullptr, work);
-#pragma omp barrier
-#pragma omp single
-    {
-      for (const int t : split_.top)
-        for (int j = st_.first[t]; j < st_.first[t + 1]; ++j) y[j] += top_y[j];
-      for (const int t : split_.top) forward(p, t, y, static_cast<T*>(nullptr), work);
-      for (int k = ntop - 1; k >= 0; --k) backward(p, split_.top[k], y, work);
-    }
-    for (int g = me; g < 2; g += team)
-      for (auto s = split_.members[g].rbegin(); s != split_.members[g].rend(); ++s)
-        backward(p, *s, y, work);
-  }
-}
+// The solves (supernodal_cholesky_solve.cpp) use these with either panel scalar.
+template bool SupernodalCholesky::factorize_in(Panels<double>&, const SparseMatrix&);
+template void SupernodalCholesky::allocate(Panels<double>&);
+template void SupernodalCholesky::release(Panels<float>&);
 
 }  // namespace velum
