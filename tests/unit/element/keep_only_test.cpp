@@ -82,5 +82,49 @@ TEST(KeepOnly, KeptElementsComputeTheSameBits) {
   }
 }
 
+// ElementBlock::keep_piece (docs/parallel.md, "The piece"): an element kept on a process's
+// piece, its nodes renumbered, computes the same bits from the piece's positions; the others
+// have no nodes; set up on a new reference (form finding), the piece's block holds the same
+// element with the data a whole block would give it.
+TEST(KeepPiece, RenumberedElementsComputeTheSameBitsAndMoveTheirReference) {
+  const Strip s;
+  BlockSetupReport report;
+  const SheetLaw law = SheetLaw(PlaneStressLaw::orthotropic("fabric", 2e5, 1.2e5, 0.3, 4e4, false))
+                           .with_prestress(Vec3(200, 150, 0));
+  auto make = [&](bool membrane) {
+    return membrane ? make_membrane_block("quad4", "sheet", s.quads, s.X, law, 0.5, 0.01, nullptr,
+                                          shape::Integration::kGauss, report)
+                    : make_cable_block("cable2", "lines", s.cables, s.X, CableLaw{.E = 5e6, .compression = false, .S0 = 40},
+                                       2.0, 1e-4, shape::Integration::kGauss, report);
+  };
+  // The piece of the middle quad and the middle cable: nodes 1, 2, 5, 6 of the strip.
+  const std::vector<int> global_node{1, 2, 5, 6}, kept{1};
+  std::vector<int> local_of(8, -1);
+  NodePositions Xp(3, 4), xp(3, 4);
+  for (int i = 0; i < 4; ++i) {
+    local_of[global_node[i]] = i;
+    Xp.col(i) = s.X.col(global_node[i]);
+    xp.col(i) = s.x.col(global_node[i]);
+  }
+  for (const bool membrane : {true, false}) {
+    auto whole = make(membrane), piece = make(membrane);
+    const std::vector<double> before = everything(*whole, kept, s.X, s.x);
+    piece->keep_piece(kept, local_of);
+    EXPECT_EQ(everything(*piece, kept, Xp, xp), before) << piece->type_name();
+    for (int n : piece->nodes(0)) EXPECT_EQ(n, -1);
+    std::vector<int> mine;
+    for (int n : piece->nodes(1)) mine.push_back(global_node[n]);
+    const auto nodes = whole->nodes(1);
+    EXPECT_EQ(mine, std::vector<int>(nodes.begin(), nodes.end()));
+    // A new reference (and the form-finding law) for both: the same element, the same bits.
+    const auto moved_whole = whole->on_reference(s.x, 10.0);
+    const auto moved_piece = piece->on_reference(xp, 10.0);
+    EXPECT_TRUE(moved_piece->holds(1));
+    EXPECT_FALSE(moved_piece->holds(0));
+    EXPECT_EQ(everything(*moved_piece, kept, xp, Xp), everything(*moved_whole, kept, s.x, s.X))
+        << piece->type_name();
+  }
+}
+
 }  // namespace
 }  // namespace velum
