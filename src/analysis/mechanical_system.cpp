@@ -424,10 +424,9 @@ std::string MechanicalSystem::diagnose_singular(const SparseMatrix& J) const {
     for (int c = 0; c < 3; ++c) {
       const int e = dofs_.equation(n, c);
       if (e >= 0 && e < owned_size() && !(d[e] > 1e-13 * dmax) && ++count <= 8)
-        first.insert(first.end(),
-                     {static_cast<double>(dofs_.global_equation(n, c)),
-                      static_cast<double>(model_.node_ids[static_cast<size_t>(n)]),
-                      static_cast<double>(c)});
+        first.insert(first.end(), {static_cast<double>(dofs_.global_equation(n, c)),
+                                   static_cast<double>(model_.node_ids[static_cast<size_t>(n)]),
+                                   static_cast<double>(c)});
     }
   count = static_cast<int>(sum_over_processes(count));
   if (distributed()) first = processes::gather_any(first);  // in rank order: ascending

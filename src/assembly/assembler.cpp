@@ -288,7 +288,8 @@ void Assembler::sum_at_shared_nodes(std::span<const std::pair<double*, int>> arr
   double* to = packed.data();
   for (const auto& [data, m] : arrays)
     for (int n : shared_list_) {
-      if (n >= 0) std::copy(data + static_cast<size_t>(n) * m, data + static_cast<size_t>(n + 1) * m, to);
+      if (n >= 0)
+        std::copy(data + static_cast<size_t>(n) * m, data + static_cast<size_t>(n + 1) * m, to);
       to += m;
     }
   processes::sum(packed.data(), static_cast<long>(packed.size()));

@@ -114,8 +114,8 @@ std::vector<int> share_model(Model& model, ElementPartition partition) {
     if (element_holder[n] == -1) hold(n, 0);
     for (int c = 0; c < 3; ++c)
       if (const long g = whole.global_equation(static_cast<int>(n), c); g >= 0)
-        hold(n, static_cast<int>(std::upper_bound(start.begin(), start.end(), g) - start.begin()) -
-                    1);
+        hold(n,
+             static_cast<int>(std::upper_bound(start.begin(), start.end(), g) - start.begin()) - 1);
   }
   for (const auto& pm : model.masses) hold(static_cast<size_t>(pm.node), 0);
 
@@ -140,7 +140,8 @@ std::vector<int> share_model(Model& model, ElementPartition partition) {
     for (size_t n = 0; n < nn; ++n)
       if (element_holder[n] == -1) piece->bare.push_back(local_of[n]);
     piece->lone = piece->bare;
-    for (const auto& pm : model.masses) piece->lone.push_back(local_of[static_cast<size_t>(pm.node)]);
+    for (const auto& pm : model.masses)
+      piece->lone.push_back(local_of[static_cast<size_t>(pm.node)]);
   }
 
   // Edge loads on the mesh's boundary, found while the mesh is whole: this process's share.

@@ -365,7 +365,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     return out;
   }
   const int all_nodes = input.model.num_nodes();
-  if (PathSettings& path = input.analysis.path; path.method == PathSettings::Method::kDisplacement) {
+  if (PathSettings& path = input.analysis.path;
+      path.method == PathSettings::Method::kDisplacement) {
     // Its equation in the whole model's numbering (the node may be another process's).
     path.equation = DofMap(input.model).global_equation(path.node, path.component);
     if (path.equation < 0) {
@@ -422,9 +423,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   AnalysisSettings settings = input.analysis;
   settings.time.output_interval = input.output.interval;
   if (!opt.quiet)
-    say(stderr, "velum: {} nodes, {} elements, {} equations; results in {}\n",
-        all_nodes, input.model.num_elements(), system->global_size(),
-        input.output.directory.string());
+    say(stderr, "velum: {} nodes, {} elements, {} equations; results in {}\n", all_nodes,
+        input.model.num_elements(), system->global_size(), input.output.directory.string());
   if (several) {  // the partition of the elements (docs/parallel.md)
     const auto own = processes::gather(static_cast<double>(system->assembler().own_elements()));
     const Assembler& a = system->assembler();

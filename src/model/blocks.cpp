@@ -90,8 +90,8 @@ class MembraneBlock final : public ElementBlock {
       const SheetLaw ff = SheetLaw(PlaneStressLaw::matrix(law_->elastic().name(),
                                                           (stabilizer * s0 / q) * law_->Q()))
                               .with_prestress(law_->prestress());
-      out = make_membrane_block(Shape::kName, set_name(), std::move(connectivity), X, ff,
-                                density(), t0_, axes, integration_, report);
+      out = make_membrane_block(Shape::kName, set_name(), std::move(connectivity), X, ff, density(),
+                                t0_, axes, integration_, report);
     } else {
       out = make_membrane_block(Shape::kName, set_name(), std::move(connectivity), X, *law_,
                                 density(), t0_, axes, integration_, report);

@@ -80,8 +80,8 @@ std::vector<EdgeLoad::Edge> boundary_edges(const Model& model, const EdgeLoad& l
 
 NodePositions edge_load_forces(const Model& model, const EdgeLoad& load) {
   NodePositions F = NodePositions::Zero(3, model.num_nodes());
-  const std::vector<EdgeLoad::Edge> found = load.resolved ? std::vector<EdgeLoad::Edge>{}
-                                                          : boundary_edges(model, load);
+  const std::vector<EdgeLoad::Edge> found =
+      load.resolved ? std::vector<EdgeLoad::Edge>{} : boundary_edges(model, load);
   for (const auto& ed : load.resolved ? load.edges : found) {
     const auto& b = model.blocks[static_cast<size_t>(ed.block)];
     const auto nodes = b->nodes(ed.element);

@@ -176,12 +176,12 @@ class Assembler {
   ElementPartition partition_ = ElementPartition::kRows;
   std::string partition_note_;
   long shared_nodes_ = 0;
-  mutable bool share_only_ = false;              // a LocalShare is alive
-  std::vector<std::vector<int>> own_;            // per block: this process's elements, ascending
-  std::vector<std::vector<int>> local_;          // per block: element -> index into own_ (-1: not)
-  std::vector<char> node_kept_;                  // per node: keeps_node (empty on one process)
-  std::vector<int> lone_nodes_;                  // own diagonal blocks, no own element: Assembler()
-  std::vector<int> shared_list_;                 // ModelPiece::shared (-1: not held here)
+  mutable bool share_only_ = false;      // a LocalShare is alive
+  std::vector<std::vector<int>> own_;    // per block: this process's elements, ascending
+  std::vector<std::vector<int>> local_;  // per block: element -> index into own_ (-1: not)
+  std::vector<char> node_kept_;          // per node: keeps_node (empty on one process)
+  std::vector<int> lone_nodes_;          // own diagonal blocks, no own element: Assembler()
+  std::vector<int> shared_list_;         // ModelPiece::shared (-1: not held here)
   int global_nodes_ = 0;
   std::vector<Colors> colors_;                   // per block: own elements
   std::vector<std::unique_ptr<int[]>> scatter_;  // per block: own x dofs² positions

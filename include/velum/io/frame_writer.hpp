@@ -57,9 +57,9 @@ class FrameWriter {
   mutable NodalAverage average_;       // node weights completed on first use
   mutable bool weights_complete_ = false;
   // The piece's topology (fixed): its nodes (model indices, ascending) and cells (indices in
-  // the one-process cell order) with their connectivity in piece-local node numbers.
-  std::vector<std::int64_t> nodes_, cells_;  // the piece's points (its model's nodes) and cells
-  std::vector<std::int64_t> node_index_;     // several processes: each point's node in the whole model
+  // the one-process cell order) with their connectivity in piece-local node numbers; on
+  // several processes each point's node in the whole model (node_index).
+  std::vector<std::int64_t> nodes_, cells_, node_index_;
   std::vector<std::int64_t> conn_, offsets_, element_id_;
   std::vector<std::int32_t> set_index_, material_index_;
   std::vector<std::uint8_t> types_;

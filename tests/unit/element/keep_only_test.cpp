@@ -94,8 +94,9 @@ TEST(KeepPiece, RenumberedElementsComputeTheSameBitsAndMoveTheirReference) {
   auto make = [&](bool membrane) {
     return membrane ? make_membrane_block("quad4", "sheet", s.quads, s.X, law, 0.5, 0.01, nullptr,
                                           shape::Integration::kGauss, report)
-                    : make_cable_block("cable2", "lines", s.cables, s.X, CableLaw{.E = 5e6, .compression = false, .S0 = 40},
-                                       2.0, 1e-4, shape::Integration::kGauss, report);
+                    : make_cable_block("cable2", "lines", s.cables, s.X,
+                                       CableLaw{.E = 5e6, .compression = false, .S0 = 40}, 2.0,
+                                       1e-4, shape::Integration::kGauss, report);
   };
   // The piece of the middle quad and the middle cable: nodes 1, 2, 5, 6 of the strip.
   const std::vector<int> global_node{1, 2, 5, 6}, kept{1};
