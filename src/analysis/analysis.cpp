@@ -131,10 +131,7 @@ class EnergyAccount {
         put(m, W.data(), 0);
         continue;
       }
-      if (P != &U_prev_) {
-        const std::pair<double*, int> share[] = {{W.data(), 3}};
-        a.sum_at_shared_nodes(share);
-      }
+      if (P != &U_prev_) a.sum_at_shared_nodes(W);  // the forces' shares completed
       W = a.gather_nodes(W);
       put(m, W.data(), W.size());
     }

@@ -33,9 +33,7 @@ MechanicalSystem::MechanicalSystem(const Model& model)
       }
   for (const auto& e : model.edge_loads) {
     // On a piece: its own elements' edges, completed where processes share nodes.
-    NodePositions& F = edge_forces_.emplace_back(edge_load_forces(model, e));
-    const std::pair<double*, int> parts[] = {{F.data(), 3}};
-    assembler_.sum_at_shared_nodes(parts);
+    assembler_.sum_at_shared_nodes(edge_forces_.emplace_back(edge_load_forces(model, e)));
   }
   for (const auto& g : model.gravity)
     gravity_forces_.push_back(assembler_.gravity_forces(g.acceleration));
@@ -74,20 +72,20 @@ double MechanicalSystem::sum_over_processes(double local) const {
   return local;
 }
 
+void MechanicalSystem::sum_over_processes(double* values, long n) const {
+  if (distributed()) processes::sum(values, n);
+}
+
 double MechanicalSystem::max_over_processes(double local) const {
   return distributed() ? processes::max(local) : local;
 }
 
 VecX MechanicalSystem::to_global(const VecX& x) const {
-  return distributed() ? dofs_.layout().gather_global(x) : x;
+  return dofs_.layout().gather_global(x);
 }
 
 VecX MechanicalSystem::to_local(const VecX& whole) const {
-  if (!distributed()) return whole;
-  const EquationLayout& l = dofs_.layout();
-  VecX x(l.local());
-  for (int i = 0; i < l.local(); ++i) x[i] = whole[l.global(i)];
-  return x;
+  return dofs_.layout().local_part(whole);
 }
 
 double MechanicalSystem::global_entry(const VecX& x, int eq) const {
@@ -352,12 +350,7 @@ NodePositions MechanicalSystem::reactions(double t, const VecX& u, const VecX& v
   assembler_.internal(x_, Fint_, nullptr);
   assemble_external(t, v, nullptr);
   NodePositions R = Fint_ - Fext_;
-  for (int n = 0; n < model_.num_nodes(); ++n) {
-    Vec3 local = dofs_.to_local(n, R.col(n));
-    for (int c = 0; c < 3; ++c)
-      if (dofs_.global_equation(n, c) >= 0) local[c] = 0;
-    R.col(n) = dofs_.to_global(n, local);
-  }
+  dofs_.keep_eliminated(R);
   return R;
 }
 

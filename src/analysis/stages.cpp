@@ -6,7 +6,6 @@
 #include <stdexcept>
 
 #include "velum/model/gas_chamber.hpp"
-#include "velum/solve/processes.hpp"
 
 namespace velum {
 
@@ -94,10 +93,7 @@ struct NodalState {
 };
 
 NodalState nodal(const MechanicalSystem& sys, double t, const State& s) {
-  NodalState n{sys.displacements(t, s.u), sys.velocities(s.v), sys.velocities(s.a)};
-  // Whole on every process (several processes): the next step's nodes are others.
-  for (NodePositions* P : {&n.U, &n.V, &n.A}) sys.assembler().from_keepers(*P);
-  return n;
+  return {sys.displacements(t, s.u), sys.velocities(s.v), sys.velocities(s.a)};
 }
 
 /// The state of the step that `sys` solves, from the end of the step before; a message when a
@@ -115,17 +111,7 @@ State carry_in(const MechanicalSystem& sys, double t, const NodalState& n, std::
   int worst = -1;
   double worst_d = tol;
   for (int i = 0; i < m.num_nodes(); ++i)
-    if (!sys.assembler().keeps_node(i)) {
-      continue;  // several processes: each node checked by the process keeping it
-    } else if (const double d = (U.col(i) - n.U.col(i)).norm(); d > worst_d) {
-      worst = i, worst_d = d;
-    }
-  if (sys.distributed()) {  // the largest jump over the processes, its first node
-    const double most = processes::max(worst_d);
-    worst = static_cast<int>(processes::min(worst >= 0 && worst_d == most ? worst : m.num_nodes()));
-    if (worst == m.num_nodes()) worst = -1;
-    worst_d = most;
-  }
+    if (const double d = (U.col(i) - n.U.col(i)).norm(); d > worst_d) worst = i, worst_d = d;
   if (worst >= 0)
     jump = fmt::format(
         "node {} would jump by {:.6g} at the start of the step: its fixed, prescribed or "

@@ -136,16 +136,9 @@ void build_pattern(const Model& model, const DofMap& dofs, const std::vector<std
 
 Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), dofs_(dofs) {
   neq_ = dofs.num_equations();
-  if (const ModelPiece* piece = model.piece.get()) {  // shared out by share_model
-    several_ = true;
-    own_ = piece->own;
-    partition_ = piece->partition;
-    partition_note_ = piece->partition_note;
-    node_kept_ = piece->kept;
-    lone_nodes_ = piece->lone;
-    shared_list_ = piece->shared;
-    shared_nodes_ = piece->element_cut;
-    global_nodes_ = piece->global_nodes;
+  if ((piece_ = model.piece.get())) {  // shared out by share_model
+    own_ = piece_->own;
+    lone_nodes_ = piece_->lone;
   } else {
     for (const auto& bp : model.blocks) {
       auto& own = own_.emplace_back(static_cast<size_t>(bp->size()));
@@ -158,7 +151,6 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
     for (size_t n = 0; n < in_element.size(); ++n)
       if (!in_element[n]) lone_nodes_.push_back(static_cast<int>(n));
     for (const auto& pm : model.masses) lone_nodes_.push_back(pm.node);
-    global_nodes_ = model.num_nodes();
   }
   for (size_t b = 0; b < own_.size(); ++b) {
     auto& local = local_.emplace_back(model.blocks[b]->size(), -1);
@@ -232,33 +224,35 @@ long Assembler::own_elements() const {
   return n;
 }
 
+const std::string& Assembler::partition_note() const {
+  static const std::string none;
+  return piece_ ? piece_->partition_note : none;
+}
+
 void Assembler::reduce(NodePositions& F) const {
-  if (!shared()) return;
-  const std::pair<double*, int> parts[] = {{F.data(), 3}};
-  sum_at_shared_nodes(parts);
+  if (shared()) sum_at_shared_nodes(F);
 }
 
 void Assembler::keep_kept_nodes(NodePositions& P) const {
-  if (node_kept_.empty()) return;
+  if (!piece_) return;
   for (Eigen::Index n = 0; n < P.cols(); ++n)
-    if (!node_kept_[n]) P.col(n).setZero();
+    if (!piece_->kept[static_cast<size_t>(n)]) P.col(n).setZero();
 }
 
 void Assembler::from_keepers(NodePositions& P) const {
-  if (!several_) return;
+  if (!piece_) return;
   keep_kept_nodes(P);
-  const std::pair<double*, int> parts[] = {{P.data(), 3}};
-  sum_at_shared_nodes(parts);
+  sum_at_shared_nodes(P);
 }
 
 NodePositions Assembler::gather_nodes(const NodePositions& P) const {
-  if (!several_) return P;
+  if (!piece_) return P;
   // Each process sends its kept nodes' columns with their global index (every node is kept
   // by exactly one process); the first puts them in place.
-  const ModelPiece& piece = *model_.piece;
+  const ModelPiece& piece = *piece_;
   std::vector<double> mine;
   for (Eigen::Index n = 0; n < P.cols(); ++n)
-    if (node_kept_[static_cast<size_t>(n)])
+    if (piece.kept[static_cast<size_t>(n)])
       mine.insert(mine.end(), {static_cast<double>(piece.global_node[static_cast<size_t>(n)]),
                                P(0, n), P(1, n), P(2, n)});
   const std::vector<double> all = processes::gather_any(mine);
@@ -271,8 +265,8 @@ NodePositions Assembler::gather_nodes(const NodePositions& P) const {
 }
 
 NodePositions Assembler::piece_of(const NodePositions& whole) const {
-  if (!several_) return whole;
-  const ModelPiece& piece = *model_.piece;
+  if (!piece_) return whole;
+  const ModelPiece& piece = *piece_;
   NodePositions P(3, static_cast<Eigen::Index>(piece.global_node.size()));
   for (size_t n = 0; n < piece.global_node.size(); ++n)
     P.col(static_cast<Eigen::Index>(n)) = whole.col(piece.global_node[n]);
@@ -280,14 +274,15 @@ NodePositions Assembler::piece_of(const NodePositions& whole) const {
 }
 
 void Assembler::sum_at_shared_nodes(std::span<const std::pair<double*, int>> arrays) const {
-  if (!several_) return;
+  if (!piece_) return;
+  const std::vector<int>& shared_list = piece_->shared;
   size_t per_node = 0;
   for (const auto& a : arrays) per_node += static_cast<size_t>(a.second);
   // The list is the same on every process; a node this process does not hold adds zeros.
-  std::vector<double> packed(per_node * shared_list_.size(), 0.0);
+  std::vector<double> packed(per_node * shared_list.size(), 0.0);
   double* to = packed.data();
   for (const auto& [data, m] : arrays)
-    for (int n : shared_list_) {
+    for (int n : shared_list) {
       if (n >= 0)
         std::copy(data + static_cast<size_t>(n) * m, data + static_cast<size_t>(n + 1) * m, to);
       to += m;
@@ -295,7 +290,7 @@ void Assembler::sum_at_shared_nodes(std::span<const std::pair<double*, int>> arr
   processes::sum(packed.data(), static_cast<long>(packed.size()));
   const double* from = packed.data();
   for (const auto& [data, m] : arrays)
-    for (int n : shared_list_) {
+    for (int n : shared_list) {
       if (n >= 0) std::copy(from, from + m, data + static_cast<size_t>(n) * m);
       from += m;
     }
@@ -461,7 +456,7 @@ double Assembler::gas_volume(int i, const NodePositions& x) const {
   for (size_t k = 0; k < gas.parts.size(); ++k)
     V += gas_parts_[i][k].kernel->volume(
         gas_parts_[i][k].own, model_.blocks[gas.parts[k].block]->connectivity(), x, gas.origin);
-  if (several_) processes::sum(&V, 1);  // summed even in a LocalShare (p(V) is not linear)
+  if (piece_) processes::sum(&V, 1);  // summed even in a LocalShare (p(V) is not linear)
   return V;
 }
 
@@ -514,14 +509,14 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
   }
   // A point mass is added once, by the first process (its share holds their nodes' blocks),
   // then the shares are summed where processes share nodes.
-  const bool first = !several_ || processes::rank() == 0;
+  const bool first = !piece_ || processes::rank() == 0;
   for (const auto& pm : model_.masses) {
     if (M && first)
       for (int d = 0; d < 3; ++d)
         if (const int a = dofs_.equation(pm.node, d); a >= 0) M->coeffRef(a, a) += pm.mass;
     if (lumped && first) (*lumped)[pm.node] += pm.mass;
   }
-  if (lumped && several_) {
+  if (lumped && piece_) {
     const std::pair<double*, int> parts[] = {{lumped->data(), 1}};
     sum_at_shared_nodes(parts);
   }
@@ -539,11 +534,10 @@ NodePositions Assembler::gravity_forces(const Vec3& g) const {
       for (int i = 0; i < nn; ++i) F.col(nodes[i]) += Me.row(i).sum() * g;
     }
   }
-  const bool first = !several_ || processes::rank() == 0;  // a point mass is added once
+  const bool first = !piece_ || processes::rank() == 0;  // a point mass is added once
   if (first)
     for (const auto& pm : model_.masses) F.col(pm.node) += pm.mass * g;
-  const std::pair<double*, int> parts[] = {{F.data(), 3}};
-  sum_at_shared_nodes(parts);
+  sum_at_shared_nodes(F);
   return F;
 }
 

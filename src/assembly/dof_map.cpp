@@ -104,10 +104,19 @@ void DofMap::scatter(const VecX& reduced, NodePositions& full) const {
   const std::vector<int>& eq = local_.empty() ? eq_ : local_;
   for (int n = 0; n < nn; ++n) {
     const int* e = eq.data() + 3 * n;
-    if (!local_.empty() && e[0] < 0 && e[1] < 0 && e[2] < 0) continue;  // nothing to set
+    if (e[0] < 0 && e[1] < 0 && e[2] < 0) continue;  // nothing to set
     Vec3 local = to_local(n, full.col(n));
     for (int c = 0; c < 3; ++c)
       if (e[c] >= 0) local[c] = reduced[e[c]];
+    full.col(n) = to_global(n, local);
+  }
+}
+
+void DofMap::keep_eliminated(NodePositions& full) const {
+  for (int n = 0; n < num_nodes(); ++n) {
+    Vec3 local = to_local(n, full.col(n));
+    for (int c = 0; c < 3; ++c)
+      if (eq_[3 * n + c] >= 0) local[c] = 0;
     full.col(n) = to_global(n, local);
   }
 }

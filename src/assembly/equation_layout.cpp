@@ -84,29 +84,16 @@ void EquationLayout::sum_to_owners(VecX& x) const {
 
 VecX EquationLayout::gather_global(const VecX& x) const {
   if (!distributed_) return x;
-  // Owned ranges are contiguous and in rank order: the concatenation is the global order.
-  std::vector<std::vector<double>> out(static_cast<size_t>(processes::count()));
-  out[0].assign(x.data(), x.data() + owned_);
-  const auto in = processes::exchange(out);
-  VecX whole;
-  if (processes::rank() == 0) {
-    whole.resize(total_);
-    for (size_t q = 0; q < in.size(); ++q)
-      std::copy(in[q].begin(), in[q].end(), whole.data() + row_start_[q]);
-  }
-  return whole;
+  // Owned ranges are contiguous and in rank order: their concatenation is the global order.
+  const std::vector<double> all =
+      processes::gather_any(std::vector<double>(x.data(), x.data() + owned_));
+  return Eigen::Map<const VecX>(all.data(), static_cast<Eigen::Index>(all.size()));
 }
 
-VecX EquationLayout::scatter_global(const VecX& whole) const {
+VecX EquationLayout::local_part(const VecX& whole) const {
   if (!distributed_) return whole;
-  std::vector<std::vector<double>> out(static_cast<size_t>(processes::count()));
-  if (processes::rank() == 0)
-    for (size_t q = 0; q < out.size(); ++q)
-      out[q].assign(whole.data() + row_start_[q], whole.data() + row_start_[q + 1]);
-  const auto in = processes::exchange(out);
   VecX x(local());
-  std::copy(in[0].begin(), in[0].end(), x.data());
-  update_ghosts(x);
+  for (int i = 0; i < local(); ++i) x[i] = whole[global(i)];
   return x;
 }
 

@@ -198,15 +198,8 @@ NodePositions ResultsWriter::reactions(const StepSnapshot& snap, const NodePosit
     a.internal(x, Fint, nullptr);
     R = Fint - system_->external_forces(snap.step.t, snap.state.u, snap.state.v);
   }
-  const std::pair<double*, int> parts[] = {{R.data(), 3}};
-  a.sum_at_shared_nodes(parts);
-  const DofMap& d = system_->dofs();
-  for (int n = 0; n < input_.model.num_nodes(); ++n) {
-    Vec3 local = d.to_local(n, R.col(n));
-    for (int c = 0; c < 3; ++c)
-      if (d.global_equation(n, c) >= 0) local[c] = 0;
-    R.col(n) = d.to_global(n, local);
-  }
+  a.sum_at_shared_nodes(R);
+  system_->dofs().keep_eliminated(R);
   return R;
 }
 

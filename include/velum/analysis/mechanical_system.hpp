@@ -36,6 +36,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   int owned_size() const override { return dofs_.layout().owned(); }
   long global_size() const override { return dofs_.global_equations(); }
   double sum_over_processes(double local) const override;
+  void sum_over_processes(double* values, long n) const override;
   double max_over_processes(double local) const override;
   double global_entry(const VecX& x, int eq) const override;
   VecX to_global(const VecX& x) const override;

@@ -20,6 +20,7 @@
 
 #include "velum/assembly/dof_map.hpp"
 #include "velum/assembly/element_partition.hpp"
+#include "velum/assembly/model_piece.hpp"
 #include "velum/element/enclosed_volume.hpp"
 
 namespace velum {
@@ -82,12 +83,14 @@ class Assembler {
   /// Elements this process computes (all of them on one process).
   long own_elements() const;
   /// Nodes held by elements of more than one process (the partition's cut; 0 on one process).
-  long shared_nodes() const { return shared_nodes_; }
+  long shared_nodes() const { return piece_ ? piece_->element_cut : 0; }
   /// The partition used (kRows when PT-Scotch was asked for but is not available; see
   /// partition_note()).
-  ElementPartition partition() const { return partition_; }
+  ElementPartition partition() const {
+    return piece_ ? piece_->partition : ElementPartition::kRows;
+  }
   /// Why the partition asked for was not used (empty when it was).
-  const std::string& partition_note() const { return partition_note_; }
+  const std::string& partition_note() const;
   /// The elements of block `block` this process computes, ascending.
   const std::vector<int>& own(int block) const { return own_[static_cast<size_t>(block)]; }
   /// Per block, the elements this process computes (every element on one process).
@@ -101,10 +104,10 @@ class Assembler {
   /// node on one process.
   /// n < 0 (a node this process does not hold): false.
   bool keeps_node(int n) const {
-    return n >= 0 && (node_kept_.empty() || node_kept_[static_cast<size_t>(n)] != 0);
+    return n >= 0 && (!piece_ || piece_->kept[static_cast<size_t>(n)] != 0);
   }
   /// Nodes of the whole model (the piece's nodes are model.num_nodes()).
-  int global_nodes() const { return global_nodes_; }
+  int global_nodes() const { return piece_ ? piece_->global_nodes : model_.num_nodes(); }
   /// Keeps node n's column of P only where keeps_node(n) (zero elsewhere); nothing on one
   /// process.
   void keep_kept_nodes(NodePositions& P) const;
@@ -126,6 +129,11 @@ class Assembler {
   /// untouched. One reduction of the shared nodes' values only. A collective call; nothing on
   /// one process.
   void sum_at_shared_nodes(std::span<const std::pair<double*, int>> arrays) const;
+  /// The same for one per-node array.
+  void sum_at_shared_nodes(NodePositions& P) const {
+    const std::pair<double*, int> parts[] = {{P.data(), 3}};
+    sum_at_shared_nodes(parts);
+  }
 
   /// While alive, the vector results of internal, pressure and gas_derivatives are this
   /// process's share (its own elements; the nodal terms a caller adds belong to the nodes it
@@ -143,7 +151,7 @@ class Assembler {
     bool was_;
   };
   /// Whether a LocalShare is alive on several processes (nodal terms: keeps_node only).
-  bool local_share() const { return several_ && share_only_; }
+  bool local_share() const { return piece_ && share_only_; }
 
  private:
   struct Colored {
@@ -166,23 +174,17 @@ class Assembler {
   using Colors = std::vector<std::vector<int>>;
   // Sums a per-node vector at the shared nodes (nothing on one process or for a local share).
   void reduce(NodePositions& F) const;
-  bool shared() const { return several_ && !share_only_; }
+  bool shared() const { return piece_ && !share_only_; }
 
   const Model& model_;
   const DofMap& dofs_;
   int neq_ = 0;
   Eigen::Index nonzeros_ = 0;
-  bool several_ = false;  // elements shared between processes
-  ElementPartition partition_ = ElementPartition::kRows;
-  std::string partition_note_;
-  long shared_nodes_ = 0;
-  mutable bool share_only_ = false;      // a LocalShare is alive
-  std::vector<std::vector<int>> own_;    // per block: this process's elements, ascending
-  std::vector<std::vector<int>> local_;  // per block: element -> index into own_ (-1: not)
-  std::vector<char> node_kept_;          // per node: keeps_node (empty on one process)
-  std::vector<int> lone_nodes_;          // own diagonal blocks, no own element: Assembler()
-  std::vector<int> shared_list_;         // ModelPiece::shared (-1: not held here)
-  int global_nodes_ = 0;
+  const ModelPiece* piece_ = nullptr;            // the model's piece (several processes), or null
+  mutable bool share_only_ = false;              // a LocalShare is alive
+  std::vector<std::vector<int>> own_;            // per block: this process's elements, ascending
+  std::vector<std::vector<int>> local_;          // per block: element -> index into own_ (-1: not)
+  std::vector<int> lone_nodes_;                  // own diagonal blocks, no own element: Assembler()
   std::vector<Colors> colors_;                   // per block: own elements
   std::vector<std::unique_ptr<int[]>> scatter_;  // per block: own x dofs² positions
   mutable SparseMatrix first_matrix_;    // the pattern built for scatter_, given to the first

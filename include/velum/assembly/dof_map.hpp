@@ -47,6 +47,9 @@ class DofMap {
   void scatter(const VecX& reduced, NodePositions& full) const;
   /// Reduced vector from full global components.
   void gather(const NodePositions& full, VecX& reduced) const;
+  /// Zeroes the components that have equations (in each node's frame), keeping the
+  /// eliminated ones: a reaction from internal minus external forces.
+  void keep_eliminated(NodePositions& full) const;
   /// Components of node n's local frame for a global vector.
   Vec3 to_local(int n, const Vec3& v) const {
     return frame_of_[n] < 0 ? v : frames_[frame_of_[n]] * v;

@@ -50,9 +50,9 @@ class EquationLayout {
   /// The owned entries of every process, in global order, on the first process (empty on
   /// the others); on one process, x.
   VecX gather_global(const VecX& x) const;
-  /// The local entries of a vector in global order (whole, as gather_global gives it, on the
-  /// first process; ignored elsewhere): the inverse of gather_global. A collective call.
-  VecX scatter_global(const VecX& whole) const;
+  /// This process's local entries of a vector in global order that every process holds
+  /// whole (a checkpoint read back); `whole` itself on one process.
+  VecX local_part(const VecX& whole) const;
 
  private:
   bool distributed_ = false;

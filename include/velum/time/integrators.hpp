@@ -57,7 +57,6 @@ class TimeIntegrator {
   /// Initial acceleration consistent with the equation of motion at t (implicit schemes).
   virtual StepReport start(SecondOrderSystem& sys, LinearSolver& solver, double t, State& s);
   /// What the integrator keeps between steps (predictor history), for a checkpoint, and its
-  /// restoration; nothing for the one-step schemes.
   /// restoration; nothing for the one-step schemes. Vectors in the global numbering
   /// (SecondOrderSystem::to_global: save is a collective call on several processes).
   virtual std::vector<double> save(const SecondOrderSystem& sys) const {

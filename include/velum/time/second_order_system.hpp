@@ -81,6 +81,8 @@ class SecondOrderSystem {
   virtual long global_size() const { return size(); }
   /// Sum (max) over the processes of each one's `local`, the same on every process.
   virtual double sum_over_processes(double local) const { return local; }
+  /// Each entry summed over the processes, in one reduction (nothing on one process).
+  virtual void sum_over_processes(double* values, long n) const { (void)values, (void)n; }
   virtual double max_over_processes(double local) const { return local; }
   /// Entry `eq` of the global numbering of x (the owner's value, on every process).
   virtual double global_entry(const VecX& x, int eq) const { return x[eq]; }
@@ -131,14 +133,14 @@ class SecondOrderSystem {
     if (!distributed()) return W.transpose() * Z;
     const int n = owned_size();
     MatX P = W.topRows(n).transpose() * Z.topRows(n);
-    for (Eigen::Index k = 0; k < P.size(); ++k) P.data()[k] = sum_over_processes(P.data()[k]);
+    sum_over_processes(P.data(), static_cast<long>(P.size()));
     return P;
   }
   VecX transposed_product(const MatX& W, const VecX& x) const {
     if (!distributed()) return W.transpose() * x;
     const int n = owned_size();
     VecX p = W.topRows(n).transpose() * x.head(n);
-    for (Eigen::Index k = 0; k < p.size(); ++k) p[k] = sum_over_processes(p[k]);
+    sum_over_processes(p.data(), static_cast<long>(p.size()));
     return p;
   }
 };
