@@ -128,18 +128,12 @@ class SecondOrderSystem {
   double sum(const Eigen::MatrixBase<A>& a) const {
     return distributed() ? sum_over_processes(a.head(owned_size()).sum()) : a.sum();
   }
-  /// Wᵀ Z over the equations (columns of equation vectors).
-  MatX transposed_product(const MatX& W, const MatX& Z) const {
-    if (!distributed()) return W.transpose() * Z;
+  /// Wᵀ Z over the equations (Z: columns of equation vectors, or one).
+  template <class Z>
+  typename Z::PlainObject transposed_product(const MatX& W, const Eigen::MatrixBase<Z>& z) const {
+    if (!distributed()) return W.transpose() * z;
     const int n = owned_size();
-    MatX P = W.topRows(n).transpose() * Z.topRows(n);
-    sum_over_processes(P.data(), static_cast<long>(P.size()));
-    return P;
-  }
-  VecX transposed_product(const MatX& W, const VecX& x) const {
-    if (!distributed()) return W.transpose() * x;
-    const int n = owned_size();
-    VecX p = W.topRows(n).transpose() * x.head(n);
+    typename Z::PlainObject p = W.topRows(n).transpose() * z.topRows(n);
     sum_over_processes(p.data(), static_cast<long>(p.size()));
     return p;
   }
