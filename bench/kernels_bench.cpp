@@ -189,6 +189,7 @@ BENCHMARK(BM_MembraneForceTangent<Quad9>);
 BENCHMARK(BM_MembraneForceTangentWrinkled<Quad4>);
 BENCHMARK(BM_MembraneForceTangentWrinkled<Quad9>);
 BENCHMARK(BM_MembranePressureTangent<Tri3>);
+BENCHMARK(BM_MembranePressureTangent<Quad4>);
 BENCHMARK(BM_MembranePressureTangent<Quad9>);
 BENCHMARK(BM_CableForce<Line2>);
 BENCHMARK(BM_CableForce<Line3>);

@@ -193,19 +193,22 @@ template <class Shape>
 void Membrane<Shape>::pressure_force_tangent(const Points& pts, const Nodes& x, double pr,
                                              Vector& f, Matrix& K) {
   Eigen::Matrix<double, 3, kN> fn = Eigen::Matrix<double, 3, kN>::Zero();
-  K.setZero();
+  // d(g1 x g2)/dx_n = H_n,2 [g1]x − H_n,1 [g2]x is a cross matrix, and so is K's block (m, n):
+  // [v_mn]x with v_mn = Σ_q s_q H_m (H_n,2 g1 − H_n,1 g2). The vectors are summed, then expanded
+  // (a third of the work of summing the 3 x 3 blocks).
+  std::array<Eigen::Matrix<double, 3, kN>, kN> v;  // v[m].col(n) = v_mn
+  for (auto& vm : v) vm.setZero();
   for (int q = 0; q < kQ; ++q) {
     const auto& dN = pts.shapes->dN[q];
     const Eigen::Matrix<double, 3, 2> g = x * dN;
     const double s = pr * pts.shapes->w[q];
     fn.noalias() += s * g.col(0).cross(g.col(1)) * pts.shapes->N[q].transpose();
-    const Mat3 A1 = cross_matrix(g.col(0)), A2 = cross_matrix(g.col(1));
-    // d(g1 x g2)/dx_N = H_N,2 [g1]x - H_N,1 [g2]x
-    for (int n = 0; n < kN; ++n) {
-      const Mat3 dn = s * (dN(n, 1) * A1 - dN(n, 0) * A2);
-      for (int m = 0; m < kN; ++m) K.template block<3, 3>(3 * m, 3 * n) += pts.shapes->N[q][m] * dn;
-    }
+    const Eigen::Matrix<double, 3, kN> a =
+        s * (g.col(0) * dN.col(1).transpose() - g.col(1) * dN.col(0).transpose());
+    for (int m = 0; m < kN; ++m) v[m].noalias() += pts.shapes->N[q][m] * a;
   }
+  for (int n = 0; n < kN; ++n)
+    for (int m = 0; m < kN; ++m) K.template block<3, 3>(3 * m, 3 * n) = cross_matrix(v[m].col(n));
   f = Eigen::Map<const Vector>(fn.data());
 }
 

@@ -364,6 +364,9 @@ class AutoSolver final : public LinearSolver {
   bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
     return active_ && active_->solve(b, x);
   }
+  bool solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual) override {
+    return active_ && active_->solve_within(b, x, residual);
+  }
   std::string status() const override { return active_ ? active_->status() : std::string(); }
   int negative_pivots() const override { return active_ ? active_->negative_pivots() : -1; }
 

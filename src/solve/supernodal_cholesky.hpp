@@ -66,6 +66,9 @@ class SupernodalCholesky final : public LinearSolver {
   /// Reads the lower triangle of A (and the upper within diagonal blocks: A must be symmetric).
   bool factorize(const SparseMatrix& A) override;
   bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
+  /// With float panels, the refinement stops as soon as ‖b − A x‖₂ <= `residual` (or at the
+  /// DSPOSV test, whichever comes first); with double panels, as solve.
+  bool solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual) override;
   std::string status() const override { return status_; }
   /// Definite: no negative pivot after a factorisation that succeeded.
   int negative_pivots() const override { return factorized_ ? 0 : -1; }
@@ -160,7 +163,7 @@ class SupernodalCholesky final : public LinearSolver {
   /// x = A⁻¹ b with the factor in p (b and x may be the same vector).
   template <class T>
   void solve_with(Panels<T>& p, const Eigen::VectorXd& b, Eigen::VectorXd& x);
-  bool solve_refined(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  bool solve_refined(const Eigen::VectorXd& b, Eigen::VectorXd& x, double enough);
   void pause_float();
   double backward_error(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r);
 

@@ -59,9 +59,14 @@ void SupernodalCholesky::backward(Panels<T>& p, int s, T* y, Work<T>& work) {
 }
 
 bool SupernodalCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  return solve_within(b, x, 0.0);
+}
+
+bool SupernodalCholesky::solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                      double residual) {
   if (!factorized_ || b.size() != st_.n) return false;
   SerialEigen serial;
-  if (float_factor_) return solve_refined(b, x);
+  if (float_factor_) return solve_refined(b, x, residual);
   solve_with(double_, b, x);
   return x.allFinite();
 }
@@ -112,16 +117,19 @@ double SupernodalCholesky::backward_error(const Eigen::VectorXd& b, const Eigen:
 
 // The float factor's solution corrected in double (the iterative refinement of Wilkinson,
 // Moler): x ← x + L⁻ᵀ L⁻¹ (b − A x) with L in float and the residual in double, which converges
-// to the double solution's accuracy when cond(A) times float's rounding is well below one.
-bool SupernodalCholesky::solve_refined(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+// to the double solution's accuracy when cond(A) times float's rounding is well below one. It
+// stops early where ‖r‖₂ <= enough (the caller needs no more).
+bool SupernodalCholesky::solve_refined(const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                       double enough) {
   solve_with(float_, b, x);
   ++counts_.float_solves;
   double error = backward_error(b, x, r_);
   // LAPACK's DSPOSV: refined when ‖r‖∞ <= √n ε ‖A‖∞ ‖x‖∞ (ε = 2⁻⁵³).
   const double target = std::sqrt(double(st_.n)) * kRoundoff;
+  auto done = [&] { return error <= target || (enough > 0 && r_.norm() <= enough); };
   bool refined = false;
   int corrections = 0;
-  for (; corrections < kMostRefinements && !(error <= target); ++corrections) {
+  for (; corrections < kMostRefinements && !done(); ++corrections) {
     solve_with(float_, r_, dx_);
     ++counts_.float_solves;
     refined = true;
@@ -132,7 +140,7 @@ bool SupernodalCholesky::solve_refined(const Eigen::VectorXd& b, Eigen::VectorXd
   }
   if (refined) ++counts_.refined_solves;
   counts_.last_backward_error = error;
-  if (error <= target) {
+  if (done()) {
     if (corrections > kSlowRefinements)
       pause_float();  // more work than the float factor saved
     else

@@ -32,6 +32,12 @@ bool LowRankCorrectedSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x)
   return sys_.all_finite(x);
 }
 
+bool LowRankCorrectedSolver::solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                          double residual) {
+  if (Z_.cols() > 0) return solve(b, x);
+  return sparse_.solve_within(b, x, residual);
+}
+
 std::string LowRankCorrectedSolver::status() const {
   return singular_capacitance_ ? "the gas coupling makes the matrix singular (I + Wᵀ J⁻¹ U)"
                                : sparse_.status();

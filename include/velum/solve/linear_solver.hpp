@@ -37,6 +37,13 @@ class LinearSolver {
   virtual bool factorize(const SparseMatrix& A) = 0;
   /// Solves A x = b with the last factorisation; false when the result is not finite.
   virtual bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
+  /// As solve, but a solver that improves its answer in steps (iterative refinement) may stop
+  /// once ‖b − A x‖₂ <= `residual`: an inexact Newton correction needs no more. The others
+  /// solve as solve does.
+  virtual bool solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual) {
+    (void)residual;
+    return solve(b, x);
+  }
   /// Whether the solver needs a symmetric matrix.
   virtual bool symmetric_only() const = 0;
   /// The back-end's own words on its last failure (status codes), or empty.

@@ -23,6 +23,9 @@ class LowRankCorrectedSolver final : public LinearSolver {
   bool analyze(const SparseMatrix&) override { return true; }
   bool factorize(const SparseMatrix& A) override;
   bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
+  /// Within `residual` where there is no low-rank part; exactly where there is (the Woodbury
+  /// correction holds for exact solves).
+  bool solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual) override;
   bool symmetric_only() const override { return sparse_.symmetric_only(); }
   std::string status() const override;
   const LinearSolver& wrapped() const { return sparse_; }

@@ -337,6 +337,48 @@ TEST(MixedCholesky, RefinesTheSquareMembraneToDoubleAccuracy) {
   expect_double_accuracy(J, 1e-12);
 }
 
+// solve_within: the refinement stops once ‖b − A x‖₂ is within the residual asked for, never
+// above it, and with none asked (0) goes on to LAPACK's test as solve does (the pressurised
+// square's K + M, which takes more than one float solve to reach it).
+TEST(MixedCholesky, SolveWithinStopsTheRefinementAtTheResidualAsked) {
+  auto model = pressurised_square(40);
+  MechanicalSystem sys(*model);
+  VecX u = VecX::Zero(sys.size()), v = u, a = u, r;
+  SparseMatrix A;
+  sys.evaluate(0.0, u, v, a, 1.0, 0.0, 1.0, r, &A);
+  const Eigen::VectorXd b = rhs(A.rows());
+  SupernodalCholesky mixed({}, SupernodalCholesky::kSplitFlops, Precision::kMixed);
+  ASSERT_TRUE(mixed.refactorize(A)) << mixed.status();
+  Eigen::VectorXd exact, x;
+  ASSERT_TRUE(mixed.solve(b, exact));
+  const long full = mixed.mixed_counts().float_solves;
+  ASSERT_GE(full, 2);
+  for (const double relative : {1e-1, 1e-4, 1e-8}) {
+    const long before = mixed.mixed_counts().float_solves;
+    ASSERT_TRUE(mixed.solve_within(b, x, relative * b.norm()));
+    const long solves = mixed.mixed_counts().float_solves - before;
+    EXPECT_LE((b - A * x).norm(), relative * b.norm()) << relative;
+    EXPECT_GE(solves, 1);
+    EXPECT_LE(solves, full);
+    if (relative == 1e-1) {
+      EXPECT_EQ(solves, 1);  // float's own solve is within a tenth
+      EXPECT_LT(solves, full);
+    }
+    EXPECT_TRUE(mixed.float_factor());
+  }
+  const long before = mixed.mixed_counts().float_solves;
+  ASSERT_TRUE(mixed.solve_within(b, x, 0.0));
+  EXPECT_EQ(mixed.mixed_counts().float_solves - before, full);
+  EXPECT_TRUE(x == exact);
+  // With double panels the solve is the double solve whatever the residual asked.
+  SupernodalCholesky plain;
+  ASSERT_TRUE(plain.refactorize(A));
+  Eigen::VectorXd y, z;
+  ASSERT_TRUE(plain.solve(b, y));
+  ASSERT_TRUE(plain.solve_within(b, z, 1e-1 * b.norm()));
+  EXPECT_TRUE(y == z);
+}
+
 // A membrane graph's weighted Laplacian (weights in [0.5, 1.5], positive semi-definite with
 // the constant vector in its null space) shifted by δ: cond ≈ 100 / δ. Rounded to float, its
 // smallest eigenvalue moves by about 1e-7 either way: from δ = 1e-2 the float factor's
