@@ -5,35 +5,18 @@
 #include <algorithm>
 #include <numeric>
 
+#include "element_colors.hpp"
 #include "velum/assembly/model_piece.hpp"
 #include "velum/solve/processes.hpp"
 
 namespace velum {
 namespace {
 
-constexpr int kChunk = 16;                    // elements computed per kernel call
-constexpr int kMinParallelChunks = 8;         // chunks per colour worth a parallel region
+constexpr int kChunk = 16;             // elements per kernel call, and the colouring's groups
+constexpr int kMinParallelChunks = 8;  // chunks per colour worth a parallel region
 constexpr int kParallelPatternNodes = 20000;  // nodes worth building the pattern on all threads
 // A pass with no load vectors alongside (see Assembler::run).
 constexpr auto kNoLoad = [](std::span<const int>, double*, double*) { return false; };
-
-// Greedy colouring: an element takes the smallest colour none of its nodes has seen.
-std::vector<std::vector<int>> color_elements(const ElementBlock& b, const std::vector<int>& elems,
-                                             int num_nodes) {
-  std::vector<std::vector<int>> node_colors(num_nodes);
-  std::vector<std::vector<int>> colors;
-  std::vector<char> used;
-  for (int e : elems) {
-    used.assign(colors.size() + 1, 0);
-    for (int n : b.nodes(e))
-      for (int c : node_colors[n]) used[c] = 1;
-    const int c = static_cast<int>(std::find(used.begin(), used.end(), 0) - used.begin());
-    if (c == static_cast<int>(colors.size())) colors.emplace_back();
-    colors[c].push_back(e);
-    for (int n : b.nodes(e)) node_colors[n].push_back(c);
-  }
-  return colors;
-}
 
 // Rotates the rows/cols of framed nodes into their local frames (in place).
 void to_local_frames(const DofMap& dofs, std::span<const int> nodes, double* r, double* K,
@@ -167,7 +150,7 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
     const auto& b = *model.blocks[bi];
     const int nd = b.dofs_per_element();
-    colors_.push_back(color_elements(b, own_[bi], model.num_nodes()));
+    colors_.push_back(color_element_groups(b, own_[bi], model.num_nodes(), kChunk));
     // Not zeroed first, filled on all threads: a serial zeroing of it was 0.07 s of a
     // two-thread run's serial start at 150k equations (its pages' first touches).
     const auto& own = own_[bi];
@@ -198,7 +181,8 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
   };
   for (const auto& p : model.pressures) {
     const auto& b = *model.blocks[p.block];
-    pressure_colors_.push_back(color_elements(b, mine(p.block, p.elements), model.num_nodes()));
+    pressure_colors_.push_back(
+        color_element_groups(b, mine(p.block, p.elements), model.num_nodes(), kChunk));
     std::vector<char> seen(b.size(), 0);
     int distinct = 0;
     for (int e : p.elements) distinct += seen[e] ? 0 : (seen[e] = 1);
@@ -211,7 +195,7 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
       const auto& b = *model.blocks[part.block];
       GasPart gp;
       gp.own = mine(part.block, part.elements);
-      gp.colors = color_elements(b, gp.own, model.num_nodes());
+      gp.colors = color_element_groups(b, gp.own, model.num_nodes(), kChunk);
       gp.kernel = make_surface_volume_kernel(b.type_name());
       parts.push_back(std::move(gp));
     }
