@@ -137,17 +137,22 @@ bool SupernodalCholesky::factorize(const SparseMatrix& A) {
   SerialEigen serial;
   SerialOpenBlas serial_blas(OpenBlasSyrk::loaded());
   if (mixed_) {
-    if (A.isCompressed()) {
-      std::copy_n(A.valuePtr(), A.nonZeros(), a_.valuePtr());
-    } else {
+    if (!A.isCompressed()) {
       a_ = A;
       a_.makeCompressed();
     }
-    // ‖A‖∞: A is symmetric, its rows' sums are its columns'.
+    // A's values copied (kept as factorised, for the refinement's residuals) and ‖A‖∞ summed
+    // in the same pass: A is symmetric, its rows' sums are its columns'.
+    const double* from = A.isCompressed() ? A.valuePtr() : a_.valuePtr();
+    double* to = a_.valuePtr();
+    const int* start = a_.outerIndexPtr();
     a_norm_ = 0;
     for (Eigen::Index j = 0; j < a_.outerSize(); ++j) {
       double sum = 0;
-      for (SparseMatrix::InnerIterator it(a_, j); it; ++it) sum += std::abs(it.value());
+      for (int k = start[j]; k < start[j + 1]; ++k) {
+        to[k] = from[k];
+        sum += std::abs(from[k]);
+      }
       a_norm_ = std::max(a_norm_, sum);
     }
     if (double_pause_ > 0) {
