@@ -328,24 +328,25 @@ TEST(MixedCholesky, RefinesRandomMembraneMatricesToDoubleAccuracy) {
 // The pressurised square's K + M (3 equations per free node, quad4, 40 x 40 elements) and the
 // stress-free clamped dome's stiffness, ill-conditioned enough that float's factor needs more
 // corrections (or none of it stands: then the double factor solves).
-TEST(MixedCholesky, RefinesTheSquareMembraneToDoubleAccuracy) {
-  auto model = pressurised_square(40);
+// The pressurised square's K + M at rest (n x n quad4 elements).
+SparseMatrix square_stiffness_and_mass(int n) {
+  auto model = pressurised_square(n);
   MechanicalSystem sys(*model);
   VecX u = VecX::Zero(sys.size()), v = u, a = u, r;
   SparseMatrix J;
   sys.evaluate(0.0, u, v, a, 1.0, 0.0, 1.0, r, &J);
-  expect_double_accuracy(J, 1e-12);
+  return J;
+}
+
+TEST(MixedCholesky, RefinesTheSquareMembraneToDoubleAccuracy) {
+  expect_double_accuracy(square_stiffness_and_mass(40), 1e-12);
 }
 
 // solve_within: the refinement stops once ‖b − A x‖₂ is within the residual asked for, never
 // above it, and with none asked (0) goes on to LAPACK's test as solve does (the pressurised
 // square's K + M, which takes more than one float solve to reach it).
 TEST(MixedCholesky, SolveWithinStopsTheRefinementAtTheResidualAsked) {
-  auto model = pressurised_square(40);
-  MechanicalSystem sys(*model);
-  VecX u = VecX::Zero(sys.size()), v = u, a = u, r;
-  SparseMatrix A;
-  sys.evaluate(0.0, u, v, a, 1.0, 0.0, 1.0, r, &A);
+  const SparseMatrix A = square_stiffness_and_mass(40);
   const Eigen::VectorXd b = rhs(A.rows());
   SupernodalCholesky mixed({}, SupernodalCholesky::kSplitFlops, Precision::kMixed);
   ASSERT_TRUE(mixed.refactorize(A)) << mixed.status();
