@@ -422,7 +422,7 @@ std::string MechanicalSystem::diagnose_singular(const SparseMatrix& J) const {
                                    static_cast<double>(c)});
     }
   count = static_cast<int>(sum_over_processes(count));
-  if (distributed()) first = processes::gather_any(first);  // in rank order: ascending
+  if (distributed()) first = processes::gather(first);  // in rank order: ascending
   if (count == 0) return {};
   std::vector<std::string> bad;
   for (size_t k = 0; k + 2 < first.size() && bad.size() < 8; k += 3)

@@ -213,6 +213,10 @@ const std::string& Assembler::partition_note() const {
   return piece_ ? piece_->partition_note : none;
 }
 
+bool Assembler::adds_point_masses() const {
+  return !piece_ || processes::rank() == 0;
+}
+
 void Assembler::reduce(NodePositions& F) const {
   if (shared()) sum_at_shared_nodes(F);
 }
@@ -239,7 +243,7 @@ NodePositions Assembler::gather_nodes(const NodePositions& P) const {
     if (piece.kept[static_cast<size_t>(n)])
       mine.insert(mine.end(), {static_cast<double>(piece.global_node[static_cast<size_t>(n)]),
                                P(0, n), P(1, n), P(2, n)});
-  const std::vector<double> all = processes::gather_any(mine);
+  const std::vector<double> all = processes::gather(mine);
   NodePositions whole;
   if (processes::rank() != 0) return whole;
   whole.setZero(3, piece.global_nodes);
@@ -491,15 +495,14 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
         (*lumped)[nodes[i]] += hrz ? Me(i, i) * total / diag : Me.row(i).sum();
     }
   }
-  // A point mass is added once, by the first process (its share holds their nodes' blocks),
-  // then the shares are summed where processes share nodes.
-  const bool first = !piece_ || processes::rank() == 0;
-  for (const auto& pm : model_.masses) {
-    if (M && first)
-      for (int d = 0; d < 3; ++d)
-        if (const int a = dofs_.equation(pm.node, d); a >= 0) M->coeffRef(a, a) += pm.mass;
-    if (lumped && first) (*lumped)[pm.node] += pm.mass;
-  }
+  // The point masses once, then the shares summed where processes share nodes.
+  if (adds_point_masses())
+    for (const auto& pm : model_.masses) {
+      if (M)
+        for (int d = 0; d < 3; ++d)
+          if (const int a = dofs_.equation(pm.node, d); a >= 0) M->coeffRef(a, a) += pm.mass;
+      if (lumped) (*lumped)[pm.node] += pm.mass;
+    }
   if (lumped && piece_) {
     const std::pair<double*, int> parts[] = {{lumped->data(), 1}};
     sum_at_shared_nodes(parts);
@@ -518,8 +521,7 @@ NodePositions Assembler::gravity_forces(const Vec3& g) const {
       for (int i = 0; i < nn; ++i) F.col(nodes[i]) += Me.row(i).sum() * g;
     }
   }
-  const bool first = !piece_ || processes::rank() == 0;  // a point mass is added once
-  if (first)
+  if (adds_point_masses())
     for (const auto& pm : model_.masses) F.col(pm.node) += pm.mass * g;
   sum_at_shared_nodes(F);
   return F;

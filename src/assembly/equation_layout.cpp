@@ -86,7 +86,7 @@ VecX EquationLayout::gather_global(const VecX& x) const {
   if (!distributed_) return x;
   // Owned ranges are contiguous and in rank order: their concatenation is the global order.
   const std::vector<double> all =
-      processes::gather_any(std::vector<double>(x.data(), x.data() + owned_));
+      processes::gather(std::vector<double>(x.data(), x.data() + owned_));
   return Eigen::Map<const VecX>(all.data(), static_cast<Eigen::Index>(all.size()));
 }
 

@@ -51,7 +51,7 @@ std::vector<EdgeLoad::Edge> boundary_edges(const Model& model, const EdgeLoad& l
   const std::unordered_set<int> in_set(load.nodes.begin(), load.nodes.end());
   // Count every membrane edge by its sorted end nodes: boundary edges appear once.
   std::map<std::pair<int, int>, int> count;
-  std::vector<EdgeLoad::Edge> candidates;
+  std::vector<std::pair<EdgeLoad::Edge, std::pair<int, int>>> candidates;  // with their key
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
     const auto& b = model.blocks[bi];
     if (b->kind() != ElementKind::kMembrane) continue;
@@ -61,20 +61,17 @@ std::vector<EdgeLoad::Edge> boundary_edges(const Model& model, const EdgeLoad& l
       for (size_t side = 0; side < edges.size(); ++side) {
         const auto& ed = edges[side];
         const int a = nodes[ed[0]], c = nodes[ed[1]];
-        ++count[{std::min(a, c), std::max(a, c)}];
+        const std::pair<int, int> key{std::min(a, c), std::max(a, c)};
+        ++count[key];
         bool all = true;
         for (int l : ed) all = all && in_set.count(nodes[l]);
-        if (all) candidates.push_back({static_cast<int>(bi), e, static_cast<int>(side)});
+        if (all) candidates.push_back({{static_cast<int>(bi), e, static_cast<int>(side)}, key});
       }
     }
   }
   std::vector<EdgeLoad::Edge> out;
-  for (const auto& ed : candidates) {
-    const auto& b = model.blocks[static_cast<size_t>(ed.block)];
-    const std::vector<int> local = edges_of(b->type_name())[static_cast<size_t>(ed.side)];
-    const int a = b->nodes(ed.element)[local[0]], c = b->nodes(ed.element)[local[1]];
-    if (count[{std::min(a, c), std::max(a, c)}] == 1) out.push_back(ed);
-  }
+  for (const auto& [ed, key] : candidates)
+    if (count[key] == 1) out.push_back(ed);
   return out;
 }
 

@@ -9,8 +9,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
-#include <cstring>
 #include <new>
 
 namespace velum {
@@ -25,13 +23,14 @@ class HugePageBuffer {
   HugePageBuffer(const HugePageBuffer&) = delete;
   HugePageBuffer& operator=(const HugePageBuffer&) = delete;
 
-  /// n zeros (the old contents released); with `touch` false, n values the caller must clear
-  /// (where each page is first touched decides where the host keeps it). With `huge` false no
+  /// n zeros (the old contents released): fresh anonymous pages, touched first where the
+  /// caller first writes them (where each page is first touched decides where the host keeps
+  /// it: supernodal_cholesky.cpp's first_touch). With `huge` false no
   /// huge pages are asked for: on this machine they made a one-thread run of Hencky n = 130
   /// slower (median 12.9 against 10.0 s wall, the element kernels' memory traffic as well as
   /// the factorisation's) while the split factorisation on two threads gained (7.1 against
   /// 8.2 s): docs/performance.md section 15.
-  void assign(std::size_t n, bool touch = true, bool huge = true) {
+  void assign(std::size_t n, bool huge = true) {
     release();
     size_ = n;
     if (n == 0) return;
@@ -51,10 +50,6 @@ class HugePageBuffer {
 #ifdef MADV_HUGEPAGE
     if (huge) madvise(p, bytes, MADV_HUGEPAGE);  // advice only: ignored where THP is off
 #endif
-    // One thread touches the array first: touched by several, the factorisation that followed
-    // ran slower (BM_Factorize/225/5/2: 314 against 237 ms; the virtual machine's host seems to
-    // place each page near the thread that first touched it).
-    if (touch) std::memset(p, 0, bytes);
     data_ = reinterpret_cast<T*>(p);
     bytes_ = bytes;
   }
@@ -78,7 +73,5 @@ class HugePageBuffer {
   T* data_ = nullptr;
   std::size_t size_ = 0, bytes_ = 0;
 };
-
-using HugePageArray = HugePageBuffer<double>;
 
 }  // namespace velum

@@ -143,18 +143,6 @@ std::vector<double> gather(const std::vector<double>& values) {
 #ifdef VELUM_HAVE_PETSC
   if (my_count > 1) {
     const int n = static_cast<int>(values.size());
-    std::vector<double> all(my_rank == 0 ? values.size() * static_cast<size_t>(my_count) : 0);
-    MPI_Gather(values.data(), n, MPI_DOUBLE, all.data(), n, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
-    return all;
-  }
-#endif
-  return values;
-}
-
-std::vector<double> gather_any(const std::vector<double>& values) {
-#ifdef VELUM_HAVE_PETSC
-  if (my_count > 1) {
-    const int n = static_cast<int>(values.size());
     std::vector<int> counts(my_rank == 0 ? static_cast<size_t>(my_count) : 0), at;
     MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, PETSC_COMM_WORLD);
     int total = 0;

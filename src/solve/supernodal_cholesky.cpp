@@ -118,10 +118,10 @@ void SupernodalCholesky::allocate(Panels<T>& p) {
   // the thread that uses it, at its first factorisation (Work::make): its first touches then
   // run on that thread, not all on this one.
   p.work.assign(splits_ ? std::max(2, omp_get_max_threads()) : 1, Work<T>{});
-  p.values.assign(static_cast<std::size_t>(st_.values), !splits_, huge);
+  p.values.assign(static_cast<std::size_t>(st_.values), huge);
   if (splits_) first_touch(p);
   // Not cleared here: factorize_split clears it before each use.
-  p.top_copy.assign(static_cast<std::size_t>(split_.top_values), false, huge);
+  p.top_copy.assign(static_cast<std::size_t>(split_.top_values), huge);
   p.y.assign(static_cast<std::size_t>(st_.n), T(0));
   p.top_y.assign(splits_ ? static_cast<std::size_t>(st_.n) : 0, T(0));
   p.allocated = true;

@@ -175,6 +175,8 @@ class Assembler {
   // Sums a per-node vector at the shared nodes (nothing on one process or for a local share).
   void reduce(NodePositions& F) const;
   bool shared() const { return piece_ && !share_only_; }
+  // A point mass is added once, by the first process (its share holds their nodes' blocks).
+  bool adds_point_masses() const;
 
   const Model& model_;
   const DofMap& dofs_;

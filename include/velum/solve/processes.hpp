@@ -36,11 +36,9 @@ void sum(double* data, long n);
 /// Each process's `value`, in rank order, on the first process (empty on the others). A
 /// collective call; {value} on one process.
 std::vector<double> gather(double value);
-/// Each process's `values` (the same length on every process), in rank order, concatenated,
-/// on the first process (empty on the others). A collective call; `values` on one process.
+/// Each process's `values` (of any length), in rank order, concatenated, on the first process
+/// (empty on the others). A collective call; `values` on one process.
 std::vector<double> gather(const std::vector<double>& values);
-/// The same for `values` of any length on each process.
-std::vector<double> gather_any(const std::vector<double>& values);
 /// The smallest of every process's `value`, on every process. A collective call.
 long min(long value);
 /// The largest of every process's `value`, on every process. A collective call.
