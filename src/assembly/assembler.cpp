@@ -141,36 +141,10 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
   }
   build_pattern(model, dofs, own_, lone_nodes_, first_matrix_);
   nonzeros_ = first_matrix_.nonZeros();
-  const int* outer = first_matrix_.outerIndexPtr();
-  const int* inner = first_matrix_.innerIndexPtr();
-  auto position = [&](int row, int col) {
-    return static_cast<int>(std::lower_bound(inner + outer[col], inner + outer[col + 1], row) -
-                            inner);
-  };
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
     const auto& b = *model.blocks[bi];
-    const int nd = b.dofs_per_element();
     colors_.push_back(color_element_groups(b, own_[bi], model.num_nodes(), kChunk));
-    // Not zeroed first, filled on all threads: a serial zeroing of it was 0.07 s of a
-    // two-thread run's serial start at 150k equations (its pages' first touches).
-    const auto& own = own_[bi];
-    const long entries = static_cast<long>(own.size()) * nd * nd;
-    auto map = std::make_unique_for_overwrite<int[]>(static_cast<std::size_t>(entries));
-#pragma omp parallel if (entries > kParallelMatrixEntries)
-    {
-      std::vector<int> eqs;
-#pragma omp for schedule(static)
-      for (std::size_t k = 0; k < own.size(); ++k) {
-        eqs.clear();
-        for (int n : b.nodes(own[k]))
-          for (int c = 0; c < 3; ++c) eqs.push_back(dofs.equation(n, c));
-        int* m = map.get() + k * nd * nd;
-        for (int j = 0; j < nd; ++j)
-          for (int i = 0; i < nd; ++i)
-            m[j * nd + i] = (eqs[i] >= 0 && eqs[j] >= 0) ? position(eqs[i], eqs[j]) : -1;
-      }
-    }
-    scatter_.push_back(std::move(map));
+    scatter_.emplace_back(b, own_[bi], dofs, first_matrix_);
   }
   for (const auto& b : model.blocks) max_dofs_ = std::max(max_dofs_, b->dofs_per_element());
   auto mine = [&](int block, const std::vector<int>& elems) {
@@ -339,7 +313,7 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
     }
   }
   const int nd = b.dofs_per_element();
-  const int* map = scatter_[bi].get();
+  const ElementScatter& scatter = scatter_[bi];
   const int* local = local_[bi].data();
   double* values = K ? K->valuePtr() : nullptr;
   for (const auto& list : colors) {
@@ -379,9 +353,7 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
             for (int q = 0; q < nd * nd; ++q) ke[q] *= matrix_sign;
           }
           if (dofs_.has_frames()) to_local_frames(dofs_, nodes, re, ke, nd);
-          const int* m = map + static_cast<size_t>(local[e]) * nd * nd;
-          for (int q = 0; q < nd * nd; ++q)
-            if (m[q] >= 0) values[m[q]] += ke[q];
+          scatter.add(local[e], ke, values);
         }
       }
     }
@@ -472,7 +444,7 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
   if (lumped) lumped->setZero(model_.num_nodes());
   for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
     const auto& b = *model_.blocks[bi];
-    const int nn = b.nodes_per_element(), nd = 3 * nn;
+    const int nn = b.nodes_per_element();
     const bool hrz = b.type_name() == "tri6" || b.type_name() == "quad8";
     MatX Me(nn, nn);
     for (size_t k = 0; k < own_[bi].size(); ++k) {
@@ -480,11 +452,11 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
       b.mass(e, Me.data());
       const auto nodes = b.nodes(e);
       if (M) {
-        const int* m = scatter_[bi].get() + k * nd * nd;
+        const ElementScatter& scatter = scatter_[bi];
         for (int j = 0; j < nn; ++j)
           for (int i = 0; i < nn; ++i)
             for (int d = 0; d < 3; ++d) {  // frames leave R I Rᵀ = I unchanged
-              const int q = m[(3 * j + d) * nd + 3 * i + d];
+              const int q = scatter.position(static_cast<int>(k), 3 * i + d, 3 * j + d);
               if (q >= 0) M->valuePtr()[q] += Me(i, j);
             }
       }

@@ -20,6 +20,7 @@
 
 #include "velum/assembly/dof_map.hpp"
 #include "velum/assembly/element_partition.hpp"
+#include "velum/assembly/element_scatter.hpp"
 #include "velum/assembly/model_piece.hpp"
 #include "velum/element/enclosed_volume.hpp"
 
@@ -182,13 +183,13 @@ class Assembler {
   const DofMap& dofs_;
   int neq_ = 0;
   Eigen::Index nonzeros_ = 0;
-  const ModelPiece* piece_ = nullptr;            // the model's piece (several processes), or null
-  mutable bool share_only_ = false;              // a LocalShare is alive
-  std::vector<std::vector<int>> own_;            // per block: this process's elements, ascending
-  std::vector<std::vector<int>> local_;          // per block: element -> index into own_ (-1: not)
-  std::vector<int> lone_nodes_;                  // own diagonal blocks, no own element: Assembler()
-  std::vector<Colors> colors_;                   // per block: own elements
-  std::vector<std::unique_ptr<int[]>> scatter_;  // per block: own x dofs² positions
+  const ModelPiece* piece_ = nullptr;    // the model's piece (several processes), or null
+  mutable bool share_only_ = false;      // a LocalShare is alive
+  std::vector<std::vector<int>> own_;    // per block: this process's elements, ascending
+  std::vector<std::vector<int>> local_;  // per block: element -> index into own_ (-1: not)
+  std::vector<int> lone_nodes_;          // own diagonal blocks, no own element: Assembler()
+  std::vector<Colors> colors_;           // per block: own elements
+  std::vector<ElementScatter> scatter_;  // per block: its own elements' positions
   mutable SparseMatrix first_matrix_;    // the pattern built for scatter_, given to the first
                                          // make_matrix (later ones build it again)
   std::vector<Colors> pressure_colors_;  // per pressure load
