@@ -37,15 +37,21 @@ constexpr int kBlasWidth = 64;
 constexpr std::ptrdiff_t kClearChunk = 1 << 16;
 
 // Lc[rel[i]] −= W[i] for i in [j, m), by runs of rows that land contiguously in Lc: the rows
-// [run[k], run[k + 1]) for k < count, run[0] <= j < run[1] and run[count] = m.
+// [run[k], run[k + 1]) for k < count, run[0] <= j < run[1] and run[count] = m. W[i] is left
+// zero: the work space stays zero between updates, which add their products to it (Eigen's
+// products into a destination clear it first, a pass over it of their own; here it is cleared
+// by the pass that reads it, while it is in cache).
 template <class T>
-inline void subtract_runs(T* __restrict Lc, const T* __restrict W, const int* rel, const int* run,
+inline void subtract_runs(T* __restrict Lc, T* __restrict W, const int* rel, const int* run,
                           int count, int j) {
   for (int k = 0; k < count; ++k) {
     const int begin = std::max(run[k], j), n = run[k + 1] - begin;
     T* __restrict d = Lc + rel[begin];
-    const T* __restrict u = W + begin;
-    for (int i = 0; i < n; ++i) d[i] -= u[i];
+    T* __restrict u = W + begin;
+    for (int i = 0; i < n; ++i) {
+      d[i] -= u[i];
+      u[i] = T(0);
+    }
   }
 }
 
@@ -329,8 +335,8 @@ void SupernodalCholesky::scatter_update(Panels<T>& p, int s, Work<T>& work, T* t
     }
   }
   if (!done) {
-    Eigen::Map<Matrix<T>> W(work.update.data(), m, m);
-    W.template triangularView<Eigen::Lower>() = Lb * Lb.transpose();
+    Eigen::Map<Matrix<T>> W(work.update.data(), m, m);  // zero (subtract_runs)
+    W.template triangularView<Eigen::Lower>() += Lb * Lb.transpose();
   }
   subtract_update(p, s, 0, m, m, work, top_copy);
 }
@@ -345,8 +351,10 @@ void SupernodalCholesky::update_columns(Panels<T>& p, int s, int begin, int end,
   const ConstPanel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
   Eigen::Map<Matrix<T>> W(work.update.data(), rows, cols);
   const auto B = Lb.middleRows(begin, cols);
-  W.topRows(cols).template triangularView<Eigen::Lower>() = B * B.transpose();
-  if (rows > cols) W.bottomRows(rows - cols).noalias() = Lb.bottomRows(rows - cols) * B.transpose();
+  // W is zero (subtract_runs): the products add to it.
+  W.topRows(cols).template triangularView<Eigen::Lower>() += B * B.transpose();
+  if (rows > cols)
+    W.bottomRows(rows - cols).noalias() += Lb.bottomRows(rows - cols) * B.transpose();
   subtract_update(p, s, begin, end, rows, work, static_cast<T*>(nullptr));
 }
 
@@ -372,7 +380,7 @@ void SupernodalCholesky::subtract_update(Panels<T>& p, int s, int begin, int end
     for (int j = first, r = 0; j < std::min(tg.end, end); ++j) {
       while (run[r + 1] <= j) ++r;
       T* Lc = L + (b[j] - ft) * ldl;
-      const T* Wj = work.update.data() + (j - begin) * ldw - begin;
+      T* Wj = work.update.data() + (j - begin) * ldw - begin;
       subtract_runs(Lc, Wj, rel, run + r, count - r, j);
     }
   }
