@@ -38,6 +38,26 @@ class AngleEquation {
   double operator()(double theta, double* dH = nullptr) const {
     return at(std::cos(theta), std::sin(theta), dH);
   }
+  /// H at each (c[k], s[k]): the same arithmetic in one loop over the samples, which the
+  /// compiler runs several samples at a time (the scan was most of the tension field's time).
+  std::array<double, kSamples> samples(const std::array<double, kSamples>& c,
+                                       const std::array<double, kSamples>& s) const {
+    const double q00 = Q_(0, 0), q01 = Q_(0, 1), q02 = Q_(0, 2), q10 = Q_(1, 0), q11 = Q_(1, 1),
+                 q12 = Q_(1, 2), q20 = Q_(2, 0), q21 = Q_(2, 1), q22 = Q_(2, 2);
+    const double s0 = St_[0], s1 = St_[1], s2 = St_[2];
+    std::array<double, kSamples> out;
+    for (int k = 0; k < kSamples; ++k) {
+      const double ck = c[k], sk = s[k];
+      const double t0 = sk * sk, t1 = ck * ck, t2 = -2 * sk * ck;        // v_t
+      const double n0 = -ck * sk, n1 = sk * ck, n2 = ck * ck - sk * sk;  // v_nt
+      const double u0 = q00 * t0 + q01 * t1 + q02 * t2, u1 = q10 * t0 + q11 * t1 + q12 * t2,
+                   u2 = q20 * t0 + q21 * t1 + q22 * t2;  // Q v_t
+      const double d = t0 * u0 + t1 * u1 + t2 * u2, a = n0 * s0 + n1 * s1 + n2 * s2,
+                   b = t0 * s0 + t1 * s1 + t2 * s2, e = n0 * u0 + n1 * u1 + n2 * u2;
+      out[k] = d * a - b * e;
+    }
+    return out;
+  }
   /// The same from c = cos θ, s = sin θ.
   double at(double c, double s, double* dH = nullptr) const {
     const WrinkleFrame f(c, s);
@@ -108,7 +128,10 @@ TensionField tension_field(const Mat3& Q, const Vec3& St) {
   TensionField out;
   // Taut: the trial stress has no negative principal value.
   const double mean = 0.5 * (St[0] + St[1]);
-  const double radius = std::hypot(0.5 * (St[0] - St[1]), St[2]);
+  // (sqrt, not hypot: stresses are far from overflow, and hypot's care was a sixtieth of the C9
+  // canopy's run, every membrane point of every evaluation passing here)
+  const double half_difference = 0.5 * (St[0] - St[1]);
+  const double radius = std::sqrt(half_difference * half_difference + St[2] * St[2]);
   if (mean - radius >= 0) {
     out.S = St;
     out.C = Q;
@@ -120,11 +143,11 @@ TensionField tension_field(const Mat3& Q, const Vec3& St) {
   double best_relief = -1, best_theta = 0, best_beta = 0;
   const double h = std::numbers::pi / kSamples;
   const auto& sample = kSampleAngles;
-  const double Hfirst = H.at(sample.c[0], sample.s[0]);
-  double theta0 = 0, H0 = Hfirst;
+  const std::array<double, kSamples> Hs = H.samples(sample.c, sample.s);
+  double theta0 = 0, H0 = Hs[0];
   for (int k = 1; k <= kSamples; ++k) {
     const double theta1 = k * h;
-    const double H1 = k == kSamples ? Hfirst : H.at(sample.c[k], sample.s[k]);  // period π
+    const double H1 = Hs[k % kSamples];  // period π
     double root = -1;
     if (H0 == 0) {
       root = theta0;
