@@ -5,6 +5,7 @@
 #include <omp.h>
 #include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>
+#include <limits>
 
 #include <algorithm>
 #include <cmath>
@@ -366,6 +367,9 @@ class AutoSolver final : public LinearSolver {
   }
   bool solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual) override {
     return active_ && active_->solve_within(b, x, residual);
+  }
+  double one_pass_accuracy() const override {
+    return active_ ? active_->one_pass_accuracy() : std::numeric_limits<double>::quiet_NaN();
   }
   std::string status() const override { return active_ ? active_->status() : std::string(); }
   int negative_pivots() const override { return active_ ? active_->negative_pivots() : -1; }

@@ -91,6 +91,7 @@ bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   mixed_ = precision_ == Precision::kMixed ||
            (precision_ == Precision::kAuto && st_.flops >= kMixedFlops);
   counts_ = MixedCounts{};
+  float_pass_accuracy_ = std::numeric_limits<double>::quiet_NaN();
   double_pause_ = pause_length_ = 0;
   if (mixed_) {
     allocate(float_);

@@ -22,6 +22,7 @@
 // factor's. The same structure and split: one thread or two still give the same bits.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,9 @@ class SupernodalCholesky final : public LinearSolver {
   /// With float panels, the refinement stops as soon as ‖b − A x‖₂ <= `residual` (or at the
   /// DSPOSV test, whichever comes first); with double panels, as solve.
   bool solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual) override;
+  /// With the float factor, its solve's relative residual as measured at the last solve that
+  /// was checked (NaN until then, and after a fall-back to double); 0 with the double factor.
+  double one_pass_accuracy() const override { return float_factor_ ? float_pass_accuracy_ : 0.0; }
   std::string status() const override { return status_; }
   /// Definite: no negative pivot after a factorisation that succeeded.
   int negative_pivots() const override { return factorized_ ? 0 : -1; }
@@ -181,6 +185,7 @@ class SupernodalCholesky final : public LinearSolver {
   Panels<double> double_;
   Panels<float> float_;
   bool float_factor_ = false;
+  double float_pass_accuracy_ = std::numeric_limits<double>::quiet_NaN();
   SparseMatrix a_;  ///< mixed: A as last factorised (the refinement's residuals), and ‖A‖∞
   double a_norm_ = 0;
   Eigen::VectorXd r_, dx_;  ///< mixed: a residual and a correction

@@ -123,7 +123,9 @@ bool SupernodalCholesky::solve_refined(const Eigen::VectorXd& b, Eigen::VectorXd
                                        double enough) {
   solve_with(float_, b, x);
   ++counts_.float_solves;
+  if (std::isinf(enough)) return x.allFinite();  // the first step alone, unchecked
   double error = backward_error(b, x, r_);
+  if (const double bn = b.norm(); bn > 0) float_pass_accuracy_ = r_.norm() / bn;
   // LAPACK's DSPOSV: refined when ‖r‖∞ <= √n ε ‖A‖∞ ‖x‖∞ (ε = 2⁻⁵³).
   const double target = std::sqrt(double(st_.n)) * kRoundoff;
   auto done = [&] { return error <= target || (enough > 0 && r_.norm() <= enough); };
@@ -165,6 +167,7 @@ bool SupernodalCholesky::solve_refined(const Eigen::VectorXd& b, Eigen::VectorXd
 
 // The next 1, 2, 4 ... 64 factorisations in double.
 void SupernodalCholesky::pause_float() {
+  float_pass_accuracy_ = std::numeric_limits<double>::quiet_NaN();  // measured again on return
   pause_length_ = std::clamp(2 * pause_length_, 1, 64);
   double_pause_ = pause_length_;
 }

@@ -116,6 +116,16 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
   constexpr double kChordGain = 0.1;
   // The linear solves' forcing term: their residual against the Newton residual's (below).
   constexpr double kForcing = 1e-3;
+  // Far from the solution (the residual above ten targets) a correction takes the first step
+  // of a mixed-precision solver unchecked, its float factor's solution, when that was last
+  // measured within kPassAccuracy of the right-hand side (Kelley, "Newton's method in mixed
+  // precision", SIAM Review 64, 2022: corrections from a low-precision factorisation keep
+  // Newton converging, at the rate of their relative error, while the residual is evaluated in
+  // double). One so taken that does not halve the residual ends that for the step: the next
+  // corrections are checked (and measure the solver's step again). The corrections near the
+  // solution are checked whatever the solver's record.
+  constexpr double kPassAccuracy = 1e-2;
+  bool pass_trusted = true, last_unchecked = false;
   auto fell_fast = [&](int k) { return rep.residuals[k] <= kChordGain * rep.residuals[k - 1]; };
   // Stagnation: Newton that has not halved its best residual in kStagnationWindow iterations
   // is wandering, not converging (quadratic or even linear convergence halves it in a few);
@@ -153,6 +163,7 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
     }
     const double rn = sys.norm(r);
     rep.residuals.push_back(rn);
+    if (last_unchecked && !(rn <= 0.5 * rep.residuals[it - 1])) pass_trusted = false;
     if (!std::isfinite(rn)) {
       rep.reason = fmt::format("non-finite residual at Newton iteration {}", it);
       return rep;
@@ -211,7 +222,10 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
     // kForcing ‖r‖ keeps convergence at least that fast, and one below a tenth of the target
     // cannot keep the next residual above it. Hencky quad4 n = 130 with float panels: the same
     // 31 corrections and answer, 12% less CPU (docs/performance.md, section 21).
-    const double enough = std::max(kForcing * rn, 0.1 * target);
+    const bool unchecked =
+        pass_trusted && rn > 10 * target && solver.one_pass_accuracy() <= kPassAccuracy;
+    const double enough =
+        unchecked ? std::numeric_limits<double>::infinity() : std::max(kForcing * rn, 0.1 * target);
     const bool chord = may_chord && !have_tangent && (it == 0 || fell_fast(it)) &&
                        (chord_ready || solver.solve_within(-r, du, enough)) && sys.all_finite(du);
     if (!chord) {
@@ -219,6 +233,7 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
       if (!newton_solve(sys, solver, J, r, du, rep.reason, enough)) return rep;
       ++rep.factorizations;
     }
+    last_unchecked = unchecked && !chord_ready;
     s0 = sys.dot(du, r);
     u += du;
     dn_prev = dn;

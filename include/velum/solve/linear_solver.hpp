@@ -38,12 +38,16 @@ class LinearSolver {
   /// Solves A x = b with the last factorisation; false when the result is not finite.
   virtual bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
   /// As solve, but a solver that improves its answer in steps (iterative refinement) may stop
-  /// once ‖b − A x‖₂ <= `residual`: an inexact Newton correction needs no more. The others
-  /// solve as solve does.
+  /// once ‖b − A x‖₂ <= `residual`: an inexact Newton correction needs no more. An infinite
+  /// `residual` asks for its first step alone, unchecked (one_pass_accuracy). The others solve
+  /// as solve does.
   virtual bool solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual) {
     (void)residual;
     return solve(b, x);
   }
+  /// The relative residual ‖b − A x‖₂ / ‖b‖₂ that the first step of such a solver leaves, as
+  /// last measured (NaN before a measure); 0 for a solver that solves in one.
+  virtual double one_pass_accuracy() const { return 0; }
   /// Whether the solver needs a symmetric matrix.
   virtual bool symmetric_only() const = 0;
   /// The back-end's own words on its last failure (status codes), or empty.

@@ -26,6 +26,10 @@ class LowRankCorrectedSolver final : public LinearSolver {
   /// Within `residual` where there is no low-rank part; exactly where there is (the Woodbury
   /// correction holds for exact solves).
   bool solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual) override;
+  /// The wrapped solver's while there is no low-rank part (with one, solves are exact).
+  double one_pass_accuracy() const override {
+    return Z_.cols() > 0 ? 0.0 : sparse_.one_pass_accuracy();
+  }
   bool symmetric_only() const override { return sparse_.symmetric_only(); }
   std::string status() const override;
   const LinearSolver& wrapped() const { return sparse_; }

@@ -10,6 +10,7 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -378,6 +379,36 @@ TEST(MixedCholesky, SolveWithinStopsTheRefinementAtTheResidualAsked) {
   ASSERT_TRUE(plain.solve(b, y));
   ASSERT_TRUE(plain.solve_within(b, z, 1e-1 * b.norm()));
   EXPECT_TRUE(y == z);
+}
+
+// one_pass_accuracy: unknown (NaN) until a checked solve measures the float solve's relative
+// residual, which is then that of the float solve alone; solve_within with an infinite residual
+// is that one float solve, unchecked (the same x, no refinement); the double factor's is 0.
+TEST(MixedCholesky, OnePassIsTheFloatSolveAsMeasured) {
+  const SparseMatrix A = square_stiffness_and_mass(40);
+  const Eigen::VectorXd b = rhs(A.rows());
+  SupernodalCholesky mixed({}, SupernodalCholesky::kSplitFlops, Precision::kMixed);
+  ASSERT_TRUE(mixed.refactorize(A)) << mixed.status();
+  EXPECT_TRUE(std::isnan(mixed.one_pass_accuracy()));
+  const double infinite = std::numeric_limits<double>::infinity();
+  Eigen::VectorXd one, exact;
+  long before = mixed.mixed_counts().float_solves;
+  ASSERT_TRUE(mixed.solve_within(b, one, infinite));
+  EXPECT_EQ(mixed.mixed_counts().float_solves - before, 1);
+  EXPECT_TRUE(std::isnan(mixed.one_pass_accuracy()));  // nothing measured
+  before = mixed.mixed_counts().float_solves;
+  ASSERT_TRUE(mixed.solve(b, exact));
+  EXPECT_GE(mixed.mixed_counts().float_solves - before, 2);  // refined
+  const double measured = (b - A * one).norm() / b.norm();
+  EXPECT_NEAR(mixed.one_pass_accuracy(), measured, 1e-6 * measured);
+  EXPECT_GT(measured, 1e-10);  // float's, not double's
+  EXPECT_LT(measured, 1e-2);
+  Eigen::VectorXd again;
+  ASSERT_TRUE(mixed.solve_within(b, again, infinite));
+  EXPECT_TRUE(again == one);
+  SupernodalCholesky plain;
+  ASSERT_TRUE(plain.refactorize(A));
+  EXPECT_EQ(plain.one_pass_accuracy(), 0.0);
 }
 
 // A membrane graph's weighted Laplacian (weights in [0.5, 1.5], positive semi-definite with
