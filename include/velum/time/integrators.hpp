@@ -145,14 +145,15 @@ class StaticNewton : public TimeIntegrator {
 
   bool extrapolate_;
   VecX r_, du_, zero_;
-  SparseMatrix J_;                   ///< kept between steps: its pattern is allocated once
-  VecX u_prev_, u_prev2_;            ///< converged states before the last two accepted steps
-  double h_prev_ = 0, h_prev2_ = 0;  ///< their sizes (0: no such increment)
-  double t_prev_ = -1;               ///< the time the last accepted step ended at
-  VecX linear_, parabolic_;          ///< this step's two predictors
-  bool continuous_ = false;          ///< this step starts where the last one ended
-  bool second_ = false;              ///< this step has the parabola
-  bool prefer_parabola_ = false;     ///< the parabola predicted the last increment better
+  SparseMatrix J_;                        ///< kept between steps: its pattern is allocated once
+  VecX u_prev_, u_prev2_;                 ///< converged states before the last two accepted steps
+  double h_prev_ = 0, h_prev2_ = 0;       ///< their sizes (0: no such increment)
+  double t_prev_ = -1;                    ///< the time the last accepted step ended at
+  VecX linear_, parabolic_;               ///< this step's two predictors
+  VecX left_by_line_, left_by_parabola_;  ///< the residuals they left, to first order
+  bool continuous_ = false;               ///< this step starts where the last one ended
+  bool second_ = false;                   ///< this step has the parabola
+  bool prefer_parabola_ = false;          ///< the parabola predicted the last increment better
   /// Of the last accepted state (-1: unknown). The start counts as stable (0), as the
   /// analysis's stability watch takes it: a first step whose last tangent has no negative
   /// pivot then needs no factorisation at its converged state to say so.
