@@ -36,13 +36,17 @@ ElementScatter::ElementScatter(const ElementBlock& b, std::span<const int> eleme
       first[a] = none ? -1 : e0;
       L[a] = none ? 0 : outer[e0 + 1] - outer[e0];
     }
+    // One search per block; its nine places then checked where the compact form puts them
+    // (the row there, in the column that holds it).
     for (int bn = 0; bn < nn_ && regular; ++bn)
       for (int a = 0; a < nn_ && regular; ++a) {
         if (first[a] < 0 || first[bn] < 0) continue;
         const int at = position(first[a], first[bn]);
         for (int d = 0; d < 3 && regular; ++d)
-          for (int e = 0; e < 3 && regular; ++e)
-            regular = at >= 0 && position(first[a] + e, first[bn] + d) == at + d * L[bn] + e;
+          for (int e = 0; e < 3 && regular; ++e) {
+            const int col = first[bn] + d, k = at + d * L[bn] + e;
+            regular = at >= 0 && k >= outer[col] && k < outer[col + 1] && inner[k] == first[a] + e;
+          }
         s[bn * nn_ + a] = at;
       }
     if (!regular) irregular_[k] = 0;  // its full map below
