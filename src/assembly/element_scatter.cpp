@@ -34,7 +34,7 @@ ElementScatter::ElementScatter(const ElementBlock& b, std::span<const int> eleme
       const bool none = e0 < 0 && e1 < 0 && e2 < 0;
       regular = none || (e0 >= 0 && e1 == e0 + 1 && e2 == e0 + 2);
       first[a] = none ? -1 : e0;
-      L[a] = none ? 0 : outer[e0 + 1] - outer[e0];
+      L[a] = regular && !none ? outer[e0 + 1] - outer[e0] : 0;
     }
     // One search per block; its nine places then checked where the compact form puts them
     // (the row there, in the column that holds it).
