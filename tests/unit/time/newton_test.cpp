@@ -1,8 +1,10 @@
 // Newton's line search and round-off floor on small systems with known solutions.
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <array>
 #include <cmath>
+#include <string>
 
 #include "velum/solve/linear_solver.hpp"
 #include "velum/time/integrators.hpp"
@@ -182,6 +184,74 @@ TEST(Newton, PredictsAlongTheParabolaWhenItDidBetter) {
   for (int k = 3; k < 6; ++k) {
     EXPECT_EQ(reps[k].iterations, 0) << "step " << k + 1;
     EXPECT_LT(reps[k].residuals.front(), 1e-12) << "step " << k + 1;
+  }
+}
+
+// A solver whose first step alone (solve_within with an infinite residual) is its exact
+// solution scaled by `pass_factor`, which reports `reported` as that step's accuracy: an
+// honest one (factor 1 + 1e-3, reported 1e-3), one that says nothing (NaN), and one that lies
+// (a step of zero, reported 1e-3).
+class OnePassSolver final : public LinearSolver {
+ public:
+  double pass_factor = 1, reported = 0;
+  int passes = 0, checked = 0;  ///< solves of the first step alone; the others
+  std::string_view name() const override { return "one-pass"; }
+  bool analyze(const SparseMatrix&) override { return true; }
+  bool factorize(const SparseMatrix& A) override {
+    lu_.compute(Eigen::MatrixXd(A));
+    return true;
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    ++checked;
+    x = lu_.solve(b);
+    return true;
+  }
+  bool solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual) override {
+    if (!std::isinf(residual)) return solve(b, x);
+    ++passes;
+    x = pass_factor * lu_.solve(b);
+    return true;
+  }
+  double one_pass_accuracy() const override { return reported; }
+  bool symmetric_only() const override { return false; }
+
+ private:
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+};
+
+// Far from the root (above ten targets) Newton takes the solver's first step alone while its
+// reported accuracy is within 1e-2 (the honest solver: every correction, the same count as
+// exact solves); a step that does not halve the residual (the lying solver's zero step) turns
+// the checks back on for the rest of the step. Every run converges to the root.
+TEST(Newton, TakesTheSolversFirstStepAloneWhileItHalvesTheResidual) {
+  struct Case {
+    double factor, reported;
+  };
+  for (const Case c : {Case{1 + 1e-3, 1e-3}, Case{1, std::nan("")}, Case{0, 1e-3}}) {
+    CubicSprings sys;  // mildly hardening: every exact Newton correction halves the residual
+    sys.k = {1.0, 1.0};
+    sys.c = {0.1, 0.1};
+    StaticNewton newton;
+    newton.newton.tolerance = 1e-10;
+    newton.newton.max_iterations = 60;
+    newton.newton.line_search = false;
+    OnePassSolver solver;
+    solver.pass_factor = c.factor;
+    solver.reported = c.reported;
+    State s;
+    s.u = s.v = s.a = VecX::Zero(2);
+    const StepReport rep = newton.step(sys, solver, 0.0, 1.0, s);
+    ASSERT_TRUE(rep.converged) << rep.reason;
+    for (int i = 0; i < 2; ++i) EXPECT_NEAR(s.u[i], sys.root(i), 1e-9);
+    if (std::isnan(c.reported)) {
+      EXPECT_EQ(solver.passes, 0);
+    } else if (c.factor == 0) {
+      EXPECT_EQ(solver.passes, 1);  // then checked: one correction lost
+      EXPECT_LE(rep.iterations, 8);
+    } else {
+      EXPECT_EQ(solver.passes, rep.iterations);  // every correction far from the root
+      EXPECT_LE(rep.iterations, 7);              // as many as with exact solves
+    }
   }
 }
 
