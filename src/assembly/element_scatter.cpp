@@ -2,14 +2,21 @@
 
 #include <algorithm>
 #include <array>
+#include <stdexcept>
 
 #include "velum/assembly/assembler.hpp"
 
 namespace velum {
+namespace {
+
+constexpr int kMostNodes = 9;  // the largest element (quad9)
+
+}  // namespace
 
 ElementScatter::ElementScatter(const ElementBlock& b, std::span<const int> elements,
                                const DofMap& dofs, const SparseMatrix& A)
     : nn_(b.nodes_per_element()), nd_(b.dofs_per_element()) {
+  if (nn_ > kMostNodes) throw std::logic_error("ElementScatter: an element with more than 9 nodes");
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
   auto position = [&](int row, int col) {
@@ -27,7 +34,7 @@ ElementScatter::ElementScatter(const ElementBlock& b, std::span<const int> eleme
     int* s = start_.data() + k * per;
     int* L = s + nn_ * nn_;
     bool regular = true;
-    std::array<int, 9> first{};  // a node's first equation (at most 9 nodes)
+    std::array<int, kMostNodes> first{};  // a node's first equation
     for (int a = 0; a < nn_ && regular; ++a) {
       const int e0 = dofs.equation(nodes[a], 0), e1 = dofs.equation(nodes[a], 1),
                 e2 = dofs.equation(nodes[a], 2);

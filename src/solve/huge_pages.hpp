@@ -29,7 +29,8 @@ class HugePageBuffer {
   /// huge pages are asked for: on this machine they made a one-thread run of Hencky n = 130
   /// slower (median 12.9 against 10.0 s wall, the element kernels' memory traffic as well as
   /// the factorisation's) while the split factorisation on two threads gained (7.1 against
-  /// 8.2 s): docs/performance.md section 15.
+  /// 8.2 s): docs/performance.md section 15. Measured again with float panels (section 22):
+  /// one thread at n = 130 4 % less user time, at n = 220 1 s more system time; still off.
   void assign(std::size_t n, bool huge = true) {
     release();
     size_ = n;

@@ -123,7 +123,9 @@ bool SupernodalCholesky::solve_refined(const Eigen::VectorXd& b, Eigen::VectorXd
                                        double enough) {
   solve_with(float_, b, x);
   ++counts_.float_solves;
-  if (std::isinf(enough)) return x.allFinite();  // the first step alone, unchecked
+  // The first step alone, unchecked, when asked; one that is not finite goes on as a checked
+  // solve (refined or, failing that, by the double factor).
+  if (std::isinf(enough) && x.allFinite()) return true;
   double error = backward_error(b, x, r_);
   if (const double bn = b.norm(); bn > 0) float_pass_accuracy_ = r_.norm() / bn;
   // LAPACK's DSPOSV: refined when ‖r‖∞ <= √n ε ‖A‖∞ ‖x‖∞ (ε = 2⁻⁵³).

@@ -12,7 +12,6 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/SparseCore>
 #include <memory>
 #include <span>
 #include <utility>
@@ -23,10 +22,9 @@
 #include "velum/assembly/element_scatter.hpp"
 #include "velum/assembly/model_piece.hpp"
 #include "velum/element/enclosed_volume.hpp"
+#include "velum/math/sparse.hpp"
 
 namespace velum {
-
-using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 /// Loops over every stored entry of a matrix run on all threads above this many entries
 /// (below it a parallel region costs more than it saves).

@@ -1,16 +1,14 @@
 #pragma once
 // Where an element matrix's entries go in the global matrix's values.
-#include <Eigen/SparseCore>
 #include <span>
 #include <vector>
 
 #include "velum/assembly/dof_map.hpp"
+#include "velum/math/sparse.hpp"
 #include "velum/math/types.hpp"
 #include "velum/model/element_block.hpp"
 
 namespace velum {
-
-using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 /// The positions of the listed elements' matrix entries in a compressed-column matrix whose
 /// pattern couples whole nodes. A node's three equations are consecutive and its three

@@ -5,14 +5,13 @@
 // wrong choice is not a failure: CHOLMOD given an unsymmetric matrix throws, and the run stops).
 #pragma once
 
-#include <Eigen/SparseCore>
 #include <memory>
 #include <string>
 #include <string_view>
 
-namespace velum {
+#include "velum/math/sparse.hpp"
 
-using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+namespace velum {
 
 /// kAuto: while the matrix is numerically symmetric (|A - Aᵀ| <= 1e-10 |A|, checked at every
 /// factorisation) a supernodal Cholesky (float panels refined in double from 4e8 flops, as

@@ -3,16 +3,14 @@
 // shifted Jacobian cu ∂r/∂u + cv ∂r/∂v + ca ∂r/∂a. Integrators never see elements.
 #pragma once
 
-#include <Eigen/SparseCore>
 #include <cmath>
 #include <string>
 #include <vector>
 
+#include "velum/math/sparse.hpp"
 #include "velum/math/types.hpp"
 
 namespace velum {
-
-using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 /// A part of the Jacobian kept out of the sparse matrix: the full Jacobian is J + U Wᵀ, with
 /// a few dense columns (an enclosed gas couples every node of its chamber through p(V): one

@@ -227,7 +227,9 @@ TEST(Newton, TakesTheSolversFirstStepAloneWhileItHalvesTheResidual) {
   struct Case {
     double factor, reported;
   };
-  for (const Case c : {Case{1 + 1e-3, 1e-3}, Case{1, std::nan("")}, Case{0, 1e-3}}) {
+  // The solver that reports nothing first: its solves are all exact, the count to match.
+  int exact_iterations = -1;
+  for (const Case c : {Case{1, std::nan("")}, Case{1 + 1e-3, 1e-3}, Case{0, 1e-3}}) {
     CubicSprings sys;  // mildly hardening: every exact Newton correction halves the residual
     sys.k = {1.0, 1.0};
     sys.c = {0.1, 0.1};
@@ -245,12 +247,13 @@ TEST(Newton, TakesTheSolversFirstStepAloneWhileItHalvesTheResidual) {
     for (int i = 0; i < 2; ++i) EXPECT_NEAR(s.u[i], sys.root(i), 1e-9);
     if (std::isnan(c.reported)) {
       EXPECT_EQ(solver.passes, 0);
+      exact_iterations = rep.iterations;
     } else if (c.factor == 0) {
       EXPECT_EQ(solver.passes, 1);  // then checked: one correction lost
-      EXPECT_LE(rep.iterations, 8);
+      EXPECT_LE(rep.iterations, exact_iterations + 1);
     } else {
       EXPECT_EQ(solver.passes, rep.iterations);  // every correction far from the root
-      EXPECT_LE(rep.iterations, 7);              // as many as with exact solves
+      EXPECT_LE(rep.iterations, exact_iterations);
     }
   }
 }
