@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "velum/time/low_rank_solver.hpp"
+#include "velum/time/secant_updates.hpp"
 
 namespace velum {
 namespace {
@@ -92,11 +93,15 @@ double line_search(const SecondOrderSystem& sys, VecX& u, VecX& r, const VecX& d
 // shift coefficients (dynamics, same step size): the first correction is then a chord step
 // with it, and the chord steps go on under the same test as within a step; the first that
 // does not cut the residual tenfold is followed by a fresh tangent at once.
+//
+// `secant` (statics): on a factorisation known to be positive definite, the chord steps are
+// quasi-Newton ones, its inverse updated by the corrections taken since it was made (BFGS),
+// and go on while each cuts the residual to kSecantGain of the last.
 template <class Evaluate>
 StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver,
                           const NewtonSettings& ns, bool search_by_default, bool carried,
-                          const VecX& u_start, VecX& u, VecX& r, VecX& du, SparseMatrix& J,
-                          const Evaluate& evaluate) {
+                          SecantUpdates* secant, const VecX& u_start, VecX& u, VecX& r, VecX& du,
+                          SparseMatrix& J, const Evaluate& evaluate) {
   const bool search = ns.line_search.value_or(search_by_default);
   StepReport rep;
   double ref = 0, start = 0, dn = 0, dn_prev = 0, s0 = 0;
@@ -114,6 +119,20 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
   // correction a Newton one. With its residual evaluated first, such an iterate needs no
   // tangent at all.
   constexpr double kChordGain = 0.1;
+  // With secant updates the chord steps converge superlinearly (each pair corrects the old
+  // tangent along the direction just taken), so one that cuts the residual to 0.7 of the last
+  // is worth another: on the Hencky membrane (n = 130, static) a gain of 0.1 kept 22
+  // factorisations, 0.5 19 and 0.7 17; 0.9 accepted slow linear tails (the prestressed
+  // square's second step: 36 corrections against 8) (docs/performance.md, section 23).
+  constexpr double kSecantGain = 0.7;
+  // BFGS keeps a positive definite inverse positive definite; on an indefinite tangent (past a
+  // limit point: one negative pivot on the airbag) its pairs of small or negative curvature
+  // make the corrections hang on round-off (one and two processes parted within a step),
+  // and an inertia that is not known (LU, a low-rank gas term) is not taken as definite.
+  SecantUpdates* pairs = nullptr;  // `secant` while the factorisation at hand is definite
+  auto chord_solve = [&](const VecX& b, VecX& x, double residual) {
+    return pairs ? pairs->solve(sys, solver, b, x, residual) : solver.solve_within(b, x, residual);
+  };
   // The linear solves' forcing term: their residual against the Newton residual's (below).
   constexpr double kForcing = 1e-3;
   // Far from the solution (the residual above ten targets) a correction takes the first step
@@ -126,7 +145,9 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
   // solution are checked whatever the solver's record.
   constexpr double kPassAccuracy = 1e-2;
   bool pass_trusted = true, last_unchecked = false;
-  auto fell_fast = [&](int k) { return rep.residuals[k] <= kChordGain * rep.residuals[k - 1]; };
+  auto fell_fast = [&](int k) {
+    return rep.residuals[k] <= (pairs ? kSecantGain : kChordGain) * rep.residuals[k - 1];
+  };
   // Stagnation: Newton that has not halved its best residual in kStagnationWindow iterations
   // is wandering, not converging (quadratic or even linear convergence halves it in a few);
   // with a large max_iterations it would otherwise run on for as long as it is allowed.
@@ -151,16 +172,19 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
       evaluate(u, r, &J);
       have_tangent = true;
       dn_prev = 0;
+      if (pairs) pairs->cancel();
     }
     if (it > 0 && search && s0 < 0) {
       const double alpha = line_search(sys, u, r, du, s0, evaluate);
       if (alpha != 1) {
         evaluate(u, r, &J);  // the tangent at the point accepted
         have_tangent = true;
+        if (pairs) pairs->cancel();
         dn *= alpha;
         dn_prev = 0;  // a cut step says nothing about the contraction
       }
     }
+    if (pairs) pairs->close(sys, du, r);  // the last correction, taken in full
     const double rn = sys.norm(r);
     rep.residuals.push_back(rn);
     if (last_unchecked && !(rn <= 0.5 * rep.residuals[it - 1])) pass_trusted = false;
@@ -204,14 +228,16 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
     // contraction θ = ‖du_k‖/‖du_k−1‖ (conservative while convergence is quadratic), so a
     // last, confirming solve is not needed once the corrections collapse.
     const double theta = contraction();
-    const double distance = theta < 0.5 ? dn * theta / (1 - theta) : dn;
-    bool chord_ready = false;  // du holds −J⁻¹ r with the factorisation at hand
+    // Slower (quasi-Newton corrections may contract by up to kSecantGain) it is measured.
+    const double distance =
+        theta < 0.5 ? dn * theta / (1 - theta) : std::numeric_limits<double>::infinity();
+    bool chord_ready = false;  // du holds −J⁻¹ r (−H r) with the factorisation at hand
     if (it > 0 && (rn <= target || at_floor)) {
       const double limit = allowed();
       // That bound is loose while convergence is quadratic (3.8e-8 against a next correction
       // of 2.5e-11 on the Hencky membrane): before paying for a factorisation, measure the
       // distance J⁻¹ r with the one already made (a back-substitution).
-      if (distance > limit) chord_ready = solver.solve(-r, du);
+      if (distance > limit) chord_ready = chord_solve(-r, du, 0);
       if (distance <= limit || (chord_ready && sys.norm(du) <= limit)) {
         rep.converged = true;
         return rep;
@@ -227,12 +253,15 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
     const double enough =
         unchecked ? std::numeric_limits<double>::infinity() : std::max(kForcing * rn, 0.1 * target);
     const bool chord = may_chord && !have_tangent && (it == 0 || fell_fast(it)) &&
-                       (chord_ready || solver.solve_within(-r, du, enough)) && sys.all_finite(du);
+                       (chord_ready || chord_solve(-r, du, enough)) && sys.all_finite(du);
     if (!chord) {
       if (!have_tangent) evaluate(u, r, &J);
       if (!newton_solve(sys, solver, J, r, du, rep.reason, enough)) return rep;
       ++rep.factorizations;
+      pairs = secant && solver.negative_pivots() == 0 ? secant : nullptr;
+      if (pairs) pairs->clear();
     }
+    if (pairs) pairs->open(r);
     last_unchecked = unchecked && !chord_ready;
     s0 = sys.dot(du, r);
     u += du;
@@ -321,8 +350,8 @@ StepReport GeneralizedAlpha::step(SecondOrderSystem& sys, LinearSolver& solver, 
   const bool carried = newton.reuse_across_steps && solver.factorizations() == carried_count_ &&
                        carried_shift_ == Vec3(cu, cv, ca) && J_.rows() == un_.size() &&
                        last_factorizations_ <= 1;
-  StepReport rep = newton_iterate(sys, *low_rank_, newton, false, carried, un_, u, r_, du_, J_,
-                                  [&](const VecX& x, VecX& r, SparseMatrix* J) {
+  StepReport rep = newton_iterate(sys, *low_rank_, newton, false, carried, nullptr, un_, u, r_, du_,
+                                  J_, [&](const VecX& x, VecX& r, SparseMatrix* J) {
                                     kinematics(x);
                                     uf_ = (1 - alpha_f) * x + alpha_f * un_;
                                     vf_ = (1 - alpha_f) * v + alpha_f * vn_;
@@ -463,7 +492,8 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
   auto solve_from = [&](VecX& u) {
     // Every solve, Newton or chord, with the system's low-rank Jacobian part (enclosed gas).
     LowRankCorrectedSolver low_rank(solver, sys);
-    StepReport rep = newton_iterate(sys, low_rank, newton, true, false, s.u, u, r_, du_, J_,
+    StepReport rep = newton_iterate(sys, low_rank, newton, true, false,
+                                    newton.reuse_tangent ? &secant_ : nullptr, s.u, u, r_, du_, J_,
                                     [&](const VecX& x, VecX& r, SparseMatrix* J) {
                                       sys.evaluate(t + h, x, zero_, zero_, 1.0, 0.0, 0.0, r, J);
                                     });

@@ -11,6 +11,7 @@
 
 #include "velum/solve/linear_solver.hpp"
 #include "velum/time/low_rank_solver.hpp"
+#include "velum/time/secant_updates.hpp"
 #include "velum/time/second_order_system.hpp"
 
 namespace velum {
@@ -28,7 +29,9 @@ struct NewtonSettings {
   /// the correction is no potential's, and on the C9 canopy it doubled the iterations).
   std::optional<bool> line_search;
   /// Reuse the last factorisation for the next correction while the residual falls tenfold
-  /// per correction (a chord step); false: a fresh tangent at every iteration.
+  /// per correction (a chord step); false: a fresh tangent at every iteration. Statics, on a
+  /// factorisation known to be positive definite: the chord steps are quasi-Newton ones (its
+  /// inverse with BFGS updates, SecantUpdates) and go on while each cuts the residual to 0.7.
   bool reuse_tangent = true;
   /// Dynamics (with reuse_tangent): a step of the same size as the last starts with chord
   /// steps on the last step's factorisation, under the same tenfold test.
@@ -144,6 +147,7 @@ class StaticNewton : public TimeIntegrator {
                 const VecX& u, const StepReport& rep);
 
   bool extrapolate_;
+  SecantUpdates secant_;  ///< the chord steps' quasi-Newton pairs, their storage kept
   VecX r_, du_, zero_;
   SparseMatrix J_;                        ///< kept between steps: its pattern is allocated once
   VecX u_prev_, u_prev2_;                 ///< converged states before the last two accepted steps

@@ -31,6 +31,8 @@ class LowRankCorrectedSolver final : public LinearSolver {
     return Z_.cols() > 0 ? 0.0 : sparse_.one_pass_accuracy();
   }
   bool symmetric_only() const override { return sparse_.symmetric_only(); }
+  /// The wrapped solver's while there is no low-rank part (with one: not known).
+  int negative_pivots() const override { return Z_.cols() > 0 ? -1 : sparse_.negative_pivots(); }
   std::string status() const override;
   const LinearSolver& wrapped() const { return sparse_; }
   const SecondOrderSystem& system() const { return sys_; }
