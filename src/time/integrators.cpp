@@ -228,9 +228,11 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
     // contraction θ = ‖du_k‖/‖du_k−1‖ (conservative while convergence is quadratic), so a
     // last, confirming solve is not needed once the corrections collapse.
     const double theta = contraction();
-    // Slower (quasi-Newton corrections may contract by up to kSecantGain) it is measured.
-    const double distance =
-        theta < 0.5 ? dn * theta / (1 - theta) : std::numeric_limits<double>::infinity();
+    // Slower, or not known, ‖du‖ itself; where quasi-Newton corrections may contract by as
+    // little as kSecantGain (more than ‖du‖ left) it is measured instead.
+    const double distance = theta < 0.5 ? dn * theta / (1 - theta)
+                            : pairs     ? std::numeric_limits<double>::infinity()
+                                        : dn;
     bool chord_ready = false;  // du holds −J⁻¹ r (−H r) with the factorisation at hand
     if (it > 0 && (rn <= target || at_floor)) {
       const double limit = allowed();
