@@ -31,7 +31,8 @@ struct NewtonSettings {
   /// Reuse the last factorisation for the next correction while the residual falls tenfold
   /// per correction (a chord step); false: a fresh tangent at every iteration. Statics, on a
   /// factorisation known to be positive definite: the chord steps are quasi-Newton ones (its
-  /// inverse with BFGS updates, SecantUpdates) and go on while each cuts the residual to 0.7.
+  /// inverse with BFGS updates, SecantUpdates) and go on while each cuts the residual to 0.7
+  /// (from the second on, also to max(0.6, the first one's cut)).
   bool reuse_tangent = true;
   /// Dynamics (with reuse_tangent): a step of the same size as the last starts with chord
   /// steps on the last step's factorisation, under the same tenfold test.
