@@ -263,10 +263,20 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
     // kForcing ‖r‖ keeps convergence at least that fast, and one below a tenth of the target
     // cannot keep the next residual above it. Hencky quad4 n = 130 with float panels: the same
     // 31 corrections and answer, 12% less CPU (docs/performance.md, section 21).
-    const bool unchecked =
-        pass_trusted && rn > 10 * target && solver.one_pass_accuracy() <= kPassAccuracy;
+    // Far from the solution, while the solver's first step has not been measured yet (the
+    // first solve with a float factor), the forcing term is Eisenstat & Walker's first one,
+    // 0.5 (SIAM J. Sci. Comput. 17, 1996): a stress-free sheet's first tangent is so badly
+    // conditioned that the float factor's first step misses 1e-3 and its refinement stalls,
+    // and the double factorisation it then falls back to (with the next one in double too)
+    // buys a first correction that the line search cuts to 1.4 % anyway. Hencky n = 220: the
+    // same answer, 7 → 6 factorisations in the first increment (none in double), 25.8-26.0 →
+    // 23.9-24.1 s; n = 130 (its first step met 1e-3 after three refinements): the same
+    // corrections (docs/performance.md, section 23).
+    const double pass_accuracy = solver.one_pass_accuracy();
+    const bool unchecked = pass_trusted && rn > 10 * target && pass_accuracy <= kPassAccuracy;
+    const double forcing = rn > 10 * target && std::isnan(pass_accuracy) ? 0.5 : kForcing;
     const double enough =
-        unchecked ? std::numeric_limits<double>::infinity() : std::max(kForcing * rn, 0.1 * target);
+        unchecked ? std::numeric_limits<double>::infinity() : std::max(forcing * rn, 0.1 * target);
     const bool chord = may_chord && !have_tangent && (it == 0 || fell_fast(it)) &&
                        (chord_ready || chord_solve(-r, du, enough)) && sys.all_finite(du);
     if (!chord) {

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "velum/solve/linear_solver.hpp"
 #include "velum/time/integrators.hpp"
@@ -256,6 +257,59 @@ TEST(Newton, TakesTheSolversFirstStepAloneWhileItHalvesTheResidual) {
       EXPECT_LE(rep.iterations, exact_iterations);
     }
   }
+}
+
+// A solver that records what each solve is asked for (the linear residual allowed against
+// the right-hand side's norm) and reports its first step's accuracy as not measured (NaN)
+// until it has solved once, as a float factor does, then as 0.05 (too loose for unchecked
+// first steps: every correction is a checked solve).
+class RecordingSolver final : public LinearSolver {
+ public:
+  std::vector<double> asked;  ///< residual allowed / ‖b‖, per solve_within
+  std::string_view name() const override { return "recording"; }
+  bool analyze(const SparseMatrix&) override { return true; }
+  bool factorize(const SparseMatrix& A) override {
+    lu_.compute(Eigen::MatrixXd(A));
+    return true;
+  }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    x = lu_.solve(b);
+    return true;
+  }
+  bool solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual) override {
+    asked.push_back(residual / b.norm());
+    return solve(b, x);
+  }
+  double one_pass_accuracy() const override { return asked.empty() ? std::nan("") : 0.05; }
+  bool symmetric_only() const override { return false; }
+
+ private:
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+};
+
+// Far from the root, while the solver's first step is not measured, a correction asks for half
+// the residual (Eisenstat and Walker's first forcing term) instead of a thousandth: a float
+// factor whose refinement stalls on a badly conditioned first tangent is then not replaced by
+// a double one for a correction the line search cuts anyway. Once the solver has measured its
+// step, the corrections are held to a thousandth as before; the root is the same.
+TEST(Newton, AsksForHalfTheResidualOfAnUnmeasuredSolverFarFromTheRoot) {
+  CubicSprings sys;
+  sys.k = {1.0, 1.0};
+  sys.c = {0.1, 0.1};
+  StaticNewton newton;
+  newton.newton.tolerance = 1e-10;
+  newton.newton.line_search = false;
+  newton.newton.reuse_tangent = false;
+  RecordingSolver solver;
+  State s;
+  s.u = s.v = s.a = VecX::Zero(2);
+  const StepReport rep = newton.step(sys, solver, 0.0, 1.0, s);
+  ASSERT_TRUE(rep.converged) << rep.reason;
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(s.u[i], sys.root(i), 1e-9);
+  ASSERT_GE(solver.asked.size(), 3U);
+  EXPECT_NEAR(solver.asked.front(), 0.5, 1e-12);
+  for (std::size_t k = 1; k < solver.asked.size(); ++k)
+    EXPECT_LE(solver.asked[k], 1e-3 * (1 + 1e-12)) << "solve " << k;
 }
 
 // Newton on u³ − 2u + 2 = 0 from u = 0 cycles between 0 and 1 for ever (the textbook cycle):
