@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "dense_solver.hpp"
 #include "velum/solve/linear_solver.hpp"
 #include "velum/time/integrators.hpp"
 
@@ -192,20 +193,13 @@ TEST(Newton, PredictsAlongTheParabolaWhenItDidBetter) {
 // solution scaled by `pass_factor`, which reports `reported` as that step's accuracy: an
 // honest one (factor 1 + 1e-3, reported 1e-3), one that says nothing (NaN), and one that lies
 // (a step of zero, reported 1e-3).
-class OnePassSolver final : public LinearSolver {
+class OnePassSolver final : public test::DenseSolver {
  public:
   double pass_factor = 1, reported = 0;
   int passes = 0, checked = 0;  ///< solves of the first step alone; the others
-  std::string_view name() const override { return "one-pass"; }
-  bool analyze(const SparseMatrix&) override { return true; }
-  bool factorize(const SparseMatrix& A) override {
-    lu_.compute(Eigen::MatrixXd(A));
-    return true;
-  }
   bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
     ++checked;
-    x = lu_.solve(b);
-    return true;
+    return DenseSolver::solve(b, x);
   }
   bool solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual) override {
     if (!std::isinf(residual)) return solve(b, x);
@@ -214,10 +208,6 @@ class OnePassSolver final : public LinearSolver {
     return true;
   }
   double one_pass_accuracy() const override { return reported; }
-  bool symmetric_only() const override { return false; }
-
- private:
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
 
 // Far from the root (above ten targets) Newton takes the solver's first step alone while its
@@ -263,28 +253,14 @@ TEST(Newton, TakesTheSolversFirstStepAloneWhileItHalvesTheResidual) {
 // the right-hand side's norm) and reports its first step's accuracy as not measured (NaN)
 // until it has solved once, as a float factor does, then as 0.05 (too loose for unchecked
 // first steps: every correction is a checked solve).
-class RecordingSolver final : public LinearSolver {
+class RecordingSolver final : public test::DenseSolver {
  public:
   std::vector<double> asked;  ///< residual allowed / ‖b‖, per solve_within
-  std::string_view name() const override { return "recording"; }
-  bool analyze(const SparseMatrix&) override { return true; }
-  bool factorize(const SparseMatrix& A) override {
-    lu_.compute(Eigen::MatrixXd(A));
-    return true;
-  }
-  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
-    x = lu_.solve(b);
-    return true;
-  }
   bool solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual) override {
     asked.push_back(residual / b.norm());
     return solve(b, x);
   }
   double one_pass_accuracy() const override { return asked.empty() ? std::nan("") : 0.05; }
-  bool symmetric_only() const override { return false; }
-
- private:
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
 
 // Far from the root, while the solver's first step is not measured, a correction asks for half

@@ -10,30 +10,17 @@
 #include <random>
 #include <string>
 
+#include "dense_solver.hpp"
 #include "velum/time/integrators.hpp"
 
 namespace velum {
 namespace {
 
-// A dense solver of the matrix it factorised, which reports the inertia it is told to.
-class DenseSolver final : public LinearSolver {
+// The dense solver, reporting the inertia it is told to.
+class DenseSolver final : public test::DenseSolver {
  public:
   int inertia = 0;  ///< what negative_pivots() reports (-1: not known)
-  std::string_view name() const override { return "dense"; }
-  bool analyze(const SparseMatrix&) override { return true; }
-  bool factorize(const SparseMatrix& A) override {
-    lu_.compute(Eigen::MatrixXd(A));
-    return true;
-  }
-  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
-    x = lu_.solve(b);
-    return true;
-  }
-  bool symmetric_only() const override { return false; }
   int negative_pivots() const override { return inertia; }
-
- private:
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
 
 // Only its vector algebra is used here (one process: dot is the plain one).
