@@ -155,8 +155,13 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
   constexpr double kSecantSlow = 0.6;
   int quasi_steps = 0;  // taken since the last factorisation
   double first_quasi_ratio = 0;
-  std::vector<double> gains;  // the cut each iteration's residual is held to
-  auto fell_fast = [&](int k) { return rep.residuals[k] <= gains[k] * rep.residuals[k - 1]; };
+  double gain = kChordGain;  // the cut the latest residual is held to
+  // Whether the latest residual fell by `gain` from the one before (where the tests below ask,
+  // the latest is always the one in question).
+  auto fell_fast = [&] {
+    const size_t k = rep.residuals.size() - 1;
+    return rep.residuals[k] <= gain * rep.residuals[k - 1];
+  };
   // Stagnation: Newton that has not halved its best residual in kStagnationWindow iterations
   // is wandering, not converging (quadratic or even linear convergence halves it in a few);
   // with a large max_iterations it would otherwise run on for as long as it is allowed.
@@ -171,7 +176,7 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
     const double theta_now = contraction();
     const bool likely_last = it >= 2 && theta_now < 0.5 && dn * theta_now * theta_now <= allowed();
     const bool may_chord = ns.reuse_tangent && (rep.factorizations > 0 || carried) &&
-                           (it == 0 ? carried : it == 1 || fell_fast(it - 1));
+                           (it == 0 ? carried : it == 1 || fell_fast());
     bool have_tangent = !likely_last && !may_chord;
     evaluate(u, r, have_tangent ? &J : nullptr);
     // A carried factorisation whose chord step raised the residual belongs to a state too
@@ -196,10 +201,9 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
     if (pairs) pairs->close(sys, du, r);  // the last correction, taken in full
     const double rn = sys.norm(r);
     rep.residuals.push_back(rn);
-    double gain = pairs ? kSecantGain : kChordGain;
+    gain = pairs ? kSecantGain : kChordGain;
     if (pairs && quasi_steps == 1) first_quasi_ratio = rn / rep.residuals[it - 1];
     if (pairs && quasi_steps >= 2) gain = std::min(gain, std::max(kSecantSlow, first_quasi_ratio));
-    gains.push_back(gain);
     if (last_unchecked && !(rn <= 0.5 * rep.residuals[it - 1])) pass_trusted = false;
     if (!std::isfinite(rn)) {
       rep.reason = fmt::format("non-finite residual at Newton iteration {}", it);
@@ -273,11 +277,12 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
     // 23.9-24.1 s; n = 130 (its first step met 1e-3 after three refinements): the same
     // corrections (docs/performance.md, section 23).
     const double pass_accuracy = solver.one_pass_accuracy();
-    const bool unchecked = pass_trusted && rn > 10 * target && pass_accuracy <= kPassAccuracy;
-    const double forcing = rn > 10 * target && std::isnan(pass_accuracy) ? 0.5 : kForcing;
+    const bool far = rn > 10 * target;
+    const bool unchecked = pass_trusted && far && pass_accuracy <= kPassAccuracy;
+    const double forcing = far && std::isnan(pass_accuracy) ? 0.5 : kForcing;
     const double enough =
         unchecked ? std::numeric_limits<double>::infinity() : std::max(forcing * rn, 0.1 * target);
-    const bool chord = may_chord && !have_tangent && (it == 0 || fell_fast(it)) &&
+    const bool chord = may_chord && !have_tangent && (it == 0 || fell_fast()) &&
                        (chord_ready || chord_solve(-r, du, enough)) && sys.all_finite(du);
     if (!chord) {
       if (!have_tangent) evaluate(u, r, &J);

@@ -34,7 +34,6 @@ bool SecantUpdates::solve(const SecondOrderSystem& sys, LinearSolver& solver, co
                           VecX& x, double residual) {
   if (count_ == 0) return solver.solve_within(b, x, residual);
   // Two loops over the pairs, newest first, then oldest first, around the factor's solve.
-  alpha_.resize(capacity_);
   q_ = b;
   auto slot = [&](int k) { return (newest_ - k + capacity_) % capacity_; };  // k-th newest
   for (int k = 0; k < count_; ++k) {

@@ -17,7 +17,7 @@ namespace velum {
 class SecantUpdates {
  public:
   /// At most `capacity` pairs; the oldest is dropped for a new one beyond that.
-  explicit SecantUpdates(int capacity = 10) : capacity_(capacity) {}
+  explicit SecantUpdates(int capacity = 10) : capacity_(capacity), alpha_(capacity) {}
 
   /// Forgets every pair (a fresh factorisation: they described the old one's error).
   void clear() { count_ = 0, open_ = false; }
@@ -42,7 +42,8 @@ class SecantUpdates {
   int count_ = 0, newest_ = -1;  // pairs held, and the slot of the newest
   bool open_ = false;
   std::vector<VecX> s_, y_;  // allocated once, slot by slot as first used
-  std::vector<double> rho_, alpha_;
+  std::vector<double> rho_;
+  std::vector<double> alpha_;  // the two-loop recursion's, one per slot
   VecX r_open_, q_;
 };
 
