@@ -113,8 +113,10 @@ struct LawPoints {
 /// An element's integration points and the rule they belong to.
 template <class Shape>
 struct MembranePoints {
-  std::array<MembranePoint<Shape>, Shape::kPoints> at;
+  /// First: the kernels read it before the points, and a record read from its head on is one
+  /// the memory's prefetcher follows (at the tail it was 43 % of the force kernel's samples).
   const PointShapes<Shape>* shapes = nullptr;  ///< set by Membrane::setup
+  std::array<MembranePoint<Shape>, Shape::kPoints> at;
   MembranePoint<Shape>& operator[](int q) { return at[q]; }
   const MembranePoint<Shape>& operator[](int q) const { return at[q]; }
 };
