@@ -108,6 +108,8 @@ class EnergyAccount {
   }
   /// Kinetic + strain + damping energy, changes since the start.
   double held(const Energies& E) const { return E.kinetic + E.strain + E.damping - held0_; }
+  /// What was held at the start (held() is a change from it).
+  double held_start() const { return held0_; }
   double work_scale() const { return work_scale_; }
   /// Whether the balance is a test: in dynamics. Static load steps are equilibria in between
   /// which the trapezoidal work is only as good as the steps are fine (a softening truss in
@@ -281,7 +283,7 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
     }
     const NodePositions U = energy.step(st, cur, E);
     implausible = plausible.check(st.t, U, cur, energy.balanced(), energy.held(E), E.external_work,
-                                  energy.work_scale());
+                                  energy.work_scale(), energy.held_start());
     if (!implausible.empty()) return false;
     current = &st, current_state = &cur;
     return !observer ||
@@ -308,7 +310,7 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
   }
   if (result.loop.completed && energy.balanced())
     plausible.final_balance(result.loop.t, energy.held(E), E.external_work, energy.work_scale(),
-                            warn);
+                            warn, energy.held_start());
   result.solver = std::string(solver->name());  // what `auto` settled on
   result.factorizations = solver->factorizations();
   result.analyses = solver->analyses();

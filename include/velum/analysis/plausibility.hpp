@@ -32,14 +32,15 @@ class PlausibilityCheck {
   explicit PlausibilityCheck(const Model& model, PlausibilityLimits limits = {});
   /// After an accepted step at t: U the full displacements; with `energy`, `held` the energy
   /// in the system and dissipated (changes since the start), `work` the work done on it and
-  /// `work_scale` the sum of the magnitudes of its increments. Empty when plausible, else why
-  /// not (the run fails).
+  /// `work_scale` the sum of the magnitudes of its increments, `held_start` the energy held at
+  /// the start (`held` is a difference from it, and carries its round-off). Empty when
+  /// plausible, else why not (the run fails).
   std::string check(double t, const NodePositions& U, const State& s, bool energy, double held,
-                    double work, double work_scale) const;
+                    double work, double work_scale, double held_start = 0) const;
   /// The balance at the end of a run that completed: a warning (to `warn`) when the solution
   /// created more than energy_warn of the work.
   void final_balance(double t, double held, double work, double work_scale,
-                     const std::function<void(std::string)>& warn) const;
+                     const std::function<void(std::string)>& warn, double held_start = 0) const;
   double model_size() const { return size_; }
   /// Several processes: each holds the displacements of its own nodes only; the checks
   /// count each node on the process keeping it (Assembler::keeps_node) and reduce.
