@@ -114,9 +114,10 @@ template <class Law>
 [[gnu::flatten]] void Membrane<Shape>::force_tangent(const Points& pts, const Law& law,
                                                      const Nodes& x, Vector& r, Matrix& K) {
   Eigen::Matrix<double, 3, kN> rn = Eigen::Matrix<double, 3, kN>::Zero();
-  K.setZero();
   NodeMatrix Kg = NodeMatrix::Zero();
-  Eigen::Matrix<double, kDofs, 3> Bt;  // Bᵀ, column-major: K += (Bᵀ D) B vectorises down columns
+  // K = Σ_q B_qᵀ D_q B_q as one product P Qᵀ, P = [B_0ᵀ D_0 ...], Q = [B_0ᵀ ...]: K's entries
+  // stay in registers through the sum instead of being loaded and stored once a point.
+  Eigen::Matrix<double, kDofs, 3 * kQ> P, Q;
   Mat3 scratch;
   for (int q = 0; q < kQ; ++q) {
     const auto& p = pts[q];
@@ -127,17 +128,18 @@ template <class Law>
     Mat2 Sm;
     Sm << S[0], S[2], S[2], S[1];
     rn.noalias() += (g * Sm) * dN.transpose();
-    // B: rows d(γ11), d(γ22), d(2γ12) with respect to x_N (stored transposed).
+    // Bᵀ: columns d(γ11), d(γ22), d(2γ12) with respect to x_N.
+    auto Bt = Q.template middleCols<3>(3 * q);
     for (int n = 0; n < kN; ++n) {
       const double a = dN(n, 0), b = dN(n, 1);
       Bt.template block<3, 1>(3 * n, 0) = a * g.col(0);
       Bt.template block<3, 1>(3 * n, 1) = b * g.col(1);
       Bt.template block<3, 1>(3 * n, 2) = a * g.col(1) + b * g.col(0);
     }
-    const Eigen::Matrix<double, kDofs, 3> BtD = Bt * D;
-    K.noalias() += BtD.lazyProduct(Bt.transpose());  // coefficient-based: no GEMM dispatch
+    P.template middleCols<3>(3 * q).noalias() = Bt * D;
     Kg.noalias() += dN * Sm * dN.transpose();
   }
+  K.noalias() = P.lazyProduct(Q.transpose());  // coefficient-based: no GEMM dispatch
   for (int m = 0; m < kN; ++m)
     for (int n = 0; n < kN; ++n)
       K.template block<3, 3>(3 * m, 3 * n).diagonal().array() += Kg(m, n);
