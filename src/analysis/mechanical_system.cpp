@@ -298,11 +298,13 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
           sum += std::abs(jv[k] * x_eq_[inner[k]]);
           jv[k] = cu * jv[k] + cm * mv[k];
         }
-      } else {
+      } else if (cu != 1) {
         for (int k = outer[j]; k < outer[j + 1]; ++k) {
           sum += std::abs(jv[k] * x_eq_[inner[k]]);
           jv[k] *= cu;
         }
+      } else {  // statics: J is K − Kp as assembled, and a pass that writes nothing is faster
+        for (int k = outer[j]; k < outer[j + 1]; ++k) sum += std::abs(jv[k] * x_eq_[inner[k]]);
       }
       noise_eq_[j] = sum;
     }

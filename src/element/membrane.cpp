@@ -160,9 +160,10 @@ template <class Law>
 }
 
 template <class Shape>
-bool Membrane<Shape>::keeps_orientation(const Points& pts, const Nodes& from, const Nodes& to) {
+bool Membrane<Shape>::keeps_orientation(const PointShapes<Shape>& shapes, const Nodes& from,
+                                        const Nodes& to) {
   for (int q = 0; q < kQ; ++q) {
-    const auto& dN = pts.shapes->dN[q];
+    const auto& dN = shapes.dN[q];
     const Eigen::Matrix<double, 3, 2> g0 = from * dN, g1 = to * dN;
     if (!(g0.col(0).cross(g0.col(1)).dot(g1.col(0).cross(g1.col(1))) > 0)) return false;
   }

@@ -187,9 +187,9 @@ class MembraneBlock final : public ElementBlock {
   }
   int first_inverted(std::span<const int> elements, const NodePositions& from,
                      const NodePositions& to) const override {
+    const auto& shapes = PointShapes<Shape>::of(integration_);  // every element's rule
     for (int e : elements)
-      if (!K::keeps_orientation(points_[slot(e)], gather<kN>(from, nodes(e)),
-                                gather<kN>(to, nodes(e))))
+      if (!K::keeps_orientation(shapes, gather<kN>(from, nodes(e)), gather<kN>(to, nodes(e))))
         return e;
     return -1;
   }

@@ -176,8 +176,10 @@ struct Membrane {
   /// Whether the surface normal g1 x g2 at every point of configuration `to` is non-zero and
   /// within 90° of its direction in `from`: a surface that turns inside out between two
   /// nearby states (a step) passes through zero area on the way. Not part of the force
-  /// kernels (a separate pass, once per state checked).
-  static bool keeps_orientation(const Points& pts, const Nodes& from, const Nodes& to);
+  /// kernels (a separate pass, once per state checked). It needs only the block's rule, not
+  /// the points' records (a pass that reads them misses the cache once an element).
+  static bool keeps_orientation(const PointShapes<Shape>& shapes, const Nodes& from,
+                                const Nodes& to);
   /// Consistent mass per unit density (scalar n x n, to be multiplied by ρ and I3).
   static NodeMatrix mass(const Points& pts);
 
