@@ -16,7 +16,6 @@ constexpr int kChunk = 16;             // elements per kernel call, and the colo
 constexpr int kMinParallelChunks = 8;  // chunks per colour worth a parallel region
 constexpr int kParallelPatternNodes = 20000;  // nodes worth building the pattern on all threads
 // A pass with no load vectors alongside (see Assembler::run).
-constexpr auto kNoLoad = [](std::span<const int>, double*, double*) { return false; };
 
 // Rotates the rows/cols of framed nodes into their local frames (in place).
 void to_local_frames(const DofMap& dofs, std::span<const int> nodes, double* r, double* K,
@@ -296,10 +295,10 @@ void Assembler::make_matrix(SparseMatrix& A) const {
   for (Eigen::Index i = 0; i < n; ++i) values[i] = 0.0;
 }
 
-template <class Compute, class Load>
+template <class Compute>
 void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const Compute& compute,
-                    const Load& load, bool tangent, NodePositions& F, NodePositions* Fload,
-                    SparseMatrix* K, double matrix_sign) const {
+                    bool tangent, NodePositions& F, NodePositions* Fload, SparseMatrix* K,
+                    double matrix_sign) const {
   const auto& b = *model_.blocks[bi];
   // Element buffers per thread, sized for the largest element once and reused by every call.
   const int threads = omp_get_max_threads();
@@ -331,8 +330,8 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
         const int first = c * kChunk;
         const int count = std::min<int>(kChunk, static_cast<int>(list.size()) - first);
         std::span<const int> elems(list.data() + first, count);
-        compute(elems, buf.r.data(), tangent ? buf.K.data() : nullptr);
-        const bool loaded = load(elems, buf.r_load.data(), tangent ? buf.K_load.data() : nullptr);
+        const bool loaded = compute(elems, buf.r.data(), tangent ? buf.K.data() : nullptr,
+                                    buf.r_load.data(), tangent ? buf.K_load.data() : nullptr);
         for (int k = 0; k < count; ++k) {
           const int e = elems[k];
           const auto nodes = b.nodes(e);
@@ -375,10 +374,12 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
     const double p = bi < block_pressure.size() ? block_pressure[bi] : 0.0;
     run(
         static_cast<int>(bi), colors_[bi],
-        [&](std::span<const int> elems, double* r, double* Ke) { b.internal(elems, x, r, Ke); },
-        [&](std::span<const int> elems, double* f, double* Kp) {
-          if (p == 0) return false;
-          b.pressure(elems, x, p, f, Kp);
+        [&](std::span<const int> elems, double* r, double* Ke, double* f, double* Kp) {
+          if (p == 0) {
+            b.internal(elems, x, r, Ke);
+            return false;
+          }
+          b.internal_and_pressure(elems, x, p, r, Ke, f, Kp);
           return true;
         },
         K != nullptr, F, &Fp, K, 1.0);
@@ -397,13 +398,14 @@ void Assembler::pressure(int i, double p, const NodePositions& x, NodePositions&
   // Forces add to Fext; the load stiffness enters the residual r = f_int − f_ext negated.
   run(
       load.block, pressure_colors_[i],
-      [&](std::span<const int> elems, double* r, double* Ke) {
+      [&](std::span<const int> elems, double* r, double* Ke, double*, double*) {
         if (load.fixed_direction)
           b.directed_pressure(elems, x, p, load.direction, load.projected, r, Ke);
         else
           b.pressure(elems, x, p, r, Ke);
+        return false;
       },
-      kNoLoad, K != nullptr, F, nullptr, K, -1.0);
+      K != nullptr, F, nullptr, K, -1.0);
   if (shared()) {
     reduce(scratch_);
     Fext += scratch_;
@@ -431,10 +433,11 @@ void Assembler::gas_derivatives(int i, const NodePositions& x, double scale, Nod
     // The residual r = f_int − f_ext holds −scale ∂²V/∂x²: the kernel scales, run negates.
     run(
         block, part.colors,
-        [&](std::span<const int> elems, double* a, double* H) {
+        [&](std::span<const int> elems, double* a, double* H, double*, double*) {
           part.kernel->derivatives(elems, conn, x, gas.origin, scale, a, H);
+          return false;
         },
-        kNoLoad, K != nullptr, A, nullptr, K, -1.0);
+        K != nullptr, A, nullptr, K, -1.0);
   }
   reduce(A);
 }

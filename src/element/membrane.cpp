@@ -111,6 +111,29 @@ template <class Law>
 
 template <class Shape>
 template <class Law>
+[[gnu::flatten]] void Membrane<Shape>::force_and_pressure(const Points& pts, const Law& law,
+                                                          const Nodes& x, double pr, Vector& r,
+                                                          Vector& f) {
+  Eigen::Matrix<double, 3, kN> rn = Eigen::Matrix<double, 3, kN>::Zero();
+  Eigen::Matrix<double, 3, kN> fn = Eigen::Matrix<double, 3, kN>::Zero();
+  for (int q = 0; q < kQ; ++q) {
+    const auto& p = pts[q];
+    const auto& dN = pts.shapes->dN[q];
+    const Eigen::Matrix<double, 3, 2> g = x * dN;
+    Vec3 S;  // weighted by t0 dA w
+    law.stress(p, strain(p, g), S);
+    Mat2 Sm;
+    Sm << S[0], S[2], S[2], S[1];
+    rn.noalias() += (g * Sm) * dN.transpose();
+    fn.noalias() +=
+        (pr * pts.shapes->w[q]) * g.col(0).cross(g.col(1)) * pts.shapes->N[q].transpose();
+  }
+  r = Eigen::Map<const Vector>(rn.data());
+  f = Eigen::Map<const Vector>(fn.data());
+}
+
+template <class Shape>
+template <class Law>
 [[gnu::flatten]] void Membrane<Shape>::force_tangent(const Points& pts, const Law& law,
                                                      const Nodes& x, Vector& r, Matrix& K) {
   Eigen::Matrix<double, 3, kN> rn = Eigen::Matrix<double, 3, kN>::Zero();
@@ -281,10 +304,12 @@ template struct Membrane<shape::Quad4>;
 template struct Membrane<shape::Quad8>;
 template struct Membrane<shape::Quad9>;
 
-#define VELUM_MEMBRANE_LAW(Shape, Law)                                                         \
-  template void Membrane<Shape>::force<Law>(const Points&, const Law&, const Nodes&, Vector&); \
-  template void Membrane<Shape>::force_tangent<Law>(const Points&, const Law&, const Nodes&,   \
-                                                    Vector&, Matrix&);                         \
+#define VELUM_MEMBRANE_LAW(Shape, Law)                                                            \
+  template void Membrane<Shape>::force<Law>(const Points&, const Law&, const Nodes&, Vector&);    \
+  template void Membrane<Shape>::force_and_pressure<Law>(const Points&, const Law&, const Nodes&, \
+                                                         double, Vector&, Vector&);               \
+  template void Membrane<Shape>::force_tangent<Law>(const Points&, const Law&, const Nodes&,      \
+                                                    Vector&, Matrix&);                            \
   template double Membrane<Shape>::strain_energy<Law>(const Points&, const Law&, const Nodes&);
 #define VELUM_MEMBRANE_LAWS(Shape)             \
   VELUM_MEMBRANE_LAW(Shape, ElasticPoints)     \

@@ -133,6 +133,27 @@ class MembraneBlock final : public ElementBlock {
     }
   }
 
+  void internal_and_pressure(std::span<const int> elements, const NodePositions& x, double p,
+                             double* r, double* Kout, double* f, double* Kp) const override {
+    typename K::Vector re, fe;
+    for (size_t i = 0; i < elements.size(); ++i) {
+      const int e = elements[i];
+      if (i + 1 < elements.size()) prefetch(points_[slot(elements[i + 1])]);
+      const auto& pts = points_[slot(e)];
+      const auto xe = gather<kN>(x, nodes(e));
+      if (Kout) {
+        K::force_tangent(pts, policy_, xe, re,
+                         *reinterpret_cast<typename K::Matrix*>(Kout + i * K::kDofs * K::kDofs));
+        K::pressure_force_tangent(
+            pts, xe, p, fe, *reinterpret_cast<typename K::Matrix*>(Kp + i * K::kDofs * K::kDofs));
+      } else {
+        K::force_and_pressure(pts, policy_, xe, p, re, fe);
+      }
+      Eigen::Map<typename K::Vector>(r + i * K::kDofs) = re;
+      Eigen::Map<typename K::Vector>(f + i * K::kDofs) = fe;
+    }
+  }
+
   void pressure(std::span<const int> elements, const NodePositions& x, double p, double* f,
                 double* Kout) const override {
     typename K::Vector fe;

@@ -157,11 +157,12 @@ class Assembler {
     std::vector<std::vector<int>> colors;  // element lists
   };
   /// Adds the element vectors of the listed colours to F and matrix_sign times their matrices
-  /// to K (when tangent). A `load` that returns true has computed load vectors of the same
-  /// elements: added to Fload, their matrices (a load stiffness) subtracted from K.
-  template <class Compute, class Load>
+  /// to K (when tangent). `compute(elements, r, K, f, Kp)` fills r and K, and when it returns
+  /// true load vectors f of the same elements too (in the same pass): added to Fload, their
+  /// matrices Kp (a load stiffness) subtracted from K.
+  template <class Compute>
   void run(int block, const std::vector<std::vector<int>>& colors, const Compute& compute,
-           const Load& load, bool tangent, NodePositions& F, NodePositions* Fload, SparseMatrix* K,
+           bool tangent, NodePositions& F, NodePositions* Fload, SparseMatrix* K,
            double matrix_sign) const;
 
   struct ElementBuffers {

@@ -153,6 +153,11 @@ struct Membrane {
   template <class Law>
   static void force_tangent(const Points& pts, const Law& law, const Nodes& x, Vector& r,
                             Matrix& K);
+  /// force() and pressure_force() in one pass over the points (each point's g1, g2 serve
+  /// both): bit for bit the same forces.
+  template <class Law>
+  static void force_and_pressure(const Points& pts, const Law& law, const Nodes& x, double p,
+                                 Vector& r, Vector& f);
   /// Strain energy t0 ∫ W(E) dA.
   template <class Law>
   static double strain_energy(const Points& pts, const Law& law, const Nodes& x);

@@ -57,6 +57,13 @@ class ElementBlock {
   /// Follower pressure forces and (when K non-null) load stiffness df/dx; membranes only.
   virtual void pressure(std::span<const int> elements, const NodePositions& x, double p, double* f,
                         double* K) const = 0;
+  /// internal() and pressure() of the same elements in one pass, for blocks whose kernels
+  /// share work between them (a membrane's points serve both).
+  virtual void internal_and_pressure(std::span<const int> elements, const NodePositions& x,
+                                     double p, double* r, double* K, double* f, double* Kp) const {
+    internal(elements, x, r, K);
+    pressure(elements, x, p, f, Kp);
+  }
   /// Pressure p along the fixed unit direction d, per area projected normal to d
   /// (`projected`) or per current area, and (when K non-null) its load stiffness; membranes.
   virtual void directed_pressure(std::span<const int> elements, const NodePositions& x, double p,
