@@ -154,7 +154,7 @@ struct Membrane {
   static void force_tangent(const Points& pts, const Law& law, const Nodes& x, Vector& r,
                             Matrix& K);
   /// force() and pressure_force() in one pass over the points (each point's g1, g2 serve
-  /// both): bit for bit the same forces.
+  /// both): the same forces (the same operations in the same order).
   template <class Law>
   static void force_and_pressure(const Points& pts, const Law& law, const Nodes& x, double p,
                                  Vector& r, Vector& f);

@@ -201,6 +201,36 @@ TYPED_TEST(MembraneKernel, A4PressureLoadStiffnessMatchesFiniteDifferences) {
             << "\n";
 }
 
+// The fused residual pass gives the two kernels' forces (bit for bit with GCC 12), every law.
+TYPED_TEST(MembraneKernel, ForceAndPressureInOnePassAreTheTwoKernelsForces) {
+  using S = TypeParam;
+  using M = Membrane<S>;
+  test::Random rnd(230 + S::kNodes);
+  AnisotropicConstants c;
+  c.E1 = 2000.0, c.E2 = 1000.0, c.nu12 = 0.3, c.G12 = 400.0, c.eta1 = 0.25, c.eta2 = -0.15;
+  const SheetLaw law = SheetLaw(PlaneStressLaw::anisotropic("a", c)).with_prestress({5, 7, 2});
+  const Mat3 R = rnd.rotation(0.7);
+  const typename M::Nodes X = test::distorted_element<S>(rnd, kH, 0.08, 0.1, R, Vec3::Zero());
+  typename M::Points pts;
+  M::setup(X, law.Q(), test::axes_at(20, R), kT0, pts);
+  typename M::Nodes x = X;
+  for (int n = 0; n < S::kNodes; ++n) x.col(n) += 0.1 * kH * rnd.vec3(-1, 1);
+  const double p = 2.5;
+  typename M::Vector r, f, r_fused, f_fused;
+  auto same = [&](const auto& policy) {
+    M::force(pts, policy, x, r);
+    M::pressure_force(pts, x, p, f);
+    M::force_and_pressure(pts, policy, x, p, r_fused, f_fused);
+    EXPECT_LE(test::rel_max_error(r_fused, r), 1e-14) << S::kName;
+    EXPECT_LE(test::rel_max_error(f_fused, f), 1e-14) << S::kName;
+    EXPECT_GT(r.norm(), 0);
+    EXPECT_GT(f.norm(), 0);
+  };
+  same(ElasticPoints{});
+  same(PrestressedPoints{law.prestress()});
+  same(LawPoints{&law});
+}
+
 TYPED_TEST(MembraneKernel, PressureResultantOnFlatElementIsPressureTimesArea) {
   using S = TypeParam;
   using M = Membrane<S>;
