@@ -190,5 +190,55 @@ TEST(Newton, TakesQuasiNewtonChordStepsOnADefiniteTangent) {
   EXPECT_GT(reps[0].iterations, reps[0].factorizations);
 }
 
+// A solver that uses all the inaccuracy it is allowed: x = A⁻¹ (b + e), ‖e‖ = the residual
+// asked for (none when asked for round-off), e along a fixed direction.
+class InexactSolver final : public test::DenseSolver {
+ public:
+  std::vector<double> asked;  ///< residual allowed / ‖b‖, per solve_within
+  int negative_pivots() const override { return 0; }
+  double one_pass_accuracy() const override { return 1e-3; }
+  bool solve_within(const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual) override {
+    asked.push_back(residual / b.norm());
+    VecX e = VecX::Zero(b.size());
+    if (std::isfinite(residual) && residual > 0)
+      e = 0.999 * residual * VecX::LinSpaced(b.size(), 1.0, -0.5).normalized();
+    x = lu_.solve(b + e);
+    return true;
+  }
+};
+
+// The distance to the solution at an iterate whose residual has converged is measured by a
+// solve as accurate as the corrections (a thousandth of the residual), not to round-off: with
+// a solver that returns the worst it may, the step still ends within the tolerance of the
+// root. (At 1e-6 the tenth solve measures it; asked for round-off before.)
+TEST(Newton, MeasuresTheDistanceAsAccuratelyAsItCorrects) {
+  const int n = 8;
+  CoupledSprings sys;
+  sys.K0 = random_spd(n, 5);
+  sys.c = VecX::Constant(n, 2.0);
+  sys.load = VecX::LinSpaced(n, 5.0, 12.0);
+  StaticNewton newton;
+  newton.newton.tolerance = 1e-6;
+  newton.newton.max_iterations = 60;
+  InexactSolver solver;
+  State s;
+  s.u = s.v = s.a = VecX::Zero(n);
+  const StepReport rep = newton.step(sys, solver, 0.0, 1.0, s);
+  ASSERT_TRUE(rep.converged) << rep.reason;
+  VecX r;
+  sys.evaluate(1.0, s.u, s.v, s.a, 1, 0, 0, r, nullptr);
+  EXPECT_LE(r.norm(), newton.newton.tolerance * sys.load.norm());
+  // The root by exact Newton from the end point.
+  VecX root = s.u;
+  for (int k = 0; k < 20; ++k) {
+    SparseMatrix J;
+    sys.evaluate(1.0, root, s.v, s.a, 1, 0, 0, r, &J);
+    root -= Eigen::MatrixXd(J).lu().solve(r);
+  }
+  EXPECT_LT((s.u - root).norm(), newton.newton.tolerance * root.norm());
+  for (std::size_t k = 0; k < solver.asked.size(); ++k)
+    EXPECT_GT(solver.asked[k], 0) << "solve " << k << " asked for round-off";
+}
+
 }  // namespace
 }  // namespace velum
