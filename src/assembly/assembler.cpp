@@ -15,7 +15,6 @@ namespace {
 constexpr int kChunk = 16;             // elements per kernel call, and the colouring's groups
 constexpr int kMinParallelChunks = 8;  // chunks per colour worth a parallel region
 constexpr int kParallelPatternNodes = 20000;  // nodes worth building the pattern on all threads
-// A pass with no load vectors alongside (see Assembler::run).
 
 // Rotates the rows/cols of framed nodes into their local frames (in place).
 void to_local_frames(const DofMap& dofs, std::span<const int> nodes, double* r, double* K,

@@ -118,40 +118,11 @@ class MembraneBlock final : public ElementBlock {
 
   void internal(std::span<const int> elements, const NodePositions& x, double* r,
                 double* Kout) const override {
-    typename K::Vector re;
-    for (size_t i = 0; i < elements.size(); ++i) {
-      const int e = elements[i];
-      if (i + 1 < elements.size()) prefetch(points_[slot(elements[i + 1])]);
-      const auto xe = gather<kN>(x, nodes(e));
-      if (Kout) {
-        K::force_tangent(points_[slot(e)], policy_, xe, re,
-                         *reinterpret_cast<typename K::Matrix*>(Kout + i * K::kDofs * K::kDofs));
-      } else {
-        K::force(points_[slot(e)], policy_, xe, re);
-      }
-      Eigen::Map<typename K::Vector>(r + i * K::kDofs) = re;
-    }
+    forces<false>(elements, x, 0.0, r, Kout, nullptr, nullptr);
   }
-
   void internal_and_pressure(std::span<const int> elements, const NodePositions& x, double p,
                              double* r, double* Kout, double* f, double* Kp) const override {
-    typename K::Vector re, fe;
-    for (size_t i = 0; i < elements.size(); ++i) {
-      const int e = elements[i];
-      if (i + 1 < elements.size()) prefetch(points_[slot(elements[i + 1])]);
-      const auto& pts = points_[slot(e)];
-      const auto xe = gather<kN>(x, nodes(e));
-      if (Kout) {
-        K::force_tangent(pts, policy_, xe, re,
-                         *reinterpret_cast<typename K::Matrix*>(Kout + i * K::kDofs * K::kDofs));
-        K::pressure_force_tangent(
-            pts, xe, p, fe, *reinterpret_cast<typename K::Matrix*>(Kp + i * K::kDofs * K::kDofs));
-      } else {
-        K::force_and_pressure(pts, policy_, xe, p, re, fe);
-      }
-      Eigen::Map<typename K::Vector>(r + i * K::kDofs) = re;
-      Eigen::Map<typename K::Vector>(f + i * K::kDofs) = fe;
-    }
+    forces<true>(elements, x, p, r, Kout, f, Kp);
   }
 
   void pressure(std::span<const int> elements, const NodePositions& x, double p, double* f,
@@ -293,6 +264,33 @@ class MembraneBlock final : public ElementBlock {
   }
 
  private:
+  // The internal forces (and tangents, when Kout) of `elements`, with the pressure p's forces
+  // (and load stiffnesses) in the same pass when kPressure.
+  template <bool kPressure>
+  void forces(std::span<const int> elements, const NodePositions& x, double p, double* r,
+              double* Kout, double* f, double* Kp) const {
+    typename K::Vector re, fe;
+    for (size_t i = 0; i < elements.size(); ++i) {
+      if (i + 1 < elements.size()) prefetch(points_[slot(elements[i + 1])]);
+      const auto& pts = points_[slot(elements[i])];
+      const auto xe = gather<kN>(x, nodes(elements[i]));
+      using Matrix = typename K::Matrix;
+      if (Kout) {
+        K::force_tangent(pts, policy_, xe, re,
+                         *reinterpret_cast<Matrix*>(Kout + i * K::kDofs * K::kDofs));
+        if constexpr (kPressure)
+          K::pressure_force_tangent(pts, xe, p, fe,
+                                    *reinterpret_cast<Matrix*>(Kp + i * K::kDofs * K::kDofs));
+      } else if constexpr (kPressure) {
+        K::force_and_pressure(pts, policy_, xe, p, re, fe);
+      } else {
+        K::force(pts, policy_, xe, re);
+      }
+      Eigen::Map<typename K::Vector>(r + i * K::kDofs) = re;
+      if constexpr (kPressure) Eigen::Map<typename K::Vector>(f + i * K::kDofs) = fe;
+    }
+  }
+
   const Eigen::Matrix<double, 3, kN>& Xref_cols(int e) const { return Xref_[slot(e)]; }
 
   double t0_;
