@@ -89,23 +89,42 @@ void Membrane<Shape>::strain_stress(const Points& pts, int q, const Nodes& x, Ve
   S.noalias() = p.D * e / p.t0dA;
 }
 
+namespace {
+
+// The internal forces rn (and, with kPressure, the pressure pr's forces fn) summed over the
+// points: force() and force_and_pressure() are this one loop.
+template <class M, bool kPressure, class Law>
+[[gnu::always_inline]] inline void sum_forces(const typename M::Points& pts, const Law& law,
+                                              const typename M::Nodes& x, double pr,
+                                              Eigen::Matrix<double, 3, M::kN>& rn,
+                                              Eigen::Matrix<double, 3, M::kN>& fn) {
+  rn.setZero();
+  if constexpr (kPressure) fn.setZero();
+  for (int q = 0; q < M::kQ; ++q) {
+    const auto& p = pts[q];
+    const auto& dN = pts.shapes->dN[q];
+    const Eigen::Matrix<double, 3, 2> g = x * dN;
+    Vec3 S;  // weighted by t0 dA w
+    law.stress(p, M::strain(p, g), S);
+    Mat2 Sm;
+    Sm << S[0], S[2], S[2], S[1];
+    rn.noalias() += (g * Sm) * dN.transpose();
+    if constexpr (kPressure)
+      fn.noalias() +=
+          (pr * pts.shapes->w[q]) * g.col(0).cross(g.col(1)) * pts.shapes->N[q].transpose();
+  }
+}
+
+}  // namespace
+
 template <class Shape>
 // flatten: without it GCC calls strain() and the small products out of line in these member
 // templates (the linear kernels ran 30-45% slower than before the policies came in).
 template <class Law>
 [[gnu::flatten]] void Membrane<Shape>::force(const Points& pts, const Law& law, const Nodes& x,
                                              Vector& r) {
-  Eigen::Matrix<double, 3, kN> rn = Eigen::Matrix<double, 3, kN>::Zero();
-  for (int q = 0; q < kQ; ++q) {
-    const auto& p = pts[q];
-    const auto& dN = pts.shapes->dN[q];
-    const Eigen::Matrix<double, 3, 2> g = x * dN;
-    Vec3 S;  // weighted by t0 dA w
-    law.stress(p, strain(p, g), S);
-    Mat2 Sm;
-    Sm << S[0], S[2], S[2], S[1];
-    rn.noalias() += (g * Sm) * dN.transpose();
-  }
+  Eigen::Matrix<double, 3, kN> rn, unused;
+  sum_forces<Membrane, false>(pts, law, x, 0.0, rn, unused);
   r = Eigen::Map<const Vector>(rn.data());
 }
 
@@ -114,20 +133,8 @@ template <class Law>
 [[gnu::flatten]] void Membrane<Shape>::force_and_pressure(const Points& pts, const Law& law,
                                                           const Nodes& x, double pr, Vector& r,
                                                           Vector& f) {
-  Eigen::Matrix<double, 3, kN> rn = Eigen::Matrix<double, 3, kN>::Zero();
-  Eigen::Matrix<double, 3, kN> fn = Eigen::Matrix<double, 3, kN>::Zero();
-  for (int q = 0; q < kQ; ++q) {
-    const auto& p = pts[q];
-    const auto& dN = pts.shapes->dN[q];
-    const Eigen::Matrix<double, 3, 2> g = x * dN;
-    Vec3 S;  // weighted by t0 dA w
-    law.stress(p, strain(p, g), S);
-    Mat2 Sm;
-    Sm << S[0], S[2], S[2], S[1];
-    rn.noalias() += (g * Sm) * dN.transpose();
-    fn.noalias() +=
-        (pr * pts.shapes->w[q]) * g.col(0).cross(g.col(1)) * pts.shapes->N[q].transpose();
-  }
+  Eigen::Matrix<double, 3, kN> rn, fn;
+  sum_forces<Membrane, true>(pts, law, x, pr, rn, fn);
   r = Eigen::Map<const Vector>(rn.data());
   f = Eigen::Map<const Vector>(fn.data());
 }

@@ -142,19 +142,33 @@ TYPED_TEST(MembraneKernel, A4TangentOfPrestressedAndWrinklingSheetsMatchesFinite
             << " / " << states[2] << "\n";
 }
 
+// An anisotropic sheet (Lekhnitskii coefficients non-zero) with a prestress.
+SheetLaw anisotropic_prestressed_law() {
+  AnisotropicConstants c;
+  c.E1 = 2000.0, c.E2 = 1000.0, c.nu12 = 0.3, c.G12 = 400.0, c.eta1 = 0.25, c.eta2 = -0.15;
+  return SheetLaw(PlaneStressLaw::anisotropic("a", c)).with_prestress({5, 7, 2});
+}
+
+// A distorted element turned by a random rotation of angle `turn`, set up in `pts` with its
+// axes at `degrees`; returns its nodes moved by up to a tenth of its size.
+template <class S>
+typename Membrane<S>::Nodes deformed_element(test::Random& rnd, const SheetLaw& law, double turn,
+                                             double degrees, typename Membrane<S>::Points& pts) {
+  const Mat3 R = rnd.rotation(turn);
+  const auto X = test::distorted_element<S>(rnd, kH, 0.08, 0.1, R, Vec3::Zero());
+  Membrane<S>::setup(X, law.Q(), test::axes_at(degrees, R), kT0, pts);
+  typename Membrane<S>::Nodes x = X;
+  for (int n = 0; n < S::kNodes; ++n) x.col(n) += 0.1 * kH * rnd.vec3(-1, 1);
+  return x;
+}
+
 TYPED_TEST(MembraneKernel, PrestressedAndGeneralLawPathsAgree) {
   using S = TypeParam;
   using M = Membrane<S>;
   test::Random rnd(170 + S::kNodes);
-  AnisotropicConstants c;
-  c.E1 = 2000.0, c.E2 = 1000.0, c.nu12 = 0.3, c.G12 = 400.0, c.eta1 = 0.25, c.eta2 = -0.15;
-  const SheetLaw law = SheetLaw(PlaneStressLaw::anisotropic("a", c)).with_prestress({5, 7, 2});
-  const Mat3 R = rnd.rotation(1.1);
-  const typename M::Nodes X = test::distorted_element<S>(rnd, kH, 0.08, 0.1, R, Vec3::Zero());
+  const SheetLaw law = anisotropic_prestressed_law();
   typename M::Points pts;
-  M::setup(X, law.Q(), test::axes_at(35, R), kT0, pts);
-  typename M::Nodes x = X;
-  for (int n = 0; n < S::kNodes; ++n) x.col(n) += 0.1 * kH * rnd.vec3(-1, 1);
+  const typename M::Nodes x = deformed_element<S>(rnd, law, 1.1, 35, pts);
   typename M::Vector r1, r2;
   typename M::Matrix K1, K2;
   M::force_tangent(pts, PrestressedPoints{law.prestress()}, x, r1, K1);
@@ -206,15 +220,9 @@ TYPED_TEST(MembraneKernel, ForceAndPressureInOnePassAreTheTwoKernelsForces) {
   using S = TypeParam;
   using M = Membrane<S>;
   test::Random rnd(230 + S::kNodes);
-  AnisotropicConstants c;
-  c.E1 = 2000.0, c.E2 = 1000.0, c.nu12 = 0.3, c.G12 = 400.0, c.eta1 = 0.25, c.eta2 = -0.15;
-  const SheetLaw law = SheetLaw(PlaneStressLaw::anisotropic("a", c)).with_prestress({5, 7, 2});
-  const Mat3 R = rnd.rotation(0.7);
-  const typename M::Nodes X = test::distorted_element<S>(rnd, kH, 0.08, 0.1, R, Vec3::Zero());
+  const SheetLaw law = anisotropic_prestressed_law();
   typename M::Points pts;
-  M::setup(X, law.Q(), test::axes_at(20, R), kT0, pts);
-  typename M::Nodes x = X;
-  for (int n = 0; n < S::kNodes; ++n) x.col(n) += 0.1 * kH * rnd.vec3(-1, 1);
+  const typename M::Nodes x = deformed_element<S>(rnd, law, 0.7, 20, pts);
   const double p = 2.5;
   typename M::Vector r, f, r_fused, f_fused;
   auto same = [&](const auto& policy) {

@@ -143,6 +143,9 @@ TEST(SecantUpdates, KeepTheNewestPairsOfPositiveCurvature) {
 // take (3 in 7) when the same solver reports an inertia it does not know (as LU does).
 class CoupledSprings final : public SecondOrderSystem {
  public:
+  /// n springs coupled through a random definite K0, hardening alike, under rising loads.
+  explicit CoupledSprings(int n)
+      : K0(random_spd(n, 5)), c(VecX::Constant(n, 2.0)), load(VecX::LinSpaced(n, 5.0, 12.0)) {}
   Eigen::MatrixXd K0;
   VecX c, load;
   int size() const override { return static_cast<int>(load.size()); }
@@ -167,10 +170,7 @@ TEST(Newton, TakesQuasiNewtonChordStepsOnADefiniteTangent) {
   std::array<VecX, 2> roots;
   const std::array<int, 2> inertia = {0, -1};
   for (int k = 0; k < 2; ++k) {
-    CoupledSprings sys;
-    sys.K0 = random_spd(n, 5);
-    sys.c = VecX::Constant(n, 2.0);
-    sys.load = VecX::LinSpaced(n, 5.0, 12.0);
+    CoupledSprings sys(n);
     StaticNewton newton;
     newton.newton.tolerance = 1e-10;
     newton.newton.max_iterations = 60;
@@ -213,10 +213,7 @@ class InexactSolver final : public test::DenseSolver {
 // root. (At 1e-6 the tenth solve measures it; asked for round-off before.)
 TEST(Newton, MeasuresTheDistanceAsAccuratelyAsItCorrects) {
   const int n = 8;
-  CoupledSprings sys;
-  sys.K0 = random_spd(n, 5);
-  sys.c = VecX::Constant(n, 2.0);
-  sys.load = VecX::LinSpaced(n, 5.0, 12.0);
+  CoupledSprings sys(n);
   StaticNewton newton;
   newton.newton.tolerance = 1e-6;
   newton.newton.max_iterations = 60;
