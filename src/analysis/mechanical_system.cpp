@@ -216,16 +216,6 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
   const double ck = cu + beta * cv, cm = alpha * cv + ca;
   if (J && (J->rows() != size() || J->nonZeros() != assembler_.nonzeros()))
     assembler_.make_matrix(*J);
-  // Where each column's diagonal entry sits: found once per pattern (checked in the pass below,
-  // which finds them again when the pattern has changed).
-  if (J && (static_cast<Eigen::Index>(diagonal_at_.size()) != J->outerSize() ||
-            diagonal_nnz_ != J->nonZeros())) {
-    diagonal_nnz_ = J->nonZeros();
-    diagonal_at_.assign(static_cast<size_t>(J->outerSize()), -1);
-    for (int j = 0; j < J->outerSize(); ++j)
-      for (int k = J->outerIndexPtr()[j]; k < J->outerIndexPtr()[j + 1]; ++k)
-        if (J->innerIndexPtr()[k] == j) diagonal_at_[static_cast<size_t>(j)] = k;
-  }
   if (beta != 0) {  // K v enters the residual: K is kept apart
     if (K_.nonZeros() == 0) assembler_.make_matrix(K_);
     assembler_.internal(x_, Fint_, &K_);
@@ -296,17 +286,11 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     // cu (K − Kp) + cm M (the matrix is the largest thing an iteration walks).
     dofs_.gather(x_, x_eq_);
     noise_eq_.resize(size());
-    diagonal_.setZero(J->outerSize());
-    double* diagonal = diagonal_.data();
-    const int* diagonal_at = diagonal_at_.data();
     const int* outer = J->outerIndexPtr();
     const int* inner = J->innerIndexPtr();
     double* jv = J->valuePtr();
     const double* mv = cm != 0 ? mass_matrix().valuePtr() : nullptr;
-    bool moved = false;  // a diagonal not where diagonal_at_ has it
-#pragma omp parallel for schedule(static) \
-    reduction(||                          \
-              : moved) if (J->nonZeros() > kParallelMatrixEntries)
+#pragma omp parallel for schedule(static) if (J->nonZeros() > kParallelMatrixEntries)
     for (int j = 0; j < J->outerSize(); ++j) {
       double sum = 0;
       if (mv) {
@@ -323,22 +307,13 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
         for (int k = outer[j]; k < outer[j + 1]; ++k) sum += std::abs(jv[k] * x_eq_[inner[k]]);
       }
       noise_eq_[j] = sum;
-      if (const int at = diagonal_at[j]; at >= 0) {  // −1: none in the pattern, zero
-        if (at >= outer[j] && at < outer[j + 1] && inner[at] == j)
-          diagonal[j] = jv[at];
-        else
-          moved = true;
-      }
     }
     // On several processes: the sum of the shares' |J| |x| (equal to |J| |x| except where
     // two processes add into one entry, where it bounds it from above).
     complete(noise_eq_);
     residual_noise_ = std::numeric_limits<double>::epsilon() * norm(noise_eq_);
-    diagonal_of_ = moved ? nullptr : J->valuePtr();
-    if (moved) diagonal_at_.clear();  // found again next time
-  } else {
-    diagonal_of_ = nullptr;
-    if (cm != 0) combine_values(*J, 1.0, &mass_matrix(), cm);
+  } else if (cm != 0) {
+    combine_values(*J, 1.0, &mass_matrix(), cm);
   }
   // Payload drag: added once, by the first process (its share holds every point mass's node
   // block).
@@ -357,7 +332,6 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
         for (int j = 0; j < 3; ++j) {
           const int a1 = dofs_.equation(m.node, i), a2 = dofs_.equation(m.node, j);
           if (a1 >= 0 && a2 >= 0) J->coeffRef(a1, a2) += cv * D(i, j);
-          if (a1 >= 0 && a1 == a2 && diagonal_of_) diagonal_[a1] += cv * D(i, j);
         }
     }
   }
@@ -432,11 +406,19 @@ std::string MechanicalSystem::inverted_element(double t_from, const VecX& u_from
 }
 
 std::string MechanicalSystem::diagnose_singular(const SparseMatrix& J) const {
-  // Equations whose diagonal is negligible carry no stiffness (nor mass) at all. The diagonal
-  // of the Jacobian evaluate() made is kept from its round-off pass: J.diagonal() searches each
-  // column and missed the cache once a column (0.8 % of a Hencky run, once a step).
-  VecX d = diagonal_of_ == J.valuePtr() && diagonal_.size() == J.outerSize() ? diagonal_
-                                                                             : VecX(J.diagonal());
+  // Equations whose diagonal is negligible carry no stiffness (nor mass) at all. On the
+  // assembler's pattern the diagonal is read where the assembler found it (J.diagonal()
+  // searches each column: 0.8 % of a Hencky run, once a step).
+  const std::vector<int>& at = assembler_.diagonal_positions();
+  VecX d;
+  if (J.nonZeros() == assembler_.nonzeros() &&
+      J.outerSize() == static_cast<Eigen::Index>(at.size())) {
+    d.setZero(J.outerSize());
+    for (Eigen::Index j = 0; j < d.size(); ++j)
+      if (const int k = at[static_cast<size_t>(j)]; k >= 0) d[j] = J.valuePtr()[k];
+  } else {
+    d = J.diagonal();
+  }
   complete(d);  // the shares' diagonals add up to J's
   d = d.cwiseAbs();
   const double dmax = max_abs(d);

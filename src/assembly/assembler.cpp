@@ -139,6 +139,10 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
   }
   build_pattern(model, dofs, own_, lone_nodes_, first_matrix_);
   nonzeros_ = first_matrix_.nonZeros();
+  diagonal_at_.assign(static_cast<size_t>(first_matrix_.outerSize()), -1);
+  for (int j = 0; j < first_matrix_.outerSize(); ++j)
+    for (int k = first_matrix_.outerIndexPtr()[j]; k < first_matrix_.outerIndexPtr()[j + 1]; ++k)
+      if (first_matrix_.innerIndexPtr()[k] == j) diagonal_at_[static_cast<size_t>(j)] = k;
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
     const auto& b = *model.blocks[bi];
     colors_.push_back(color_element_groups(b, own_[bi], model.num_nodes(), kChunk));

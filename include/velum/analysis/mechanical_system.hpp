@@ -112,13 +112,6 @@ class MechanicalSystem final : public SecondOrderSystem {
   std::vector<double> block_pressure_;      ///< whole-block pressures at the evaluated time
   VecX fred_, mv_, mvv_, x_eq_, noise_eq_;  ///< mv_ = M a, mvv_ = M v (evaluate)
   double force_scale_ = 0, residual_noise_ = 0;
-  // The diagonal of the Jacobian evaluate() assembled last (read off in its round-off pass, where
-  // each column is walked anyway, at the positions of the assembler's pattern), and that
-  // matrix's values, for diagnose_singular.
-  VecX diagonal_;
-  const double* diagonal_of_ = nullptr;
-  std::vector<int> diagonal_at_;    ///< per column: the position of its diagonal entry, or −1
-  Eigen::Index diagonal_nnz_ = -1;  ///< the entries of the pattern diagonal_at_ is of
   bool drag_ = false;
 };
 

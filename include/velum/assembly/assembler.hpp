@@ -48,6 +48,9 @@ class Assembler {
   void make_matrix(SparseMatrix& A) const;
   /// Stored entries of that pattern.
   Eigen::Index nonzeros() const { return nonzeros_; }
+  /// Per equation, where its diagonal entry sits in the values of the matrices make_matrix()
+  /// makes (−1: none).
+  const std::vector<int>& diagonal_positions() const { return diagonal_at_; }
 
   /// Internal forces (full, global; overwritten) and, if K != null, the tangent (values
   /// overwritten, pattern of make_matrix()).
@@ -186,6 +189,7 @@ class Assembler {
   mutable bool share_only_ = false;      // a LocalShare is alive
   std::vector<std::vector<int>> own_;    // per block: this process's elements, ascending
   std::vector<std::vector<int>> local_;  // per block: element -> index into own_ (-1: not)
+  std::vector<int> diagonal_at_;         // see diagonal_positions()
   std::vector<int> lone_nodes_;          // own diagonal blocks, no own element: Assembler()
   std::vector<Colors> colors_;           // per block: own elements
   std::vector<ElementScatter> scatter_;  // per block: its own elements' positions
