@@ -405,10 +405,9 @@ std::string MechanicalSystem::inverted_element(double t_from, const VecX& u_from
   return {};
 }
 
-std::string MechanicalSystem::diagnose_singular(const SparseMatrix& J) const {
-  // Equations whose diagonal is negligible carry no stiffness (nor mass) at all. On the
-  // assembler's pattern the diagonal is read where the assembler found it (J.diagonal()
-  // searches each column: 0.8 % of a Hencky run, once a step).
+VecX MechanicalSystem::abs_diagonal(const SparseMatrix& J) const {
+  // On the assembler's pattern the diagonal is read where the assembler found it
+  // (J.diagonal() searches each column: 0.8 % of a Hencky run, once a step).
   const std::vector<int>& at = assembler_.diagonal_positions();
   VecX d;
   if (J.nonZeros() == assembler_.nonzeros() &&
@@ -420,7 +419,44 @@ std::string MechanicalSystem::diagnose_singular(const SparseMatrix& J) const {
     d = J.diagonal();
   }
   complete(d);  // the shares' diagonals add up to J's
-  d = d.cwiseAbs();
+  return d.cwiseAbs();
+}
+
+bool MechanicalSystem::stiffen_stress_free(SparseMatrix& J) const {
+  // Stress-free: no internal force at any node, supports included (where a prestress shows).
+  const double stressed = Fint_.size() > 0 ? Fint_.cwiseAbs().maxCoeff() : 0.0;
+  if (max_over_processes(stressed) != 0 || J.nonZeros() != assembler_.nonzeros()) return false;
+  // Soft: the stiffness of some equation below kSoft of the largest. The Hencky membrane's
+  // shallow stress-free dome (a tenth of the expected deflection high): 3.9e-11; the same
+  // sheet under its first load step's tension: 4.8e-7; curved or triangulated structures:
+  // far above.
+  constexpr double kSoft = 1e-6;
+  const VecX d = abs_diagonal(J);
+  const double dmax = max_abs(d);
+  double dmin = std::numeric_limits<double>::infinity();
+  for (int e = 0; e < owned_size(); ++e) dmin = std::min(dmin, d[e]);
+  dmin = -max_over_processes(-dmin);
+  if (!(dmax > 0) || !(dmin < kSoft * dmax)) return false;
+  if (T_.nonZeros() != assembler_.nonzeros()) {
+    assembler_.make_matrix(T_);
+    assembler_.tension_stiffness(T_);
+  }
+  // A tension kTension times the largest stiffness: small beside the sheet's own stiffness
+  // in its plane, so the correction keeps the in-plane response of the untensioned sheet;
+  // its shape normal to it does not depend on the tension, its size (inversely proportional)
+  // is the line search's. On the Hencky membrane from 1e-5 to 1e-2 gave the same three or
+  // four factorisations in the first step, against six without (docs/performance.md,
+  // section 25).
+  constexpr double kTension = 1e-3;
+  const double tmax = max_abs(abs_diagonal(T_));
+  if (!(tmax > 0)) return false;  // no membrane or cable
+  combine_values(J, 1.0, &T_, kTension * dmax / tmax);
+  return true;
+}
+
+std::string MechanicalSystem::diagnose_singular(const SparseMatrix& J) const {
+  // Equations whose diagonal is negligible carry no stiffness (nor mass) at all.
+  const VecX d = abs_diagonal(J);
   const double dmax = max_abs(d);
   // The first 8 in the global numbering (each process's first 8 of its owned equations,
   // gathered to the first process), and the count over all of them.
@@ -443,7 +479,8 @@ std::string MechanicalSystem::diagnose_singular(const SparseMatrix& J) const {
                               "xyz"[static_cast<int>(first[k + 2])]));
   return fmt::format(
       "{} unconstrained DOF(s) with no stiffness and no mass ({}{}). A flat, unstressed membrane "
-      "has no stiffness normal to its plane: give it mass and run a dynamic analysis, add "
+      "has no stiffness normal to its plane: a static analysis starts it with its line search "
+      "on (newton.line_search, the default); else give it mass and run a dynamic analysis, add "
       "prestress, or constrain those DOFs",
       count, fmt::join(bad, ", "), count > 8 ? ", ..." : "");
 }

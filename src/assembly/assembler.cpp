@@ -457,15 +457,7 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
       const int e = own_[bi][k];
       b.mass(e, Me.data());
       const auto nodes = b.nodes(e);
-      if (M) {
-        const ElementScatter& scatter = scatter_[bi];
-        for (int j = 0; j < nn; ++j)
-          for (int i = 0; i < nn; ++i)
-            for (int d = 0; d < 3; ++d) {  // frames leave R I Rᵀ = I unchanged
-              const int q = scatter.position(static_cast<int>(k), 3 * i + d, 3 * j + d);
-              if (q >= 0) M->valuePtr()[q] += Me(i, j);
-            }
-      }
+      if (M) add_node_matrix(bi, k, Me, *M);
       if (!lumped) continue;
       const double total = Me.sum();
       const double diag = Me.diagonal().sum();
@@ -485,6 +477,29 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
     const std::pair<double*, int> parts[] = {{lumped->data(), 1}};
     sum_at_shared_nodes(parts);
   }
+}
+
+void Assembler::tension_stiffness(SparseMatrix& K) const {
+  std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
+  for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
+    const auto& b = *model_.blocks[bi];
+    MatX Ke(b.nodes_per_element(), b.nodes_per_element());
+    for (size_t k = 0; k < own_[bi].size(); ++k) {
+      b.tension_stiffness(own_[bi][k], Ke.data());
+      add_node_matrix(bi, k, Ke, K);
+    }
+  }
+}
+
+void Assembler::add_node_matrix(size_t bi, size_t k, const MatX& Me, SparseMatrix& M) const {
+  const ElementScatter& scatter = scatter_[bi];
+  const int nn = static_cast<int>(Me.rows());
+  for (int j = 0; j < nn; ++j)
+    for (int i = 0; i < nn; ++i)
+      for (int d = 0; d < 3; ++d) {  // frames leave R I Rᵀ = I unchanged
+        const int q = scatter.position(static_cast<int>(k), 3 * i + d, 3 * j + d);
+        if (q >= 0) M.valuePtr()[q] += Me(i, j);
+      }
 }
 
 NodePositions Assembler::gravity_forces(const Vec3& g) const {

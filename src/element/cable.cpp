@@ -86,6 +86,13 @@ typename Cable<Shape>::NodeMatrix Cable<Shape>::mass(const Points& pts) {
 }
 
 template <class Shape>
+typename Cable<Shape>::NodeMatrix Cable<Shape>::tension_stiffness(const Points& pts) {
+  NodeMatrix K = NodeMatrix::Zero();
+  for (const auto& p : pts) K.noalias() += (p.w / std::sqrt(p.L0sq)) * p.dN * p.dN.transpose();
+  return K;
+}
+
+template <class Shape>
 double Cable<Shape>::length(const Points& pts) {
   double L = 0;
   for (const auto& p : pts) L += p.w * std::sqrt(p.L0sq);

@@ -201,6 +201,19 @@ bool Membrane<Shape>::keeps_orientation(const PointShapes<Shape>& shapes, const 
 }
 
 template <class Shape>
+typename Membrane<Shape>::NodeMatrix Membrane<Shape>::tension_stiffness(const Points& pts) {
+  NodeMatrix K = NodeMatrix::Zero();
+  for (int q = 0; q < kQ; ++q) {
+    const auto& p = pts[q];
+    const auto& dN = pts.shapes->dN[q];
+    Mat2 G;  // covariant metric; its inverse holds the contravariant G^{αβ}
+    G << p.G[0], p.G[2], p.G[2], p.G[1];
+    K.noalias() += dN * (p.t0dA * G.inverse()) * dN.transpose();
+  }
+  return K;
+}
+
+template <class Shape>
 typename Membrane<Shape>::NodeMatrix Membrane<Shape>::mass(const Points& pts) {
   NodeMatrix M = NodeMatrix::Zero();
   for (int q = 0; q < kQ; ++q) {

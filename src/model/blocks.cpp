@@ -163,6 +163,10 @@ class MembraneBlock final : public ElementBlock {
     Eigen::Map<typename K::NodeMatrix> out(M);
     out = density() * K::mass(points_[slot(e)]);  // recomputed: a static run never asks
   }
+  void tension_stiffness(int e, double* T) const override {
+    Eigen::Map<typename K::NodeMatrix> out(T);
+    out = K::tension_stiffness(points_[slot(e)]);
+  }
   double measure(int e) const override {
     double A = 0;
     for (const auto& p : points_[slot(e)].at) A += p.t0dA;
@@ -372,6 +376,10 @@ class CableBlock final : public ElementBlock {
   void mass(int e, double* M) const override {
     Eigen::Map<typename K::NodeMatrix> out(M);
     out = (density() * area_) * K::mass(points_[slot(e)]);
+  }
+  void tension_stiffness(int e, double* T) const override {
+    Eigen::Map<typename K::NodeMatrix> out(T);
+    out = area_ * K::tension_stiffness(points_[slot(e)]);
   }
   double measure(int e) const override { return K::length(points_[slot(e)]); }
   double strain_energy(std::span<const int> elements, const NodePositions& x) const override {

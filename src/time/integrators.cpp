@@ -52,14 +52,30 @@ bool newton_solve(SecondOrderSystem& sys, LinearSolver& solver, const SparseMatr
 // without tangents. Moves u to the accepted point (r is its residual) and returns α. A
 // stress-free membrane's first Newton step overshoots by orders of magnitude: this turns
 // those 16-iteration first increments into a few.
+//
+// `may_extend`: du's size is not Newton's (a correction with a borrowed tension,
+// SecondOrderSystem::stiffen_stress_free, which sets it) and may fall short by orders of
+// magnitude: while the slope at the end still falls by more than η |s0| the step is
+// lengthened kExtend-fold (at most kExtensions times), then searched as above between the
+// last two ends.
 template <class Evaluate>
 double line_search(const SecondOrderSystem& sys, VecX& u, VecX& r, const VecX& du, double s0,
-                   const Evaluate& evaluate) {
+                   const Evaluate& evaluate, bool may_extend) {
   constexpr double kEta = 0.5;
   constexpr int kTrials = 8;
+  constexpr double kExtend = 4;
+  constexpr int kExtensions = 12;
   double sb = sys.dot(du, r);
-  if (std::isfinite(sb) && sb <= kEta * -s0) return 1.0;
   double a = 0, sa = s0, b = 1, alpha = 1;
+  for (int k = 0; may_extend && k < kExtensions && std::isfinite(sb) && sb < kEta * s0; ++k) {
+    a = b, sa = sb;
+    b *= kExtend;
+    u += (b - alpha) * du;
+    alpha = b;
+    evaluate(u, r, nullptr);
+    sb = sys.dot(du, r);
+  }
+  if (std::isfinite(sb) && sb <= kEta * -s0) return alpha;
   int side = 1;  // which end moved last (Illinois: halve the other end's slope if it repeats)
   for (int k = 0; k < kTrials; ++k) {
     double next = std::isfinite(sb) ? b - sb * (b - a) / (sb - sa) : 0.5 * (a + b);
@@ -153,7 +169,8 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
   // equations: 32 corrections without this test, 27 with it, 3.08-3.21 s against 3.28-3.38;
   // 0.5 stopped Hencky n = 220's third increment at 0.54 after 0.53, one factorisation more).
   constexpr double kSecantSlow = 0.6;
-  int quasi_steps = 0;  // taken since the last factorisation
+  bool stiffened = false;  // du was solved with stiffen_stress_free's J
+  int quasi_steps = 0;     // taken since the last factorisation
   double first_quasi_ratio = 0;
   double gain = kChordGain;  // the cut the latest residual is held to
   // Whether the latest residual fell by `gain` from the one before (where the tests below ask,
@@ -189,8 +206,9 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
       if (pairs) pairs->cancel();
     }
     if (it > 0 && search && s0 < 0) {
-      const double alpha = line_search(sys, u, r, du, s0, evaluate);
-      if (alpha != 1) {
+      const double alpha = line_search(sys, u, r, du, s0, evaluate, stiffened);
+      // (A stiffened factorisation is no tangent for the chord steps either.)
+      if (alpha != 1 || stiffened) {
         evaluate(u, r, &J);  // the tangent at the point accepted
         have_tangent = true;
         if (pairs) pairs->cancel();
@@ -287,8 +305,16 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
         unchecked ? std::numeric_limits<double>::infinity() : std::max(forcing * rn, 0.1 * target);
     const bool chord = may_chord && !have_tangent && (it == 0 || fell_fast()) &&
                        (chord_ready || chord_solve(-r, du, enough)) && sys.all_finite(du);
+    stiffened = false;
     if (!chord) {
       if (!have_tangent) evaluate(u, r, &J);
+      // From a stress-free state whose tangent is soft (a flat or shallow sheet under its
+      // first load), the first correction borrows a small tension's stiffness; the line
+      // search sizes it. The Hencky membrane's stress-free dome: its first step took 6
+      // factorisations (the bare tangent's correction, cut to 2.5 % by the search, left a
+      // state the next two corrections overshot threefold and 1.5-fold), 3 with it
+      // (docs/performance.md, section 25).
+      stiffened = it == 0 && search && sys.stiffen_stress_free(J);
       if (!newton_solve(sys, solver, J, r, du, rep.reason, enough)) return rep;
       ++rep.factorizations;
       quasi_steps = 0;

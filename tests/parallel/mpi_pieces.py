@@ -13,7 +13,8 @@ Usage: mpi_pieces.py VELUM EXAMPLES OUTDIR
   cut between the processes), stresses and fibre angles at points;
 - a strip (below): a prescribed motion, a point mass on another process's node, a node in no
   element;
-- a flat unstressed square: the run fails naming the same unconstrained DOFs as on one process.
+- a flat unstressed square: by plain Newton-Raphson the run fails naming the same unconstrained
+  DOFs as on one process; with the line search it solves, as on one process.
 
 Each runs once on one process without mpirun and once under `mpirun -np 2`, both with
 `linear_solver: petsc`; every history column must agree within 1e-8 of its largest magnitude,
@@ -137,10 +138,12 @@ def noise_floor(name, frame):
     return 0.0
 
 
-def flat():
-    """A flat, unstressed square under pressure: its normal DOFs have no stiffness. The run
-    must fail naming the same first DOFs on two processes as on one (each process finds its
-    own; the first process's message lists the first in the global numbering)."""
+def flat(search=False):
+    """A flat, unstressed square under pressure: its normal DOFs have no stiffness. By plain
+    Newton-Raphson the run must fail naming the same first DOFs on two processes as on one
+    (each process finds its own; the first process's message lists the first in the global
+    numbering). With the line search (`search`) the first correction borrows a small tension's
+    stiffness (summed over the processes' shares) and the run solves, alike on both."""
     n, h = 6, 0.1
     nodes = [[1 + i + (n + 1) * j, i * h, j * h, 0.0] for j in range(n + 1) for i in range(n + 1)]
     quads = [[1 + i + (n + 1) * j, 2 + i + (n + 1) * j, 2 + i + (n + 1) * (j + 1),
@@ -170,6 +173,10 @@ analysis:
   type: static
   time: {{end: 1.0, step: 1.0}}
   linear_solver: petsc
+  newton: {{line_search: {"true" if search else "false"}}}
+output:
+  history:
+    - {{name: uz, quantity: displacement, node: 25, component: z}}
 """
 
 
@@ -219,6 +226,17 @@ def main():
     if one[0] == 0 or two[0] == 0 or not one[1] or one[1] != two[1]:
         errors.append(f"flat square: one process {one}, two processes {two}: expected a failure "
                       "naming the same unconstrained DOFs")
+    model = os.path.join(out, "flat-search.yaml")
+    with open(model, "w") as f:
+        f.write(flat(search=True))
+    one, two = os.path.join(out, "flat-search-1"), os.path.join(out, "flat-search-2")
+    run([velum, "run", model, "-o", one, "-q", "--threads", "1"], env)
+    run(["mpirun", "-np", "2", velum, "run", model, "-o", two, "-q", "--threads", "1"], env)
+    first = history(os.path.join(one, "history.csv"))
+    second = history(os.path.join(two, "history.csv"))
+    if not first[1][-1][1] > 1e-3:  # the centre lifted by the pressure
+        errors.append(f"flat square with the line search: centre deflection {first[1]}")
+    errors += compare(first, second, "flat square with the line search, 2 processes")
     if errors:
         sys.exit("FAIL:\n" + "\n".join(errors))
     print(f"ok: {len(EXAMPLES)} examples and the strip on 2 processes")

@@ -26,6 +26,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   double force_scale() const override { return force_scale_; }
   double residual_noise() const override { return residual_noise_; }
   std::string diagnose_singular(const SparseMatrix& J) const override;
+  bool stiffen_stress_free(SparseMatrix& J) const override;
   void complete(VecX& from_jacobian) const override;
   const std::vector<int>& equation_groups() const override { return equation_node_; }
   std::string inverted_element(double t_from, const VecX& u_from, double t_to,
@@ -87,6 +88,8 @@ class MechanicalSystem final : public SecondOrderSystem {
   // (their forces are in Fp_).
   void assemble_external(double t, const VecX& v, SparseMatrix* Kload, bool fused = false);
   bool has_drag() const;
+  // |diagonal| of a matrix on the assembler's pattern (J, T_), whole (the shares summed).
+  VecX abs_diagonal(const SparseMatrix& J) const;
   double distributed_force_scale();
 
   const Model& model_;
@@ -97,6 +100,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   // damping, and M_ is built on first use (a static run never needs it).
   mutable SparseMatrix M_;
   mutable bool have_mass_ = false;
+  mutable SparseMatrix T_;  ///< tension stiffness (stiffen_stress_free), built on first use
   SparseMatrix K_;
   VecX lumped_nodes_, lumped_eq_;
   std::vector<int> equation_node_;  ///< node of each equation

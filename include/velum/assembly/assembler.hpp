@@ -78,6 +78,9 @@ class Assembler {
   /// Consistent mass (values overwritten) and lumped nodal masses (row sum; HRZ for tri6 and
   /// quad8, whose row sums are not all positive), point masses included in both.
   void mass(SparseMatrix* M, VecX* lumped) const;  ///< either may be null
+  /// Geometric stiffness of a uniform unit tension in every membrane and cable
+  /// (ElementBlock::tension_stiffness), values overwritten: symmetric, constant.
+  void tension_stiffness(SparseMatrix& K) const;
   /// Nodal forces of gravity g: consistent mass times g (point masses included).
   NodePositions gravity_forces(const Vec3& g) const;
 
@@ -180,6 +183,8 @@ class Assembler {
   bool shared() const { return piece_ && !share_only_; }
   // A point mass is added once, by the first process (its share holds their nodes' blocks).
   bool adds_point_masses() const;
+  // Adds Me ⊗ I3 (Me: the scalar node matrix of block bi's k-th own element) into M.
+  void add_node_matrix(size_t bi, size_t k, const MatX& Me, SparseMatrix& M) const;
 
   const Model& model_;
   const DofMap& dofs_;

@@ -40,6 +40,9 @@ struct Cable {
   static bool keeps_orientation(const Points& pts, const Nodes& from, const Nodes& to);
   /// Consistent mass per unit density and area (scalar n x n).
   static NodeMatrix mass(const Points& pts);
+  /// Geometric stiffness of a unit axial stress per unit area, ∫ H_N' H_M' / |X'| dξ (scalar
+  /// n x n, to be multiplied by the area and I3): see Membrane::tension_stiffness.
+  static NodeMatrix tension_stiffness(const Points& pts);
   /// Reference length.
   static double length(const Points& pts);
   /// Mean true (Cauchy) axial force N λ over the points (per unit E·A·... as set up).

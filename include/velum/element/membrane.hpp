@@ -187,6 +187,11 @@ struct Membrane {
                                 const Nodes& to);
   /// Consistent mass per unit density (scalar n x n, to be multiplied by ρ and I3).
   static NodeMatrix mass(const Points& pts);
+  /// Geometric stiffness of a uniform isotropic unit tension (2nd PK stress S^{αβ} = G^{αβ}
+  /// in every direction of the reference surface) t0 ∫ G^{αβ} H_N,α H_M,β dA: the Hessian of
+  /// that stress's work, a constant (scalar n x n, to be multiplied by I3). Newton's first
+  /// correction from a stress-free sheet borrows it (SecondOrderSystem::stiffen_stress_free).
+  static NodeMatrix tension_stiffness(const Points& pts);
 
   /// Green-Lagrange strain [γ11, γ22, 2γ12] and 2nd PK stress [S11, S22, S12] (contravariant
   /// convected components) at point q, and the current basis g.

@@ -70,6 +70,10 @@ class ElementBlock {
                                  const Vec3& d, bool projected, double* f, double* K) const = 0;
   /// Consistent mass of element e including density (scalar nodes x nodes, column-major).
   virtual void mass(int e, double* M) const = 0;
+  /// Geometric stiffness of a uniform unit tension (a unit 2nd PK stress in every direction of
+  /// the reference surface, or along the reference line, times the thickness or area) of
+  /// element e (scalar nodes x nodes, column-major, to be multiplied by I3).
+  virtual void tension_stiffness(int e, double* K) const = 0;
   /// Reference measure (area for membranes, length for cables) of element e.
   virtual double measure(int e) const = 0;
   /// Strain energy of the listed elements (summed in their order).

@@ -1,6 +1,6 @@
 // Cable kernels: VERIFICATION A4 (tangent and energy gradient against central finite
 // differences, taut, truss in compression, slack), A5 (rigid motion) and A7 (mass), and the
-// true axial force N λ.
+// true axial force N λ; the geometric stiffness of a unit tension.
 #include <gtest/gtest.h>
 
 #include <iostream>
@@ -154,6 +154,42 @@ TYPED_TEST(CableKernel, A7MassAndTrueForce) {
             1e-12 * kE * kArea * eps * lam);
   if constexpr (S::kNodes == 3) {
     EXPECT_LT(r.template segment<3>(6).norm(), 1e-12 * kE * kArea * eps * lam);
+  }
+}
+
+}  // namespace
+}  // namespace velum
+
+namespace velum {
+namespace {
+
+TYPED_TEST(CableKernel, TensionStiffnessIsTheTangentsAcrossAStretchedCable) {
+  // A straight cable stretched by λ along itself carries S = E (λ² − 1) / 2; across it the
+  // tangent is its geometric stiffness alone: area · S times the tension stiffness, which for
+  // a 2-node cable of length L is [1 −1; −1 1] / L.
+  using S = TypeParam;
+  using C = Cable<S>;
+  test::Random rnd(720 + S::kNodes);
+  const double lambda = 1.03;
+  const Mat3 R = rnd.rotation(0.9);
+  const typename C::Nodes X = reference_cable<S>(R, false);
+  typename C::Points pts;
+  ASSERT_GT(C::setup(X, kE, kArea, pts), 0);
+  typename C::Vector r;
+  typename C::Matrix K;
+  C::force_tangent(pts, CableLaw{kE, false}, lambda * X, r, K);
+  const Vec3 across = R * Vec3(0, 0.6, 0.8);
+  typename C::NodeMatrix transverse;
+  for (int m = 0; m < S::kNodes; ++m)
+    for (int n = 0; n < S::kNodes; ++n)
+      transverse(m, n) = across.dot(K.template block<3, 3>(3 * m, 3 * n) * across);
+  const typename C::NodeMatrix Kt = C::tension_stiffness(pts);
+  const double stress = kE * (lambda * lambda - 1) / 2;
+  EXPECT_LT(test::rel_max_error(transverse, (kArea * stress) * Kt), 1e-12) << S::kName;
+  if constexpr (S::kNodes == 2) {
+    typename C::NodeMatrix line;
+    line << 1, -1, -1, 1;
+    EXPECT_LT(test::rel_max_error(Kt, line / kL), 1e-14);
   }
 }
 

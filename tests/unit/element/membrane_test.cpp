@@ -1,6 +1,7 @@
 // Membrane kernels, VERIFICATION A4 (consistent tangent, energy gradient and follower-pressure
 // load stiffness against central finite differences), A5 (objectivity under large rigid
-// rotations) and A7 (consistent and lumped mass), for every surface shape and law.
+// rotations) and A7 (consistent and lumped mass), for every surface shape and law; the
+// geometric stiffness of a uniform unit tension.
 #include <gtest/gtest.h>
 
 #include <iostream>
@@ -460,6 +461,74 @@ TYPED_TEST(MembraneKernel, A7MassOfUndistortedElementIsExact) {
       ref += w * detA * N * N.transpose();
     }
   EXPECT_LT(test::rel_max_error(Mc, ref), 1e-13) << S::kName;
+}
+
+}  // namespace
+}  // namespace velum
+
+namespace velum {
+namespace {
+
+// ------------------------------------------------------------------------- tension stiffness
+
+TYPED_TEST(MembraneKernel, TensionStiffnessOfAffineElementIsTheLaplacians) {
+  // A uniform unit tension's geometric stiffness is t ∫ ∇N·∇N dA: on an affine element tilted
+  // out of the xy plane, against an independent 6x6-point Gauss product rule in its plane.
+  using S = TypeParam;
+  using M = Membrane<S>;
+  Mat3 A = Mat3::Identity();
+  A(0, 1) = 0.3, A(1, 1) = 0.8;
+  test::Random rnd(900 + S::kNodes);
+  const Mat3 R = rnd.rotation(1.1);
+  typename M::Nodes X;
+  const auto nodes = S::nodes();
+  for (int n = 0; n < S::kNodes; ++n) X.col(n) = R * A * Vec3(nodes[n][0], nodes[n][1], 0);
+  typename M::Points pts;
+  M::setup(X, PlaneStressLaw::isotropic("iso", 1, 0).Q(), SheetAxes{}, kT0, pts);
+  const typename M::NodeMatrix Kt = M::tension_stiffness(pts);
+  const auto [gx, gw] = test::gauss_legendre(6);
+  typename M::NodeMatrix ref = M::NodeMatrix::Zero();
+  const bool tri = S::kNodes == 3 || S::kNodes == 6;
+  const Mat2 A2 = A.topLeftCorner<2, 2>();
+  typename S::Values N;
+  typename S::Derivs dN;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) {
+      double r = gx[i], s = gx[j], w = gw[i] * gw[j];
+      if (tri) {
+        const double u = 0.5 * (r + 1), v = 0.5 * (s + 1);
+        r = u, s = v * (1 - u), w *= 0.25 * (1 - u);
+      }
+      S::eval(r, s, N, dN);
+      const Eigen::Matrix<double, S::kNodes, 2> grad = dN * A2.inverse();  // ∂N/∂(x, y)
+      ref += (w * A2.determinant() * kT0) * grad * grad.transpose();
+    }
+  EXPECT_LT(test::rel_max_error(Kt, ref), 1e-13) << S::kName;
+}
+
+TYPED_TEST(MembraneKernel, TensionStiffnessIsTheTangentsUnderAUniformTension) {
+  // A flat distorted element stretched by λ in its plane carries S = E (λ² − 1) / (2 (1 − ν))
+  // in every direction; normal to the plane the tangent is its geometric stiffness alone,
+  // which must be S times the tension stiffness.
+  using S = TypeParam;
+  using M = Membrane<S>;
+  test::Random rnd(910 + S::kNodes);
+  const double E = 3e5, nu = 0.3, lambda = 1.04;
+  for (int trial = 0; trial < 3; ++trial) {
+    double area = 0;
+    const typename M::Nodes X = straight_flat_element<S>(rnd, area);
+    typename M::Points pts;
+    ASSERT_GT(M::setup(X, PlaneStressLaw::isotropic("iso", E, nu).Q(), SheetAxes{}, kT0, pts), 0);
+    typename M::Vector r;
+    typename M::Matrix K;
+    M::force_tangent(pts, X * lambda, r, K);
+    typename M::NodeMatrix normal;
+    for (int m = 0; m < S::kNodes; ++m)
+      for (int n = 0; n < S::kNodes; ++n) normal(m, n) = K(3 * m + 2, 3 * n + 2);
+    const double stress = E * (lambda * lambda - 1) / (2 * (1 - nu));
+    const typename M::NodeMatrix expected = stress * M::tension_stiffness(pts);
+    EXPECT_LT(test::rel_max_error(normal, expected), 1e-12) << S::kName;
+  }
 }
 
 }  // namespace
