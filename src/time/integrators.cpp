@@ -205,16 +205,17 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
       dn_prev = 0;
       if (pairs) pairs->cancel();
     }
-    if (it > 0 && search && s0 < 0) {
-      const double alpha = line_search(sys, u, r, du, s0, evaluate, stiffened);
-      // (A stiffened factorisation is no tangent for the chord steps either.)
-      if (alpha != 1 || stiffened) {
-        evaluate(u, r, &J);  // the tangent at the point accepted
-        have_tangent = true;
-        if (pairs) pairs->cancel();
-        dn *= alpha;
-        dn_prev = 0;  // a cut step says nothing about the contraction
-      }
+    const double alpha =
+        it > 0 && search && s0 < 0 ? line_search(sys, u, r, du, s0, evaluate, stiffened) : 1.0;
+    // A cut step, or one solved with a stiffened factorisation (no tangent for chord steps,
+    // whatever the search did), goes on from the tangent at the point accepted; neither says
+    // anything about the contraction.
+    if (alpha != 1 || stiffened) {
+      if (alpha != 1 || !have_tangent) evaluate(u, r, &J);
+      have_tangent = true;
+      if (pairs) pairs->cancel();
+      dn *= alpha;
+      dn_prev = 0;
     }
     if (pairs) pairs->close(sys, du, r);  // the last correction, taken in full
     const double rn = sys.norm(r);
