@@ -270,7 +270,8 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
                             : pairs     ? std::numeric_limits<double>::infinity()
                                         : dn;
     bool chord_ready = false;  // du holds −J⁻¹ r (−H r) with the factorisation at hand
-    if (it > 0 && (rn <= target || at_floor)) {
+    // (Not from a stiffened factorisation: the distance it measures is not J⁻¹ r.)
+    if (it > 0 && !stiffened && (rn <= target || at_floor)) {
       const double limit = allowed();
       // That bound is loose while convergence is quadratic (3.8e-8 against a next correction
       // of 2.5e-11 on the Hencky membrane): before paying for a factorisation, measure the

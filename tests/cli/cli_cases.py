@@ -481,6 +481,10 @@ CASES = [
     # ---- good inputs ----
     ("good_base_check", mutate(), {}, ["check"], 0, ["is valid", "units"]),
     ("good_base_run", mutate(), {}, [], 0, ["converged"]),
+    # A flat, unstressed sheet and straight cables pulled in their plane, statically: no
+    # stiffness normal to them at the start (a singular Jacobian before the first correction
+    # borrowed a tension's stiffness).
+    ("good_static_from_flat", mutate(analysis={"type": "static", "time": {"end": 1.0, "step": 0.5}}, functions__ramp1={"type": "ramp", "duration": 1.0}), {}, [], 0, ["converged", "summary.json:converged"]),
     ("good_msh22", with_mesh_file("SQ22"), {}, ["check"], 0, ["quad4 4", "is valid"]),
     ("good_msh41", with_mesh_file("SQ41"), {}, [], 0, ["converged"]),
     ("good_msh41_binary_quad9", with_mesh_file("SQ41B"), {}, [], 0, ["converged"]),
