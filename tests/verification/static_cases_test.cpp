@@ -79,7 +79,8 @@ TEST(Solver, B1HenckyMembraneFromTheFlatSheet) {
   const HenckyResult dome = hencky(4, "quad9");
   for (const int steps : {1, 4}) {
     const HenckyResult r = hencky(4, "quad9", true, steps);
-    EXPECT_NEAR(r.w0, dome.w0, 1e-7 * dome.w0) << steps << " step(s)";
+    // Two converged states, each within the Newton tolerance (measured: 5e-11 and 1.6e-10).
+    EXPECT_NEAR(r.w0, dome.w0, 2 * NewtonSettings{}.tolerance * dome.w0) << steps << " step(s)";
     EXPECT_LE(r.run.reports.front().factorizations, 5) << steps << " step(s)";
   }
 }

@@ -60,9 +60,10 @@ class SecondOrderSystem {
   /// Names the equations of J that carry no stiffness and no mass, and what to do about them;
   /// empty when there are none.
   virtual std::string diagnose_singular(const SparseMatrix& J) const = 0;
-  /// For Newton's first correction from a state that carries no stress at all, whose Jacobian
-  /// J has next to no stiffness in some directions (a sheet normal to itself where it is flat
-  /// or shallow, a cable across itself where it is straight: the correction there overshoots
+  /// For Newton's first correction from a state that carries no stress at all (the state
+  /// evaluated last, J its Jacobian: the internal forces of that evaluation are read), whose
+  /// Jacobian has next to no stiffness in some directions (a sheet normal to itself where it is
+  /// flat or shallow, a cable across itself where it is straight: the correction there overshoots
   /// by orders of magnitude): adds to J the geometric stiffness of a small uniform tension and
   /// returns true. The correction then has the shape a taut sheet takes, and its size is the
   /// line search's to find. Otherwise returns false and leaves J as it is.
