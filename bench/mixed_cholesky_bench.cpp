@@ -3,7 +3,9 @@
 // pressurised square's K + M (well conditioned), 1 the clamped square domed by a tenth of its
 // side, its stiffness K at rest (a stress-free membrane: in-plane stiffness only, out of plane
 // through the curvature), 2 the stiffness at rest of the model file named by VELUM_MODEL (the
-// Hencky dome of bench/compare-fenicsx, for instance; skipped without it). Second argument:
+// Hencky dome of bench/compare-fenicsx, for instance; skipped without it), or of a dynamic model
+// its first Newmark step's K + 4 M / Δt² (the 1M-equation square of `compare-ccx --scaling`,
+// for instance). Second argument:
 // elements per side (0 and 1); third: 0 double, 1 mixed. Time per factorisation; counters:
 // `solve_ms` (the best of five solves, refinement included), `pass_ms` (the best of five
 // passes of the factor alone: solve_within with an infinite residual), `backward_error`
@@ -33,11 +35,15 @@ SparseMatrix matrix(int which, int n) {
   std::unique_ptr<Model> owned;
   ModelInput input;
   const Model* model = nullptr;
+  double mass = which == 0 ? 1.0 : 0.0;
   if (which == 2) {
     const char* file = std::getenv("VELUM_MODEL");
     if (!file) return {};
     input = read_model(file);
     model = &input.model;
+    // A dynamic model: its first Newmark step's K + M / (β Δt²), β = 1/4.
+    if (!input.analysis.equilibrium())
+      mass = 4.0 / (input.analysis.time.step * input.analysis.time.step);
   } else {
     owned = which == 0 ? pressurised_square(n) : clamped_square(n, 0.1);
     model = owned.get();
@@ -45,7 +51,7 @@ SparseMatrix matrix(int which, int n) {
   MechanicalSystem sys(*model);
   VecX u = VecX::Zero(sys.size()), v = u, a = u, r;
   SparseMatrix J;
-  sys.evaluate(0.0, u, v, a, 1.0, 0.0, which == 0 ? 1.0 : 0.0, r, &J);
+  sys.evaluate(0.0, u, v, a, 1.0, 0.0, mass, r, &J);
   return J;
 }
 
@@ -63,14 +69,22 @@ void BM_MixedCholesky(benchmark::State& state) {
     state.SkipWithError("analysis failed");
     return;
   }
-  for (auto _ : state) benchmark::DoNotOptimize(chol.factorize(A));
+  for (auto _ : state) {
+    if (!chol.factorize(A)) {
+      state.SkipWithError(("factorisation failed: " + chol.status()).c_str());
+      return;
+    }
+  }
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 2.0);
   Eigen::VectorXd x;
   double best = std::numeric_limits<double>::infinity();
   const long solves_before = chol.mixed_counts().float_solves;
   for (int k = 0; k < 5; ++k) {
     const auto t0 = std::chrono::steady_clock::now();
-    if (!chol.solve(b, x)) state.SkipWithError("solve failed");
+    if (!chol.solve(b, x)) {
+      state.SkipWithError("solve failed");
+      return;
+    }
     best = std::min(best,
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }

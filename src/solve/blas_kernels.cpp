@@ -7,6 +7,7 @@
 #include <array>
 #include <cctype>
 #include <cstdlib>
+#include <type_traits>
 
 namespace velum {
 namespace {
@@ -57,32 +58,64 @@ std::string openblas_core() {
   return core ? core : "";
 }
 
-bool OpenBlasSyrk::worth_it(std::string_view active_core, const CpuFeatures& cpu) {
+bool OpenBlasKernels::worth_it(std::string_view active_core, const CpuFeatures& cpu) {
   return cpu.avx512 && one_of(lower(active_core), {"skylakex", "cooperlake", "sapphirerapids"});
 }
 
-const OpenBlasSyrk& OpenBlasSyrk::loaded() {
-  static const OpenBlasSyrk blas = [] {
-    OpenBlasSyrk b;
+const OpenBlasKernels& OpenBlasKernels::loaded() {
+  static const OpenBlasKernels blas = [] {
+    OpenBlasKernels b;
     if (!worth_it(openblas_core(), CpuFeatures::of_this_machine())) return b;
-    // dsyrk from the library that named its kernels: the first dsyrk_ loaded could be another
-    // BLAS's (libblas.so.3 is an alternative that may be the reference BLAS).
+    // The kernels from the library that named its kernels: the first dsyrk_ loaded could be
+    // another BLAS's (libblas.so.3 is an alternative that may be the reference BLAS).
     Dl_info info{};
     void* core_name = dlsym(RTLD_DEFAULT, "openblas_get_corename");
     if (!core_name || !dladdr(core_name, &info) || !info.dli_fname) return b;
     void* library = dlopen(info.dli_fname, RTLD_LAZY | RTLD_NOLOAD);
     if (!library) return b;  // kept open: its functions are used until the process ends
-    b.dsyrk = reinterpret_cast<Syrk>(dlsym(library, "dsyrk_"));
-    b.get_threads = reinterpret_cast<int (*)()>(dlsym(library, "openblas_get_num_threads"));
-    b.set_threads = reinterpret_cast<void (*)(int)>(dlsym(library, "openblas_set_num_threads"));
-    // Without the thread calls its own threads could run inside ours: not used then.
-    if (!b.get_threads || !b.set_threads) b.dsyrk = nullptr;
+    OpenBlasKernels found;
+    found.dsyrk = reinterpret_cast<Syrk<double>>(dlsym(library, "dsyrk_"));
+    found.ssyrk = reinterpret_cast<Syrk<float>>(dlsym(library, "ssyrk_"));
+    found.dgemm = reinterpret_cast<Gemm<double>>(dlsym(library, "dgemm_"));
+    found.sgemm = reinterpret_cast<Gemm<float>>(dlsym(library, "sgemm_"));
+    found.get_threads = reinterpret_cast<int (*)()>(dlsym(library, "openblas_get_num_threads"));
+    found.set_threads = reinterpret_cast<void (*)(int)>(dlsym(library, "openblas_set_num_threads"));
+    // Without the thread calls its own threads could run inside ours: none is used then.
+    if (found.dsyrk && found.ssyrk && found.dgemm && found.sgemm && found.get_threads &&
+        found.set_threads)
+      b = found;
     return b;
   }();
   return blas;
 }
 
-SerialOpenBlas::SerialOpenBlas(const OpenBlasSyrk& blas) : blas_(blas) {
+template <class T>
+void OpenBlasKernels::syrk_lower(int n, int k, const T* a, int lda, T* c, int ldc) const {
+  const T one = 1;  // β = 1: β = 0 would cost a pass of its own over C
+  if constexpr (std::is_same_v<T, double>)
+    dsyrk("L", "N", &n, &k, &one, a, &lda, &one, c, &ldc);
+  else
+    ssyrk("L", "N", &n, &k, &one, a, &lda, &one, c, &ldc);
+}
+
+template <class T>
+void OpenBlasKernels::gemm_abt(int m, int n, int k, const T* a, int lda, const T* b, int ldb, T* c,
+                               int ldc) const {
+  const T one = 1;
+  if constexpr (std::is_same_v<T, double>)
+    dgemm("N", "T", &m, &n, &k, &one, a, &lda, b, &ldb, &one, c, &ldc);
+  else
+    sgemm("N", "T", &m, &n, &k, &one, a, &lda, b, &ldb, &one, c, &ldc);
+}
+
+template void OpenBlasKernels::syrk_lower(int, int, const double*, int, double*, int) const;
+template void OpenBlasKernels::syrk_lower(int, int, const float*, int, float*, int) const;
+template void OpenBlasKernels::gemm_abt(int, int, int, const double*, int, const double*, int,
+                                        double*, int) const;
+template void OpenBlasKernels::gemm_abt(int, int, int, const float*, int, const float*, int, float*,
+                                        int) const;
+
+SerialOpenBlas::SerialOpenBlas(const OpenBlasKernels& blas) : blas_(blas) {
   if (!blas_.dsyrk) return;
   threads_ = blas_.get_threads();
   if (threads_ != 1) blas_.set_threads(1);

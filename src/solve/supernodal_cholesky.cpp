@@ -31,7 +31,7 @@ namespace {
 // columns (the update), whichever thread takes them.
 constexpr int kRowBlock = 96;
 constexpr int kColumnBlock = 48;
-// Updates of supernodes this wide or wider by OpenBLAS's dsyrk, where it is used.
+// Updates of supernodes this wide or wider by OpenBLAS's kernels, where they are used.
 constexpr int kBlasWidth = 64;
 // Clearing and loading the panels: chunks of this many values.
 constexpr std::ptrdiff_t kClearChunk = 1 << 16;
@@ -77,7 +77,7 @@ double thread_seconds() {
 bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   factorized_ = false;
   float_factor_ = false;
-  blas_ = OpenBlasSyrk::loaded().dsyrk ? &OpenBlasSyrk::loaded() : nullptr;
+  blas_ = OpenBlasKernels::loaded().dsyrk ? &OpenBlasKernels::loaded() : nullptr;
   st_ = analyse_supernodes(A, nested_dissection(A), relax_, Factor::kCholesky);
   splits_ = st_.flops >= split_flops_;
   split_ = splits_ ? split_tree(st_) : TreeSplit{};
@@ -142,7 +142,7 @@ bool SupernodalCholesky::factorize(const SparseMatrix& A) {
     return false;
   }
   SerialEigen serial;
-  SerialOpenBlas serial_blas(OpenBlasSyrk::loaded());
+  SerialOpenBlas serial_blas(OpenBlasKernels::loaded());
   if (mixed_) {
     if (!A.isCompressed()) {
       a_ = A;
@@ -326,16 +326,9 @@ void SupernodalCholesky::scatter_update(Panels<T>& p, int s, Work<T>& work, T* t
   if (m == 0) return;
   T* l = p.values.data() + st_.l_panel[s];
   const Panel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
-  bool done = false;
-  if constexpr (std::is_same_v<T, double>) {
-    if (blas_ && w >= kBlasWidth) {
-      const int ld = w + m;
-      const double one = 1, zero = 0;
-      blas_->dsyrk("L", "N", &m, &w, &one, l + w, &ld, &zero, work.update.data(), &m);
-      done = true;
-    }
-  }
-  if (!done) {
+  if (blas_ && w >= kBlasWidth) {
+    blas_->syrk_lower<T>(m, w, l + w, w + m, work.update.data(), m);  // work.update is zero
+  } else {
     Eigen::Map<Matrix<T>> W(work.update.data(), m, m);  // zero (subtract_runs)
     W.template triangularView<Eigen::Lower>() += Lb * Lb.transpose();
   }
@@ -353,9 +346,17 @@ void SupernodalCholesky::update_columns(Panels<T>& p, int s, int begin, int end,
   Eigen::Map<Matrix<T>> W(work.update.data(), rows, cols);
   const auto B = Lb.middleRows(begin, cols);
   // W is zero (subtract_runs): the products add to it.
-  W.topRows(cols).template triangularView<Eigen::Lower>() += B * B.transpose();
-  if (rows > cols)
-    W.bottomRows(rows - cols).noalias() += Lb.bottomRows(rows - cols) * B.transpose();
+  if (blas_ && w >= kBlasWidth) {
+    const int ld = w + m;
+    blas_->syrk_lower<T>(cols, w, l + w + begin, ld, W.data(), rows);
+    if (rows > cols)
+      blas_->gemm_abt<T>(rows - cols, cols, w, l + w + end, ld, l + w + begin, ld, W.data() + cols,
+                         rows);
+  } else {
+    W.topRows(cols).template triangularView<Eigen::Lower>() += B * B.transpose();
+    if (rows > cols)
+      W.bottomRows(rows - cols).noalias() += Lb.bottomRows(rows - cols) * B.transpose();
+  }
   subtract_update(p, s, begin, end, rows, work, static_cast<T*>(nullptr));
 }
 

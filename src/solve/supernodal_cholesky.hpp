@@ -1,6 +1,6 @@
 // A supernodal Cholesky factorisation (LLᵀ) for symmetric positive definite matrices (the
 // statics of a prestressed membrane, Hencky's problem): the symbolic analysis of the supernodal
-// LU (supernodes.hpp) with L's panels only, dense kernels (Eigen; OpenBLAS's dsyrk for the
+// LU (supernodes.hpp) with L's panels only, dense kernels (Eigen; OpenBLAS's syrk and gemm for the
 // wider updates where its AVX-512 kernels run: blas_kernels.hpp) for the diagonal block's
 // Cholesky, the triangular solve of the rows below and the symmetric update, no pivoting. Each
 // update is scattered into the panels it reaches by runs of rows contiguous there; each panel
@@ -171,7 +171,7 @@ class SupernodalCholesky final : public LinearSolver {
   void pause_float();
   double backward_error(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r);
 
-  const OpenBlasSyrk* blas_ = nullptr;  ///< OpenBLAS's dsyrk for the wider updates, or none
+  const OpenBlasKernels* blas_ = nullptr;  ///< OpenBLAS for the wider updates, or none
   Amalgamation relax_;
   double split_flops_;
   Precision precision_;

@@ -157,7 +157,7 @@ bool SupernodalCholesky::solve_refined(const Eigen::VectorXd& b, Eigen::VectorXd
   float_factor_ = false;
   release(float_);
   allocate(double_);
-  SerialOpenBlas serial_blas(OpenBlasSyrk::loaded());
+  SerialOpenBlas serial_blas(OpenBlasKernels::loaded());
   if (!factorize_in(double_, a_)) {
     factorized_ = false;
     return false;

@@ -28,36 +28,51 @@ std::string blas_coretype_to_request(const char* environment_value, std::string_
 /// The kernels the loaded OpenBLAS uses (openblas_get_corename), or "" without OpenBLAS.
 std::string openblas_core();
 
-/// OpenBLAS's dsyrk (C = alpha A Aᵀ + beta C, a triangle of C), with the calls that set its
-/// thread count, when the loaded OpenBLAS runs AVX-512 kernels (SkylakeX, Cooperlake,
-/// SapphireRapids) on a CPU that has AVX-512: there its dsyrk is faster than Eigen's triangular
-/// product for the supernodal Cholesky's larger updates (docs/performance.md, section 16), and
-/// its Haswell kernels are slower. Null members otherwise (another BLAS, older kernels).
-struct OpenBlasSyrk {
+/// OpenBLAS's rank-k update (syrk: C = alpha A Aᵀ + beta C, a triangle of C) and product
+/// (gemm: C = alpha A Bᵀ + beta C) in double and float, with the calls that set its thread
+/// count, when the loaded OpenBLAS runs AVX-512 kernels (SkylakeX, Cooperlake, SapphireRapids)
+/// on a CPU that has AVX-512: there they are faster than Eigen's products for the supernodal
+/// Cholesky's larger updates (docs/performance.md, sections 16 and 26), and its Haswell kernels
+/// are slower. Null members otherwise (another BLAS, older kernels): all or none are found.
+struct OpenBlasKernels {
+  template <class T>
   using Syrk = void (*)(const char* uplo, const char* trans, const int* n, const int* k,
-                        const double* alpha, const double* a, const int* lda, const double* beta,
-                        double* c, const int* ldc);
-  Syrk dsyrk = nullptr;
+                        const T* alpha, const T* a, const int* lda, const T* beta, T* c,
+                        const int* ldc);
+  template <class T>
+  using Gemm = void (*)(const char* transa, const char* transb, const int* m, const int* n,
+                        const int* k, const T* alpha, const T* a, const int* lda, const T* b,
+                        const int* ldb, const T* beta, T* c, const int* ldc);
+  Syrk<double> dsyrk = nullptr;
+  Syrk<float> ssyrk = nullptr;
+  Gemm<double> dgemm = nullptr;
+  Gemm<float> sgemm = nullptr;
   int (*get_threads)() = nullptr;
   void (*set_threads)(int) = nullptr;
-  /// Whether dsyrk should be used with these kernels on this CPU (the core's name as
+  /// C's lower triangle (n x n, column-major, leading dimension ldc) += A Aᵀ, A n x k.
+  template <class T>
+  void syrk_lower(int n, int k, const T* a, int lda, T* c, int ldc) const;
+  /// C (m x n) += A Bᵀ, A m x k, B n x k.
+  template <class T>
+  void gemm_abt(int m, int n, int k, const T* a, int lda, const T* b, int ldb, T* c, int ldc) const;
+  /// Whether these kernels should be used on this CPU (the core's name as
   /// openblas_get_corename gives it).
   static bool worth_it(std::string_view active_core, const CpuFeatures& cpu);
   /// Found once per process (dlsym), the kernels' name read then.
-  static const OpenBlasSyrk& loaded();
+  static const OpenBlasKernels& loaded();
 };
 
 /// While one lives, OpenBLAS runs on the calling thread only (its count restored after): the
 /// supernodal Cholesky calls it from its own threads.
 class SerialOpenBlas {
  public:
-  explicit SerialOpenBlas(const OpenBlasSyrk& blas);
+  explicit SerialOpenBlas(const OpenBlasKernels& blas);
   ~SerialOpenBlas();
   SerialOpenBlas(const SerialOpenBlas&) = delete;
   SerialOpenBlas& operator=(const SerialOpenBlas&) = delete;
 
  private:
-  const OpenBlasSyrk& blas_;
+  const OpenBlasKernels& blas_;
   int threads_ = 0;
 };
 

@@ -28,23 +28,25 @@ TEST(BlasKernels, ChosenFromTheCpuOnlyWhenNobodyChose) {
   EXPECT_EQ(blas_coretype_to_request(nullptr, "", avx512), "");
 }
 
-TEST(BlasKernels, OpenBlasSyrkOnlyWithAvx512Kernels) {
+TEST(BlasKernels, OpenBlasKernelsOnlyWithAvx512Kernels) {
   const CpuFeatures avx512{true, true}, avx2{false, true};
-  EXPECT_TRUE(OpenBlasSyrk::worth_it("SkylakeX", avx512));
-  EXPECT_TRUE(OpenBlasSyrk::worth_it("Cooperlake", avx512));
-  EXPECT_TRUE(OpenBlasSyrk::worth_it("SapphireRapids", avx512));
+  EXPECT_TRUE(OpenBlasKernels::worth_it("SkylakeX", avx512));
+  EXPECT_TRUE(OpenBlasKernels::worth_it("Cooperlake", avx512));
+  EXPECT_TRUE(OpenBlasKernels::worth_it("SapphireRapids", avx512));
   // Haswell's (AVX2) dsyrk is slower than Eigen's product; older kernels more so.
-  EXPECT_FALSE(OpenBlasSyrk::worth_it("Haswell", avx512));
-  EXPECT_FALSE(OpenBlasSyrk::worth_it("Zen", avx512));
-  EXPECT_FALSE(OpenBlasSyrk::worth_it("Prescott", avx512));
-  EXPECT_FALSE(OpenBlasSyrk::worth_it("SkylakeX", avx2));  // kernels the CPU cannot run
-  EXPECT_FALSE(OpenBlasSyrk::worth_it("", avx512));        // not OpenBLAS
+  EXPECT_FALSE(OpenBlasKernels::worth_it("Haswell", avx512));
+  EXPECT_FALSE(OpenBlasKernels::worth_it("Zen", avx512));
+  EXPECT_FALSE(OpenBlasKernels::worth_it("Prescott", avx512));
+  EXPECT_FALSE(OpenBlasKernels::worth_it("SkylakeX", avx2));  // kernels the CPU cannot run
+  EXPECT_FALSE(OpenBlasKernels::worth_it("", avx512));        // not OpenBLAS
   // Found in this process only where worth it, with the calls that hold its threads.
-  const OpenBlasSyrk& blas = OpenBlasSyrk::loaded();
-  if (!OpenBlasSyrk::worth_it(openblas_core(), CpuFeatures::of_this_machine())) {
+  const OpenBlasKernels& blas = OpenBlasKernels::loaded();
+  if (!OpenBlasKernels::worth_it(openblas_core(), CpuFeatures::of_this_machine())) {
     EXPECT_EQ(blas.dsyrk, nullptr);
+    EXPECT_EQ(blas.ssyrk, nullptr);
   } else {
     ASSERT_NE(blas.dsyrk, nullptr);
+    ASSERT_NE(blas.ssyrk, nullptr);
     ASSERT_NE(blas.get_threads, nullptr);
     const int before = blas.get_threads();
     {
