@@ -44,9 +44,13 @@ TEST(BlasKernels, OpenBlasKernelsOnlyWithAvx512Kernels) {
   if (!OpenBlasKernels::worth_it(openblas_core(), CpuFeatures::of_this_machine())) {
     EXPECT_EQ(blas.dsyrk, nullptr);
     EXPECT_EQ(blas.ssyrk, nullptr);
+    EXPECT_EQ(blas.dgemm, nullptr);
+    EXPECT_EQ(blas.sgemm, nullptr);
   } else {
     ASSERT_NE(blas.dsyrk, nullptr);
     ASSERT_NE(blas.ssyrk, nullptr);
+    ASSERT_NE(blas.dgemm, nullptr);
+    ASSERT_NE(blas.sgemm, nullptr);
     ASSERT_NE(blas.get_threads, nullptr);
     const int before = blas.get_threads();
     {
