@@ -31,8 +31,6 @@ namespace {
 // columns (the update), whichever thread takes them.
 constexpr int kRowBlock = 96;
 constexpr int kColumnBlock = 48;
-// Updates of supernodes this wide or wider by OpenBLAS's kernels, where they are used.
-constexpr int kBlasWidth = 64;
 // Clearing and loading the panels: chunks of this many values.
 constexpr std::ptrdiff_t kClearChunk = 1 << 16;
 
@@ -325,10 +323,10 @@ void SupernodalCholesky::scatter_update(Panels<T>& p, int s, Work<T>& work, T* t
   const int w = st_.width(s), m = st_.below(s);
   if (m == 0) return;
   T* l = p.values.data() + st_.l_panel[s];
-  const Panel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
   if (blas_ && w >= kBlasWidth) {
     blas_->syrk_lower<T>(m, w, l + w, w + m, work.update.data(), m);  // work.update is zero
   } else {
+    const Panel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
     Eigen::Map<Matrix<T>> W(work.update.data(), m, m);  // zero (subtract_runs)
     W.template triangularView<Eigen::Lower>() += Lb * Lb.transpose();
   }
@@ -342,17 +340,17 @@ template <class T>
 void SupernodalCholesky::update_columns(Panels<T>& p, int s, int begin, int end, Work<T>& work) {
   const int w = st_.width(s), m = st_.below(s), rows = m - begin, cols = end - begin;
   const T* l = p.values.data() + st_.l_panel[s];
-  const ConstPanel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
-  Eigen::Map<Matrix<T>> W(work.update.data(), rows, cols);
-  const auto B = Lb.middleRows(begin, cols);
-  // W is zero (subtract_runs): the products add to it.
+  // The update's columns: rows x cols at work.update, zero (subtract_runs): the products add.
+  T* W0 = work.update.data();
   if (blas_ && w >= kBlasWidth) {
     const int ld = w + m;
-    blas_->syrk_lower<T>(cols, w, l + w + begin, ld, W.data(), rows);
+    blas_->syrk_lower<T>(cols, w, l + w + begin, ld, W0, rows);
     if (rows > cols)
-      blas_->gemm_abt<T>(rows - cols, cols, w, l + w + end, ld, l + w + begin, ld, W.data() + cols,
-                         rows);
+      blas_->gemm_abt<T>(rows - cols, cols, w, l + w + end, ld, l + w + begin, ld, W0 + cols, rows);
   } else {
+    const ConstPanel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
+    const auto B = Lb.middleRows(begin, cols);
+    Eigen::Map<Matrix<T>> W(W0, rows, cols);
     W.topRows(cols).template triangularView<Eigen::Lower>() += B * B.transpose();
     if (rows > cols)
       W.bottomRows(rows - cols).noalias() += Lb.bottomRows(rows - cols) * B.transpose();
