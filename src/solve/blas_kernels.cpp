@@ -90,12 +90,12 @@ const OpenBlasKernels& OpenBlasKernels::loaded() {
 }
 
 template <class T>
-void OpenBlasKernels::syrk_lower(int n, int k, const T* a, int lda, T* c, int ldc) const {
+void OpenBlasKernels::syrk_lower(int n, int k, T alpha, const T* a, int lda, T* c, int ldc) const {
   const T one = 1;  // β = 1: β = 0 would cost a pass of its own over C
   if constexpr (std::is_same_v<T, double>)
-    dsyrk("L", "N", &n, &k, &one, a, &lda, &one, c, &ldc);
+    dsyrk("L", "N", &n, &k, &alpha, a, &lda, &one, c, &ldc);
   else
-    ssyrk("L", "N", &n, &k, &one, a, &lda, &one, c, &ldc);
+    ssyrk("L", "N", &n, &k, &alpha, a, &lda, &one, c, &ldc);
 }
 
 template <class T>
@@ -108,8 +108,8 @@ void OpenBlasKernels::gemm_abt(int m, int n, int k, const T* a, int lda, const T
     sgemm("N", "T", &m, &n, &k, &one, a, &lda, b, &ldb, &one, c, &ldc);
 }
 
-template void OpenBlasKernels::syrk_lower(int, int, const double*, int, double*, int) const;
-template void OpenBlasKernels::syrk_lower(int, int, const float*, int, float*, int) const;
+template void OpenBlasKernels::syrk_lower(int, int, double, const double*, int, double*, int) const;
+template void OpenBlasKernels::syrk_lower(int, int, float, const float*, int, float*, int) const;
 template void OpenBlasKernels::gemm_abt(int, int, int, const double*, int, const double*, int,
                                         double*, int) const;
 template void OpenBlasKernels::gemm_abt(int, int, int, const float*, int, const float*, int, float*,

@@ -49,9 +49,9 @@ struct OpenBlasKernels {
   Gemm<float> sgemm = nullptr;
   int (*get_threads)() = nullptr;
   void (*set_threads)(int) = nullptr;
-  /// C's lower triangle (n x n, column-major, leading dimension ldc) += A Aᵀ, A n x k.
+  /// C's lower triangle (n x n, column-major, leading dimension ldc) += alpha A Aᵀ, A n x k.
   template <class T>
-  void syrk_lower(int n, int k, const T* a, int lda, T* c, int ldc) const;
+  void syrk_lower(int n, int k, T alpha, const T* a, int lda, T* c, int ldc) const;
   /// C (m x n) += A Bᵀ, A m x k, B n x k.
   template <class T>
   void gemm_abt(int m, int n, int k, const T* a, int lda, const T* b, int ldb, T* c, int ldc) const;

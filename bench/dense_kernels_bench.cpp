@@ -1,0 +1,109 @@
+// The supernodal Cholesky's dense kernels (src/solve/dense_kernels.hpp) against Eigen's, at
+// panel shapes the factorisations meet (rows below x width). Pin to one core (taskset -c 0);
+// OPENBLAS_CORETYPE=SkylakeX on an AVX-512 CPU gives the blocked Cholesky OpenBLAS's syrk, as
+// the velum command does. Arguments: rows, width, 0 Eigen / 1 Velum's kernel.
+#include <benchmark/benchmark.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "solve/dense_kernels.hpp"
+#include "velum/solve/blas_kernels.hpp"
+
+namespace {
+
+using velum::OpenBlasKernels;
+
+template <class T>
+using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+template <class T>
+using Panel = Eigen::Map<Matrix<T>, 0, Eigen::OuterStride<>>;
+
+template <class T>
+Matrix<T> spd(int n) {
+  Matrix<T> B = Matrix<T>::Random(n, n);
+  Matrix<T> A = B * B.transpose() / T(n);
+  A.diagonal().array() += T(0.5);
+  return A;
+}
+
+// X := X L⁻ᵀ on the rows below a panel's diagonal block (column stride w + m), restored from a
+// copy each time (the copy's time is not counted).
+template <class T>
+void BM_PanelTriangularSolve(benchmark::State& state) {
+  const int m = static_cast<int>(state.range(0)), w = static_cast<int>(state.range(1));
+  const bool ours = state.range(2) == 1;
+  const int ld = w + m;
+  Matrix<T> panel = Matrix<T>::Random(ld, w);
+  panel.topRows(w) = spd<T>(w).llt().matrixL();
+  const Matrix<T> start = panel;
+  for (auto _ : state) {
+    state.PauseTiming();
+    panel = start;
+    state.ResumeTiming();
+    if (ours) {
+      velum::dense::solve_lower_transposed(panel.data() + w, ld, m, panel.data(), ld, w);
+    } else {
+      const Panel<T> D(panel.data(), w, w, Eigen::OuterStride<>(ld));
+      Panel<T> X(panel.data() + w, m, w, Eigen::OuterStride<>(ld));
+      D.template triangularView<Eigen::Lower>()
+          .transpose()
+          .template solveInPlace<Eigen::OnTheRight>(X);
+    }
+    benchmark::DoNotOptimize(panel.data());
+  }
+  state.counters["gflops"] =
+      benchmark::Counter(double(m) * w * w * 1e-9, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// The Cholesky of a diagonal block of width n (column stride n + 64, as in a panel).
+template <class T>
+void BM_DiagonalCholesky(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const bool ours = state.range(2) == 1;
+  const int ld = n + 64;
+  Matrix<T> block = Matrix<T>::Zero(ld, n);
+  block.topRows(n) = spd<T>(n);
+  const Matrix<T> start = block;
+  const OpenBlasKernels* blas =
+      OpenBlasKernels::loaded().dsyrk ? &OpenBlasKernels::loaded() : nullptr;
+  velum::SerialOpenBlas serial(OpenBlasKernels::loaded());
+  for (auto _ : state) {
+    state.PauseTiming();
+    block = start;
+    state.ResumeTiming();
+    if (ours) {
+      benchmark::DoNotOptimize(velum::dense::cholesky_lower(block.data(), ld, n, blas));
+    } else {
+      Panel<T> D(block.data(), n, n, Eigen::OuterStride<>(ld));
+      benchmark::DoNotOptimize(Eigen::internal::llt_inplace<T, Eigen::Lower>::blocked(D));
+    }
+  }
+  state.counters["gflops"] = benchmark::Counter(double(n) * n * n / 3 * 1e-9,
+                                                benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void panel_shapes(benchmark::internal::Benchmark* b) {
+  for (const auto& [m, w] : {std::pair{60, 6},
+                             {100, 12},
+                             {150, 24},
+                             {200, 48},
+                             {300, 96},
+                             {500, 150},
+                             {800, 250},
+                             {1500, 500},
+                             {1700, 1700}})
+    for (const int ours : {0, 1}) b->Args({m, w, ours});
+}
+
+void block_widths(benchmark::internal::Benchmark* b) {
+  for (const int n : {12, 96, 192, 400, 800, 1700})
+    for (const int ours : {0, 1}) b->Args({n, 0, ours});
+}
+
+BENCHMARK(BM_PanelTriangularSolve<float>)->Apply(panel_shapes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PanelTriangularSolve<double>)->Apply(panel_shapes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_DiagonalCholesky<float>)->Apply(block_widths)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_DiagonalCholesky<double>)->Apply(block_widths)->Unit(benchmark::kMicrosecond);
+
+}  // namespace

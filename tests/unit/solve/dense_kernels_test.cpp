@@ -1,0 +1,132 @@
+// The supernodal Cholesky's dense kernels (dense_kernels.hpp) against Eigen's, in float and
+// double, at widths and row counts that reach each path: the packet blocks of three and one
+// packet, the padded last rows, the row-by-row last rows of wide calls, the column blocks past
+// 160 columns, and the blocked Cholesky past 192 (with OpenBLAS's syrk where it is used).
+#include "solve/dense_kernels.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <cmath>
+#include <limits>
+
+#include "velum/solve/blas_kernels.hpp"
+
+namespace velum {
+namespace {
+
+template <class T>
+using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+
+// An SPD matrix whose factor has entries of both signs and a spread of pivots.
+template <class T>
+Matrix<T> spd(int n) {
+  Matrix<T> B = Matrix<T>::Random(n, n);
+  Matrix<T> A = B * B.transpose() / T(n);
+  A.diagonal().array() += T(0.5);
+  return A;
+}
+
+template <class T>
+void check_solve(int m, int w) {
+  SCOPED_TRACE(testing::Message() << "m = " << m << ", w = " << w << ", "
+                                  << (sizeof(T) == 4 ? "float" : "double"));
+  // A panel as the factorisation holds it: L11 on top of the rows below, column stride w + m,
+  // here with spare rows so that the stride is not the rows' count.
+  const int ld = w + m + 3;
+  Matrix<T> panel = Matrix<T>::Random(ld, w);
+  const Matrix<T> L = spd<T>(w).llt().matrixL();
+  panel.topRows(w) = L;
+  panel.topRows(w).template triangularView<Eigen::StrictlyUpper>().setConstant(T(7));  // unread
+  const Matrix<T> B = panel.middleRows(w, m);
+  dense::solve_lower_transposed(panel.data() + w, ld, m, panel.data(), ld, w);
+  const Matrix<T> X = panel.middleRows(w, m);
+  // X Lᵀ = B to the precision's round-off, relative to |X| |L|ᵀ.
+  const Matrix<T> residual = X * L.transpose() - B;
+  const Matrix<T> scale = X.cwiseAbs() * L.cwiseAbs().transpose();
+  const T eps = std::numeric_limits<T>::epsilon();
+  for (int j = 0; j < w; ++j)
+    for (int i = 0; i < m; ++i)
+      ASSERT_LE(std::abs(residual(i, j)), T(4) * (w + 1) * eps * scale(i, j)) << i << ", " << j;
+  // The spare rows below are not written.
+  EXPECT_EQ(panel.bottomRows(3), Matrix<T>(panel.bottomRows(3)));
+}
+
+TEST(DenseKernels, TriangularSolveAgainstItsDefinition) {
+  const int shapes[][2] = {{1, 1},    {5, 3},    {30, 3},    {47, 6},    {48, 12},
+                           {49, 13},  {100, 12}, {150, 24},  {200, 48},  {300, 96},
+                           {17, 129}, {61, 160}, {300, 161}, {333, 250}, {97, 400}};
+  for (const auto& s : shapes) {
+    check_solve<float>(s[0], s[1]);
+    check_solve<double>(s[0], s[1]);
+  }
+}
+
+// Up to 160 columns each row's result does not depend on the rows a call is given (so the
+// tail rows, padded or not, match the packets' lanes bit for bit).
+TEST(DenseKernels, TriangularSolveRowsIndependentOfTheCall) {
+  for (const int w : {3, 12, 50, 130, 160}) {
+    const int m = 131, ld = w + m;
+    Matrix<double> panel = Matrix<double>::Random(ld, w);
+    panel.topRows(w) = spd<double>(w).llt().matrixL();
+    Matrix<double> whole = panel, pieces = panel;
+    dense::solve_lower_transposed(whole.data() + w, ld, m, whole.data(), ld, w);
+    for (const auto& [begin, end] : {std::pair{0, 7}, std::pair{7, 64}, std::pair{64, m}})
+      dense::solve_lower_transposed(pieces.data() + w + begin, ld, end - begin, pieces.data(), ld,
+                                    w);
+    EXPECT_TRUE(whole == pieces) << "w = " << w;
+  }
+}
+
+template <class T>
+void check_cholesky(int n, const OpenBlasKernels* blas) {
+  SCOPED_TRACE(testing::Message() << "n = " << n << ", " << (sizeof(T) == 4 ? "float" : "double")
+                                  << (blas ? ", OpenBLAS" : ""));
+  const Matrix<T> A = spd<T>(n);
+  const int ld = n + 5;
+  Matrix<T> work = Matrix<T>::Constant(ld, n, T(3));
+  work.topRows(n) = A;
+  work.topRows(n).template triangularView<Eigen::StrictlyUpper>().setConstant(T(9));
+  ASSERT_EQ(dense::cholesky_lower(work.data(), ld, n, blas), -1);
+  const Matrix<T> L = work.topRows(n).template triangularView<Eigen::Lower>();
+  const T error = (L * L.transpose() - A).cwiseAbs().maxCoeff();
+  EXPECT_LE(error, T(8) * n * std::numeric_limits<T>::epsilon() * A.cwiseAbs().maxCoeff());
+  // Only the lower triangle is written.
+  EXPECT_TRUE(
+      (work.topRows(n).template triangularView<Eigen::StrictlyUpper>().toDenseMatrix().array() ==
+       T(9))
+          .count() == n * (n - 1) / 2);
+  EXPECT_TRUE((work.bottomRows(5).array() == T(3)).all());
+}
+
+TEST(DenseKernels, CholeskyFactorsWideAndNarrowBlocks) {
+  const OpenBlasKernels& loaded = OpenBlasKernels::loaded();
+  for (const int n : {1, 7, 192, 193, 300, 520}) {
+    check_cholesky<float>(n, nullptr);
+    check_cholesky<double>(n, nullptr);
+    if (loaded.dsyrk) {
+      check_cholesky<float>(n, &loaded);
+      check_cholesky<double>(n, &loaded);
+    }
+  }
+}
+
+// A pivot that is not positive stops the factorisation at its column, in the first column
+// block or a later one, as Eigen's llt_inplace reports it.
+TEST(DenseKernels, CholeskyReportsTheFirstColumnNotPositive) {
+  for (const int bad : {5, 150, 260}) {
+    const int n = 300;
+    Matrix<double> A = spd<double>(n);
+    // Column `bad` made a copy of column `bad − 1` (row and column): the matrix is singular
+    // there and the pivot of column `bad` is zero to round-off, or negative with the shift.
+    A.row(bad) = A.row(bad - 1);
+    A.col(bad) = A.col(bad - 1);
+    A(bad, bad) -= 1e-3;
+    Matrix<double> work = A;
+    EXPECT_EQ(dense::cholesky_lower(work.data(), n, n, nullptr), bad);
+  }
+}
+
+}  // namespace
+}  // namespace velum
