@@ -37,12 +37,15 @@ void BM_PanelTriangularSolve(benchmark::State& state) {
   Matrix<T> panel = Matrix<T>::Random(ld, w);
   panel.topRows(w) = spd<T>(w).llt().matrixL();
   const Matrix<T> start = panel;
+  const OpenBlasKernels* blas =
+      OpenBlasKernels::loaded().dsyrk ? &OpenBlasKernels::loaded() : nullptr;
+  velum::SerialOpenBlas serial(OpenBlasKernels::loaded());
   for (auto _ : state) {
     state.PauseTiming();
     panel = start;
     state.ResumeTiming();
     if (ours) {
-      velum::dense::solve_lower_transposed(panel.data() + w, ld, m, panel.data(), ld, w);
+      velum::dense::solve_lower_transposed(panel.data() + w, ld, m, panel.data(), ld, w, blas);
     } else {
       const Panel<T> D(panel.data(), w, w, Eigen::OuterStride<>(ld));
       Panel<T> X(panel.data() + w, m, w, Eigen::OuterStride<>(ld));
@@ -92,7 +95,8 @@ void panel_shapes(benchmark::internal::Benchmark* b) {
                              {500, 150},
                              {800, 250},
                              {1500, 500},
-                             {1700, 1700}})
+                             {1700, 1700},
+                             {96, 1700}})
     for (const int ours : {0, 1}) b->Args({m, w, ours});
 }
 

@@ -99,21 +99,21 @@ void OpenBlasKernels::syrk_lower(int n, int k, T alpha, const T* a, int lda, T* 
 }
 
 template <class T>
-void OpenBlasKernels::gemm_abt(int m, int n, int k, const T* a, int lda, const T* b, int ldb, T* c,
-                               int ldc) const {
+void OpenBlasKernels::gemm_abt(int m, int n, int k, T alpha, const T* a, int lda, const T* b,
+                               int ldb, T* c, int ldc) const {
   const T one = 1;
   if constexpr (std::is_same_v<T, double>)
-    dgemm("N", "T", &m, &n, &k, &one, a, &lda, b, &ldb, &one, c, &ldc);
+    dgemm("N", "T", &m, &n, &k, &alpha, a, &lda, b, &ldb, &one, c, &ldc);
   else
-    sgemm("N", "T", &m, &n, &k, &one, a, &lda, b, &ldb, &one, c, &ldc);
+    sgemm("N", "T", &m, &n, &k, &alpha, a, &lda, b, &ldb, &one, c, &ldc);
 }
 
 template void OpenBlasKernels::syrk_lower(int, int, double, const double*, int, double*, int) const;
 template void OpenBlasKernels::syrk_lower(int, int, float, const float*, int, float*, int) const;
-template void OpenBlasKernels::gemm_abt(int, int, int, const double*, int, const double*, int,
-                                        double*, int) const;
-template void OpenBlasKernels::gemm_abt(int, int, int, const float*, int, const float*, int, float*,
-                                        int) const;
+template void OpenBlasKernels::gemm_abt(int, int, int, double, const double*, int, const double*,
+                                        int, double*, int) const;
+template void OpenBlasKernels::gemm_abt(int, int, int, float, const float*, int, const float*, int,
+                                        float*, int) const;
 
 SerialOpenBlas::SerialOpenBlas(const OpenBlasKernels& blas) : blas_(blas) {
   if (!blas_.dsyrk) return;

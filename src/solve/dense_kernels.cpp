@@ -131,15 +131,18 @@ void solve_direct(T* X, std::ptrdiff_t ldx, int m, const T* L, std::ptrdiff_t ld
 }  // namespace
 
 template <class T>
-void solve_lower_transposed(T* X, std::ptrdiff_t ldx, int m, const T* L, std::ptrdiff_t ldl,
-                            int w) {
+void solve_lower_transposed(T* X, std::ptrdiff_t ldx, int m, const T* L, std::ptrdiff_t ldl, int w,
+                            const OpenBlasKernels* blas) {
   if (m <= 0 || w <= 0) return;
   if (w <= kDirectWidth) return solve_direct(X, ldx, m, L, ldl, w);
   using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
   using Stride = Eigen::OuterStride<>;
   for (int j0 = 0; j0 < w; j0 += kColumns) {
     const int nb = std::min(kColumns, w - j0);
-    if (j0 > 0) {  // X_J −= X_{<J} L_{J,<J}ᵀ
+    if (j0 > 0 && blas && blas->sgemm) {  // X_J −= X_{<J} L_{J,<J}ᵀ
+      blas->gemm_abt<T>(m, nb, j0, T(-1), X, static_cast<int>(ldx), L + j0, static_cast<int>(ldl),
+                        X + j0 * ldx, static_cast<int>(ldx));
+    } else if (j0 > 0) {
       Eigen::Map<Matrix, 0, Stride> XJ(X + j0 * ldx, m, nb, Stride(ldx));
       const Eigen::Map<const Matrix, 0, Stride> before(X, m, j0, Stride(ldx));
       const Eigen::Map<const Matrix, 0, Stride> LJ(L + j0, nb, j0, Stride(ldl));
@@ -167,7 +170,7 @@ std::ptrdiff_t cholesky_lower(T* A, std::ptrdiff_t lda, int n, const OpenBlasKer
     if (failed >= 0) return k + failed;
     if (rest == 0) break;
     T* below = A + k * lda + k + kb;
-    solve_lower_transposed(below, lda, rest, A + k * lda + k, lda, kb);
+    solve_lower_transposed(below, lda, rest, A + k * lda + k, lda, kb, blas);
     if (blas && blas->dsyrk) {
       blas->syrk_lower<T>(rest, kb, T(-1), below, static_cast<int>(lda), below + kb * lda,
                           static_cast<int>(lda));
@@ -182,9 +185,9 @@ std::ptrdiff_t cholesky_lower(T* A, std::ptrdiff_t lda, int n, const OpenBlasKer
 }
 
 template void solve_lower_transposed(double*, std::ptrdiff_t, int, const double*, std::ptrdiff_t,
-                                     int);
-template void solve_lower_transposed(float*, std::ptrdiff_t, int, const float*, std::ptrdiff_t,
-                                     int);
+                                     int, const OpenBlasKernels*);
+template void solve_lower_transposed(float*, std::ptrdiff_t, int, const float*, std::ptrdiff_t, int,
+                                     const OpenBlasKernels*);
 template std::ptrdiff_t cholesky_lower(double*, std::ptrdiff_t, int, const OpenBlasKernels*);
 template std::ptrdiff_t cholesky_lower(float*, std::ptrdiff_t, int, const OpenBlasKernels*);
 

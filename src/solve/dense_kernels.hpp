@@ -13,10 +13,12 @@ struct OpenBlasKernels;
 namespace dense {
 
 /// X := X L⁻ᵀ in place: X is m x w (column j at X + j ldx), L is w x w lower triangular (column
-/// j at L + j ldl; only its lower triangle is read) with a nonzero diagonal. Deterministic: the
-/// same call gives the same bits on any thread.
+/// j at L + j ldl; only its lower triangle is read) with a nonzero diagonal. Past 160 columns
+/// by column blocks, the columns before each block subtracted by a product (OpenBLAS's gemm
+/// with `blas`, else Eigen's). Deterministic: the same call gives the same bits on any thread.
 template <class T>
-void solve_lower_transposed(T* X, std::ptrdiff_t ldx, int m, const T* L, std::ptrdiff_t ldl, int w);
+void solve_lower_transposed(T* X, std::ptrdiff_t ldx, int m, const T* L, std::ptrdiff_t ldl, int w,
+                            const OpenBlasKernels* blas);
 
 /// A = L Lᵀ in place (its lower triangle; the upper one is not touched), n x n with column
 /// stride lda. Returns -1, or the column whose pivot is not positive (where it stopped), as

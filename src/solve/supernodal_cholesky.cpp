@@ -312,7 +312,7 @@ void SupernodalCholesky::solve_below(Panels<T>& p, int s, int begin, int end) {
   if (end <= begin) return;
   const int w = st_.width(s), m = st_.below(s);
   T* l = p.values.data() + st_.l_panel[s];
-  dense::solve_lower_transposed(l + w + begin, w + m, end - begin, l, w + m, w);
+  dense::solve_lower_transposed(l + w + begin, w + m, end - begin, l, w + m, w, blas_);
 }
 
 // A22 −= L21 L21ᵀ (its lower triangle) into the L panels of the supernodes that own the rows
@@ -345,7 +345,8 @@ void SupernodalCholesky::update_columns(Panels<T>& p, int s, int begin, int end,
     const int ld = w + m;
     blas_->syrk_lower<T>(cols, w, T(1), l + w + begin, ld, W0, rows);
     if (rows > cols)
-      blas_->gemm_abt<T>(rows - cols, cols, w, l + w + end, ld, l + w + begin, ld, W0 + cols, rows);
+      blas_->gemm_abt<T>(rows - cols, cols, w, T(1), l + w + end, ld, l + w + begin, ld, W0 + cols,
+                         rows);
   } else {
     const ConstPanel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
     const auto B = Lb.middleRows(begin, cols);

@@ -52,9 +52,10 @@ struct OpenBlasKernels {
   /// C's lower triangle (n x n, column-major, leading dimension ldc) += alpha A Aᵀ, A n x k.
   template <class T>
   void syrk_lower(int n, int k, T alpha, const T* a, int lda, T* c, int ldc) const;
-  /// C (m x n) += A Bᵀ, A m x k, B n x k.
+  /// C (m x n) += alpha A Bᵀ, A m x k, B n x k.
   template <class T>
-  void gemm_abt(int m, int n, int k, const T* a, int lda, const T* b, int ldb, T* c, int ldc) const;
+  void gemm_abt(int m, int n, int k, T alpha, const T* a, int lda, const T* b, int ldb, T* c,
+                int ldc) const;
   /// Whether these kernels should be used on this CPU (the core's name as
   /// openblas_get_corename gives it).
   static bool worth_it(std::string_view active_core, const CpuFeatures& cpu);

@@ -29,9 +29,10 @@ Matrix<T> spd(int n) {
 }
 
 template <class T>
-void check_solve(int m, int w) {
+void check_solve(int m, int w, const OpenBlasKernels* blas) {
   SCOPED_TRACE(testing::Message() << "m = " << m << ", w = " << w << ", "
-                                  << (sizeof(T) == 4 ? "float" : "double"));
+                                  << (sizeof(T) == 4 ? "float" : "double")
+                                  << (blas ? ", OpenBLAS" : ""));
   // A panel as the factorisation holds it: L11 on top of the rows below, column stride w + m,
   // here with spare rows so that the stride is not the rows' count.
   const int ld = w + m + 3;
@@ -40,7 +41,7 @@ void check_solve(int m, int w) {
   panel.topRows(w) = L;
   panel.topRows(w).template triangularView<Eigen::StrictlyUpper>().setConstant(T(7));  // unread
   const Matrix<T> B = panel.middleRows(w, m);
-  dense::solve_lower_transposed(panel.data() + w, ld, m, panel.data(), ld, w);
+  dense::solve_lower_transposed(panel.data() + w, ld, m, panel.data(), ld, w, blas);
   const Matrix<T> X = panel.middleRows(w, m);
   // X Lᵀ = B to the precision's round-off, relative to |X| |L|ᵀ.
   const Matrix<T> residual = X * L.transpose() - B;
@@ -57,9 +58,14 @@ TEST(DenseKernels, TriangularSolveAgainstItsDefinition) {
   const int shapes[][2] = {{1, 1},    {5, 3},    {30, 3},    {47, 6},    {48, 12},
                            {49, 13},  {100, 12}, {150, 24},  {200, 48},  {300, 96},
                            {17, 129}, {61, 160}, {300, 161}, {333, 250}, {97, 400}};
+  const OpenBlasKernels& loaded = OpenBlasKernels::loaded();
   for (const auto& s : shapes) {
-    check_solve<float>(s[0], s[1]);
-    check_solve<double>(s[0], s[1]);
+    check_solve<float>(s[0], s[1], nullptr);
+    check_solve<double>(s[0], s[1], nullptr);
+    if (loaded.dsyrk) {
+      check_solve<float>(s[0], s[1], &loaded);
+      check_solve<double>(s[0], s[1], &loaded);
+    }
   }
 }
 
@@ -71,10 +77,10 @@ TEST(DenseKernels, TriangularSolveRowsIndependentOfTheCall) {
     Matrix<double> panel = Matrix<double>::Random(ld, w);
     panel.topRows(w) = spd<double>(w).llt().matrixL();
     Matrix<double> whole = panel, pieces = panel;
-    dense::solve_lower_transposed(whole.data() + w, ld, m, whole.data(), ld, w);
+    dense::solve_lower_transposed(whole.data() + w, ld, m, whole.data(), ld, w, nullptr);
     for (const auto& [begin, end] : {std::pair{0, 7}, std::pair{7, 64}, std::pair{64, m}})
       dense::solve_lower_transposed(pieces.data() + w + begin, ld, end - begin, pieces.data(), ld,
-                                    w);
+                                    w, nullptr);
     EXPECT_TRUE(whole == pieces) << "w = " << w;
   }
 }
