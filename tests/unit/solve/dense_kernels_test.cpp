@@ -108,7 +108,7 @@ void check_cholesky(int n, const OpenBlasKernels* blas) {
 
 TEST(DenseKernels, CholeskyFactorsWideAndNarrowBlocks) {
   const OpenBlasKernels& loaded = OpenBlasKernels::loaded();
-  for (const int n : {1, 7, 192, 193, 300, 520}) {
+  for (const int n : {1, 3, 7, 8, 9, 12, 16, 17, 31, 32, 33, 192, 193, 300, 520}) {
     check_cholesky<float>(n, nullptr);
     check_cholesky<double>(n, nullptr);
     if (loaded.dsyrk) {
@@ -121,8 +121,7 @@ TEST(DenseKernels, CholeskyFactorsWideAndNarrowBlocks) {
 // A pivot that is not positive stops the factorisation at its column, in the first column
 // block or a later one, as Eigen's llt_inplace reports it.
 TEST(DenseKernels, CholeskyReportsTheFirstColumnNotPositive) {
-  for (const int bad : {5, 150, 260}) {
-    const int n = 300;
+  for (const auto& [n, bad] : {std::pair{300, 5}, {300, 150}, {300, 260}, {12, 4}, {30, 29}}) {
     Matrix<double> A = spd<double>(n);
     // Column `bad` made a copy of column `bad − 1` (row and column): the matrix is singular
     // there and the pivot of column `bad` is zero to round-off, or negative with the shift.
@@ -131,6 +130,16 @@ TEST(DenseKernels, CholeskyReportsTheFirstColumnNotPositive) {
     A(bad, bad) -= 1e-3;
     Matrix<double> work = A;
     EXPECT_EQ(dense::cholesky_lower(work.data(), n, n, nullptr), bad);
+  }
+}
+
+// A NaN pivot does not stop it (as Eigen's does not): the caller reads the diagonal.
+TEST(DenseKernels, CholeskyCarriesANanPivotThrough) {
+  for (const int n : {12, 30, 300}) {
+    Matrix<double> A = spd<double>(n);
+    A(3, 3) = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_EQ(dense::cholesky_lower(A.data(), n, n, nullptr), -1) << n;
+    EXPECT_TRUE(std::isnan(A(3, 3))) << n;
   }
 }
 
