@@ -149,18 +149,24 @@ bool SupernodalCholesky::factorize(const SparseMatrix& A) {
     }
     // A's values copied (kept as factorised, for the refinement's residuals) and ‖A‖∞ summed
     // in the same pass: A is symmetric, its rows' sums are its columns'.
+    // On the threads a split factorisation runs on (a maximum is exact in any order): on one,
+    // this pass was about 2.5 % of a two-thread run's wall time (Hencky n = 130).
     const double* from = A.isCompressed() ? A.valuePtr() : a_.valuePtr();
     double* to = a_.valuePtr();
     const int* start = a_.outerIndexPtr();
-    a_norm_ = 0;
-    for (Eigen::Index j = 0; j < a_.outerSize(); ++j) {
+    const int columns = static_cast<int>(a_.outerSize());
+    const int threads = splits_ ? omp_get_max_threads() : 1;
+    double norm = 0;
+#pragma omp parallel for schedule(static) reduction(max : norm) num_threads(threads)
+    for (int j = 0; j < columns; ++j) {
       double sum = 0;
       for (int k = start[j]; k < start[j + 1]; ++k) {
         to[k] = from[k];
         sum += std::abs(from[k]);
       }
-      a_norm_ = std::max(a_norm_, sum);
+      norm = std::max(norm, sum);
     }
+    a_norm_ = norm;
     if (double_pause_ > 0) {
       --double_pause_;
     } else {
