@@ -9,35 +9,29 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "random_spd.hpp"
 #include "solve/dense_kernels.hpp"
 #include "velum/solve/blas_kernels.hpp"
 
 namespace {
 
 using velum::OpenBlasKernels;
+using velum::random_spd;
 
 template <class T>
 using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
 template <class T>
 using Panel = Eigen::Map<Matrix<T>, 0, Eigen::OuterStride<>>;
 
-template <class T>
-Matrix<T> spd(int n) {
-  Matrix<T> B = Matrix<T>::Random(n, n);
-  Matrix<T> A = B * B.transpose() / T(n);
-  A.diagonal().array() += T(0.5);
-  return A;
-}
-
 // X := X L⁻ᵀ on the rows below a panel's diagonal block (column stride w + m), restored from a
-// copy each time (the copy's time is not counted).
+// copy before each call (timed with it).
 template <class T>
 void BM_PanelTriangularSolve(benchmark::State& state) {
   const int m = static_cast<int>(state.range(0)), w = static_cast<int>(state.range(1));
   const bool ours = state.range(2) == 1;
   const int ld = w + m;
   Matrix<T> panel = Matrix<T>::Random(ld, w);
-  panel.topRows(w) = spd<T>(w).llt().matrixL();
+  panel.topRows(w) = random_spd<T>(w).llt().matrixL();
   const Matrix<T> start = panel;
   const OpenBlasKernels* blas =
       OpenBlasKernels::loaded().dsyrk ? &OpenBlasKernels::loaded() : nullptr;
@@ -68,7 +62,7 @@ void BM_DiagonalCholesky(benchmark::State& state) {
   const bool ours = state.range(2) == 1;
   const int ld = n + 64;
   Matrix<T> block = Matrix<T>::Zero(ld, n);
-  block.topRows(n) = spd<T>(n);
+  block.topRows(n) = random_spd<T>(n);
   const Matrix<T> start = block;
   const OpenBlasKernels* blas =
       OpenBlasKernels::loaded().dsyrk ? &OpenBlasKernels::loaded() : nullptr;

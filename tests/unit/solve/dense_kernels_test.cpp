@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 
+#include "random_spd.hpp"
 #include "velum/solve/blas_kernels.hpp"
 
 namespace velum {
@@ -18,15 +19,6 @@ namespace {
 
 template <class T>
 using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
-
-// An SPD matrix whose factor has entries of both signs and a spread of pivots.
-template <class T>
-Matrix<T> spd(int n) {
-  Matrix<T> B = Matrix<T>::Random(n, n);
-  Matrix<T> A = B * B.transpose() / T(n);
-  A.diagonal().array() += T(0.5);
-  return A;
-}
 
 template <class T>
 void check_solve(int m, int w, const OpenBlasKernels* blas) {
@@ -37,7 +29,7 @@ void check_solve(int m, int w, const OpenBlasKernels* blas) {
   // here with spare rows so that the stride is not the rows' count.
   const int ld = w + m + 3;
   Matrix<T> panel = Matrix<T>::Random(ld, w);
-  const Matrix<T> L = spd<T>(w).llt().matrixL();
+  const Matrix<T> L = random_spd<T>(w).llt().matrixL();
   panel.topRows(w) = L;
   panel.topRows(w).template triangularView<Eigen::StrictlyUpper>().setConstant(T(7));  // unread
   const Matrix<T> B = panel.middleRows(w, m);
@@ -75,7 +67,7 @@ TEST(DenseKernels, TriangularSolveRowsIndependentOfTheCall) {
   for (const int w : {3, 12, 50, 130, 160}) {
     const int m = 131, ld = w + m;
     Matrix<double> panel = Matrix<double>::Random(ld, w);
-    panel.topRows(w) = spd<double>(w).llt().matrixL();
+    panel.topRows(w) = random_spd<double>(w).llt().matrixL();
     Matrix<double> whole = panel, pieces = panel;
     dense::solve_lower_transposed(whole.data() + w, ld, m, whole.data(), ld, w, nullptr);
     for (const auto& [begin, end] : {std::pair{0, 7}, std::pair{7, 64}, std::pair{64, m}})
@@ -89,7 +81,7 @@ template <class T>
 void check_cholesky(int n, const OpenBlasKernels* blas) {
   SCOPED_TRACE(testing::Message() << "n = " << n << ", " << (sizeof(T) == 4 ? "float" : "double")
                                   << (blas ? ", OpenBLAS" : ""));
-  const Matrix<T> A = spd<T>(n);
+  const Matrix<T> A = random_spd<T>(n);
   const int ld = n + 5;
   Matrix<T> work = Matrix<T>::Constant(ld, n, T(3));
   work.topRows(n) = A;
@@ -122,7 +114,7 @@ TEST(DenseKernels, CholeskyFactorsWideAndNarrowBlocks) {
 // block or a later one, as Eigen's llt_inplace reports it.
 TEST(DenseKernels, CholeskyReportsTheFirstColumnNotPositive) {
   for (const auto& [n, bad] : {std::pair{300, 5}, {300, 150}, {300, 260}, {12, 4}, {30, 29}}) {
-    Matrix<double> A = spd<double>(n);
+    Matrix<double> A = random_spd<double>(n);
     // Column `bad` made a copy of column `bad − 1` (row and column): the matrix is singular
     // there and the pivot of column `bad` is zero to round-off, or negative with the shift.
     A.row(bad) = A.row(bad - 1);
@@ -136,7 +128,7 @@ TEST(DenseKernels, CholeskyReportsTheFirstColumnNotPositive) {
 // A NaN pivot does not stop it (as Eigen's does not): the caller reads the diagonal.
 TEST(DenseKernels, CholeskyCarriesANanPivotThrough) {
   for (const int n : {12, 30, 300}) {
-    Matrix<double> A = spd<double>(n);
+    Matrix<double> A = random_spd<double>(n);
     A(3, 3) = std::numeric_limits<double>::quiet_NaN();
     EXPECT_EQ(dense::cholesky_lower(A.data(), n, n, nullptr), -1) << n;
     EXPECT_TRUE(std::isnan(A(3, 3))) << n;
