@@ -23,34 +23,45 @@ using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
 template <class T>
 using Panel = Eigen::Map<Matrix<T>, 0, Eigen::OuterStride<>>;
 
-// X := X L⁻ᵀ on the rows below a panel's diagonal block (column stride w + m), restored from a
-// copy before each call (timed with it).
+// One call per iteration after the input is restored (`reset`): Velum's kernel (third argument
+// 1), Eigen's (0) or neither (2: the restoring copy alone, to subtract), on one thread.
+template <class Reset, class Ours, class Eigens>
+void time_calls(benchmark::State& state, const Reset& reset, const Ours& ours,
+                const Eigens& eigens) {
+  velum::SerialOpenBlas serial(OpenBlasKernels::loaded());
+  const auto variant = state.range(2);
+  for (auto _ : state) {
+    reset();
+    if (variant == 1)
+      ours();
+    else if (variant == 0)
+      eigens();
+  }
+}
+
+// X := X L⁻ᵀ on the rows below a panel's diagonal block (column stride w + m).
 template <class T>
 void BM_PanelTriangularSolve(benchmark::State& state) {
   const int m = static_cast<int>(state.range(0)), w = static_cast<int>(state.range(1));
-  const bool ours = state.range(2) == 1;
   const int ld = w + m;
   Matrix<T> panel = Matrix<T>::Random(ld, w);
   panel.topRows(w) = random_spd<T>(w).llt().matrixL();
   const Matrix<T> start = panel;
-  const OpenBlasKernels* blas =
-      OpenBlasKernels::loaded().dsyrk ? &OpenBlasKernels::loaded() : nullptr;
-  velum::SerialOpenBlas serial(OpenBlasKernels::loaded());
-  for (auto _ : state) {
-    panel = start;
-    if (state.range(2) == 2) {
-      benchmark::DoNotOptimize(panel.data());
-    } else if (ours) {
-      velum::dense::solve_lower_transposed(panel.data() + w, ld, m, panel.data(), ld, w, blas);
-    } else {
-      const Panel<T> D(panel.data(), w, w, Eigen::OuterStride<>(ld));
-      Panel<T> X(panel.data() + w, m, w, Eigen::OuterStride<>(ld));
-      D.template triangularView<Eigen::Lower>()
-          .transpose()
-          .template solveInPlace<Eigen::OnTheRight>(X);
-    }
-    benchmark::DoNotOptimize(panel.data());
-  }
+  time_calls(
+      state, [&] { panel = start; },
+      [&] {
+        velum::dense::solve_lower_transposed(panel.data() + w, ld, m, panel.data(), ld, w,
+                                             OpenBlasKernels::found());
+        benchmark::DoNotOptimize(panel.data());
+      },
+      [&] {
+        const Panel<T> D(panel.data(), w, w, Eigen::OuterStride<>(ld));
+        Panel<T> X(panel.data() + w, m, w, Eigen::OuterStride<>(ld));
+        D.template triangularView<Eigen::Lower>()
+            .transpose()
+            .template solveInPlace<Eigen::OnTheRight>(X);
+        benchmark::DoNotOptimize(panel.data());
+      });
   state.counters["gflops"] =
       benchmark::Counter(double(m) * w * w * 1e-9, benchmark::Counter::kIsIterationInvariantRate);
 }
@@ -59,25 +70,20 @@ void BM_PanelTriangularSolve(benchmark::State& state) {
 template <class T>
 void BM_DiagonalCholesky(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
-  const bool ours = state.range(2) == 1;
   const int ld = n + 64;
   Matrix<T> block = Matrix<T>::Zero(ld, n);
   block.topRows(n) = random_spd<T>(n);
   const Matrix<T> start = block;
-  const OpenBlasKernels* blas =
-      OpenBlasKernels::loaded().dsyrk ? &OpenBlasKernels::loaded() : nullptr;
-  velum::SerialOpenBlas serial(OpenBlasKernels::loaded());
-  for (auto _ : state) {
-    block = start;
-    if (state.range(2) == 2) {
-      benchmark::DoNotOptimize(block.data());
-    } else if (ours) {
-      benchmark::DoNotOptimize(velum::dense::cholesky_lower(block.data(), ld, n, blas));
-    } else {
-      Panel<T> D(block.data(), n, n, Eigen::OuterStride<>(ld));
-      benchmark::DoNotOptimize(Eigen::internal::llt_inplace<T, Eigen::Lower>::blocked(D));
-    }
-  }
+  time_calls(
+      state, [&] { block = start; },
+      [&] {
+        benchmark::DoNotOptimize(
+            velum::dense::cholesky_lower(block.data(), ld, n, OpenBlasKernels::found()));
+      },
+      [&] {
+        Panel<T> D(block.data(), n, n, Eigen::OuterStride<>(ld));
+        benchmark::DoNotOptimize(Eigen::internal::llt_inplace<T, Eigen::Lower>::blocked(D));
+      });
   state.counters["gflops"] = benchmark::Counter(double(n) * n * n / 3 * 1e-9,
                                                 benchmark::Counter::kIsIterationInvariantRate);
 }

@@ -4,10 +4,10 @@
 // side, its stiffness K at rest (a stress-free membrane: in-plane stiffness only, out of plane
 // through the curvature), 2 the stiffness at rest of the model file named by VELUM_MODEL (the
 // Hencky dome of bench/compare-fenicsx, for instance; skipped without it), or of a dynamic model
-// its first Newmark step's K + 4 M / Δt² (the 1M-equation square of `compare-ccx --scaling`,
-// for instance). Second argument:
-// elements per side (0 and 1); third: 0 double, 1 mixed. Time per factorisation; counters:
-// `solve_ms` (the best of five solves, refinement included), `pass_ms` (the best of five
+// its first step's Jacobian cu K + ca M with its integrator's coefficients (K + 4 M / Δt² for
+// the trapezoidal Newmark of the 1M-equation square of `compare-ccx --scaling`, for instance).
+// Second argument: elements per side (0 and 1); third: 0 double, 1 mixed. Time per factorisation;
+// counters: `solve_ms` (the best of five solves, refinement included), `pass_ms` (the best of five
 // passes of the factor alone: solve_within with an infinite residual), `backward_error`
 // (‖b − A x‖∞ / (‖A‖∞ ‖x‖∞)), `float_solves` per solve, `fallbacks` to the double
 // factor, `gflops` of the factorisation.
@@ -21,8 +21,10 @@
 
 #include "solve/supernodal_cholesky.hpp"
 #include "square_membrane.hpp"
+#include "velum/analysis/analysis.hpp"
 #include "velum/analysis/mechanical_system.hpp"
 #include "velum/io/model_reader.hpp"
+#include "velum/time/integrators.hpp"
 
 namespace {
 
@@ -35,15 +37,21 @@ SparseMatrix matrix(int which, int n) {
   std::unique_ptr<Model> owned;
   ModelInput input;
   const Model* model = nullptr;
-  double mass = which == 0 ? 1.0 : 0.0;
+  double stiffness = 1.0, mass = which == 0 ? 1.0 : 0.0;
   if (which == 2) {
     const char* file = std::getenv("VELUM_MODEL");
     if (!file) return {};
     input = read_model(file);
     model = &input.model;
-    // A dynamic model: its first Newmark step's K + M / (β Δt²), β = 1/4.
-    if (!input.analysis.equilibrium())
-      mass = 4.0 / (input.analysis.time.step * input.analysis.time.step);
+    // A dynamic model: its first step's Jacobian, as its (implicit) integrator builds it.
+    if (!input.analysis.equilibrium()) {
+      const std::unique_ptr<TimeIntegrator> integrator = make_integrator(input.analysis);
+      if (const auto* implicit = dynamic_cast<const GeneralizedAlpha*>(integrator.get())) {
+        const Vec3 shift = implicit->shift(input.analysis.time.step);
+        stiffness = shift[0];
+        mass = shift[2];
+      }
+    }
   } else {
     owned = which == 0 ? pressurised_square(n) : clamped_square(n, 0.1);
     model = owned.get();
@@ -51,7 +59,7 @@ SparseMatrix matrix(int which, int n) {
   MechanicalSystem sys(*model);
   VecX u = VecX::Zero(sys.size()), v = u, a = u, r;
   SparseMatrix J;
-  sys.evaluate(0.0, u, v, a, 1.0, 0.0, mass, r, &J);
+  sys.evaluate(0.0, u, v, a, stiffness, 0.0, mass, r, &J);
   return J;
 }
 

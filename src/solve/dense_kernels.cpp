@@ -4,7 +4,6 @@
 #include <Eigen/Core>
 
 #include <algorithm>
-#include <cmath>
 
 #include "velum/solve/blas_kernels.hpp"
 
@@ -36,6 +35,7 @@ Packet<T> load(const T* p) {
 // directly, 135 by blocks of 128).
 constexpr int kDirectWidth = 160;
 constexpr int kColumns = 128;
+static_assert(kColumns <= kDirectWidth, "solve_direct's padded rows hold kDirectWidth columns");
 // Cholesky of a diagonal block: by Eigen up to this width, by blocks of kColumns beyond.
 constexpr int kEigenCholeskyWidth = 192;
 
@@ -92,20 +92,6 @@ void solve_rows(T* X, std::ptrdiff_t ldx, const T* L, std::ptrdiff_t ldl, int w)
   for (; j < w; ++j) solve_block<T, P, 1>(X, ldx, L, ldl, j);
 }
 
-// One row by the same operations as solve_block's lanes (fma rounds once, as pmadd does).
-template <class T>
-void solve_row(T* X, std::ptrdiff_t ldx, const T* L, std::ptrdiff_t ldl, int w) {
-  const int blocked = w & ~3;
-  for (int j = 0; j < w; ++j) {
-    const int j0 = j < blocked ? (j & ~3) : j;
-    T sum = 0;
-    for (int k = 0; k < j0; ++k) sum = std::fma(X[k * ldx], L[k * ldl + j], sum);
-    T x = X[j * ldx] - sum;
-    for (int k = j0; k < j; ++k) x = std::fma(X[k * ldx], -L[k * ldl + j], x);
-    X[j * ldx] = x * (T(1) / L[j * ldl + j]);
-  }
-}
-
 template <class T>
 void solve_direct(T* X, std::ptrdiff_t ldx, int m, const T* L, std::ptrdiff_t ldl, int w) {
   constexpr int S = kLanes<T>;
@@ -113,13 +99,10 @@ void solve_direct(T* X, std::ptrdiff_t ldx, int m, const T* L, std::ptrdiff_t ld
   for (; i + 3 * S <= m; i += 3 * S) solve_rows<T, 3>(X + i, ldx, L, ldl, w);
   for (; i + S <= m; i += S) solve_rows<T, 1>(X + i, ldx, L, ldl, w);
   if (i == m) return;
-  if (w > kColumns) {
-    for (; i < m; ++i) solve_row(X + i, ldx, L, ldl, w);
-    return;
-  }
   // The last rows (fewer than a packet) through a packet's rows padded with zeros: row by
-  // row, a 200 x 48 float panel (eight such rows) ran at 51 GFlop/s, padded at 138.
-  T pad[S * kColumns];
+  // row, a 200 x 48 float panel (eight such rows) ran at 51 GFlop/s, padded at 138. Every
+  // row then takes the packets' operations, whichever rows the call holds.
+  T pad[S * kDirectWidth];  // solve_direct's widths: up to kDirectWidth, or kColumns
   const int r = m - i;
   for (int j = 0; j < w; ++j)
     for (int k = 0; k < S; ++k) pad[j * S + k] = k < r ? X[i + k + j * ldx] : T(0);

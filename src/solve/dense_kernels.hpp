@@ -15,8 +15,8 @@ namespace dense {
 /// X := X L⁻ᵀ in place: X is m x w (column j at X + j ldx), L is w x w lower triangular (column
 /// j at L + j ldl; only its lower triangle is read) with a nonzero diagonal. Past 160 columns
 /// by column blocks, the columns before each block subtracted by a product (OpenBLAS's gemm
-/// with `blas`, else Eigen's; `blas` is OpenBlasKernels::loaded() where its kernels are found,
-/// else null). Deterministic: the same call gives the same bits on any thread.
+/// with `blas`, else Eigen's; `blas` is OpenBlasKernels::found()). Deterministic: the same call
+/// gives the same bits on any thread.
 template <class T>
 void solve_lower_transposed(T* X, std::ptrdiff_t ldx, int m, const T* L, std::ptrdiff_t ldl, int w,
                             const OpenBlasKernels* blas);

@@ -76,7 +76,7 @@ double thread_seconds() {
 bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   factorized_ = false;
   float_factor_ = false;
-  blas_ = OpenBlasKernels::loaded().dsyrk ? &OpenBlasKernels::loaded() : nullptr;
+  blas_ = OpenBlasKernels::found();
   st_ = analyse_supernodes(A, nested_dissection(A), relax_, Factor::kCholesky);
   splits_ = st_.flops >= split_flops_;
   split_ = splits_ ? split_tree(st_) : TreeSplit{};

@@ -390,9 +390,8 @@ StepReport GeneralizedAlpha::step(SecondOrderSystem& sys, LinearSolver& solver, 
                                   State& s) {
   un_ = s.u, vn_ = s.v, an_ = s.a;
   const double tf = t + (1 - alpha_f) * h;
-  const double cu = 1 - alpha_f;
-  const double cv = (1 - alpha_f) * gamma / (beta * h);
-  const double ca = (1 - alpha_m) / (beta * h * h);
+  const Vec3 coefficients = shift(h);
+  const double cu = coefficients[0], cv = coefficients[1], ca = coefficients[2];
   VecX a(un_.size()), v(un_.size());
   auto kinematics = [&](const VecX& u) {
     a = (u - un_ - h * vn_ - (0.5 - beta) * h * h * an_) / (beta * h * h);

@@ -61,6 +61,8 @@ struct OpenBlasKernels {
   static bool worth_it(std::string_view active_core, const CpuFeatures& cpu);
   /// Found once per process (dlsym), the kernels' name read then.
   static const OpenBlasKernels& loaded();
+  /// loaded() where its kernels were found, else null (what the dense kernels take).
+  static const OpenBlasKernels* found() { return loaded().dsyrk ? &loaded() : nullptr; }
 };
 
 /// While one lives, OpenBLAS runs on the calling thread only (its count restored after): the

@@ -87,6 +87,10 @@ class GeneralizedAlpha : public TimeIntegrator {
   std::string name() const override { return name_; }
   StepReport step(SecondOrderSystem& sys, LinearSolver& solver, double t, double h,
                   State& s) override;
+  /// The Jacobian's coefficients (cu, cv, ca) of K, of the damping and of M for a step h.
+  Vec3 shift(double h) const {
+    return Vec3(1 - alpha_f, (1 - alpha_f) * gamma / (beta * h), (1 - alpha_m) / (beta * h * h));
+  }
 
   double alpha_m, alpha_f, beta, gamma;
 
