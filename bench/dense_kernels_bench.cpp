@@ -1,9 +1,9 @@
 // The supernodal Cholesky's dense kernels (src/solve/dense_kernels.hpp) against Eigen's, at
-// panel shapes the factorisations meet (rows below x width). Pin to one core (taskset -c 0);
-// OPENBLAS_CORETYPE=SkylakeX on an AVX-512 CPU gives the blocked Cholesky OpenBLAS's syrk, as
-// the velum command does. Arguments: rows, width, 0 Eigen / 1 Velum's kernel / 2 neither (the
-// copy that restores the input before each call, timed with it: subtract it; pausing the
-// timer costs more than a narrow block's factorisation).
+// panel shapes the factorisations meet (rows below x width), and its updates' product. Pin to one
+// core (taskset -c 0); OPENBLAS_CORETYPE=SkylakeX on an AVX-512 CPU gives the blocked Cholesky
+// OpenBLAS's syrk, as the velum command does. Arguments: rows, width, 0 Eigen / 1 Velum's kernel /
+// 2 neither (the copy that restores the input before each call, timed with it: subtract it; pausing
+// the timer costs more than a narrow block's factorisation).
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Cholesky>
@@ -88,6 +88,41 @@ void BM_DiagonalCholesky(benchmark::State& state) {
                                                 benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// An update's lower triangle W += Lb Lbᵀ (Lb the m rows below a panel of width w, column
+// stride w + m), as SupernodalCholesky::scatter_update makes it where no OpenBLAS with AVX-512
+// kernels is loaded: dense_products.cpp's packed product (1) against Eigen's (0).
+template <class T>
+void BM_UpdateProduct(benchmark::State& state) {
+  const int m = static_cast<int>(state.range(0)), w = static_cast<int>(state.range(1));
+  const Matrix<T> panel = Matrix<T>::Random(w + m, w);
+  Matrix<T> W = Matrix<T>::Zero(m, m);  // accumulates: nothing to restore
+  time_calls(
+      state, [] {},
+      [&] {
+        velum::dense::syrk_lower<T>(m, w, T(1), panel.data() + w, w + m, W.data(), m);
+        benchmark::DoNotOptimize(W.data());
+      },
+      [&] {
+        const Eigen::Map<const Matrix<T>, 0, Eigen::OuterStride<>> Lb(panel.data() + w, m, w,
+                                                                      Eigen::OuterStride<>(w + m));
+        W.template triangularView<Eigen::Lower>() += Lb * Lb.transpose();
+        benchmark::DoNotOptimize(W.data());
+      });
+  state.counters["gflops"] = benchmark::Counter(double(m) * (m + 1) * w * 1e-9,
+                                                benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void update_shapes(benchmark::internal::Benchmark* b) {
+  for (const auto& [m, w] : {std::pair{100, 64},
+                             {300, 64},
+                             {600, 96},
+                             {1000, 150},
+                             {1500, 300},
+                             {2500, 600},
+                             {1700, 1700}})
+    for (const int ours : {0, 1}) b->Args({m, w, ours});
+}
+
 void panel_shapes(benchmark::internal::Benchmark* b) {
   for (const auto& [m, w] : {std::pair{60, 6},
                              {100, 12},
@@ -111,5 +146,7 @@ BENCHMARK(BM_PanelTriangularSolve<float>)->Apply(panel_shapes)->Unit(benchmark::
 BENCHMARK(BM_PanelTriangularSolve<double>)->Apply(panel_shapes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_DiagonalCholesky<float>)->Apply(block_widths)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_DiagonalCholesky<double>)->Apply(block_widths)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_UpdateProduct<float>)->Apply(update_shapes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_UpdateProduct<double>)->Apply(update_shapes)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -38,6 +38,10 @@ constexpr int kColumns = 128;
 static_assert(kColumns <= kDirectWidth, "solve_direct's padded rows hold kDirectWidth columns");
 // Cholesky of a diagonal block: by Eigen up to this width, by blocks of kColumns beyond.
 constexpr int kEigenCholeskyWidth = 192;
+// Products without OpenBLAS: dense_products.cpp's for this many rows or more (twice as many
+// for the lower triangle's), Eigen's for fewer, where the packing costs more than it saves
+// (float, 128 columns: 50 rows 79 against 109 GFlop/s, 96 rows 143 against 126).
+constexpr int kPackedRows = 64;
 
 // Rows [0, P · lanes) of X's columns [j0, j0 + C), its columns before j0 solved: for each row
 // x_j = (b_j − Σ_{k<j0} x_k L_jk − Σ_{j0<=k<j} x_k L_jk) / L_jj, in that order (first sum by
@@ -118,14 +122,16 @@ void solve_lower_transposed(T* X, std::ptrdiff_t ldx, int m, const T* L, std::pt
                             const OpenBlasKernels* blas) {
   if (m <= 0 || w <= 0) return;
   if (w <= kDirectWidth) return solve_direct(X, ldx, m, L, ldl, w);
-  using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
-  using Stride = Eigen::OuterStride<>;
   for (int j0 = 0; j0 < w; j0 += kColumns) {
     const int nb = std::min(kColumns, w - j0);
     if (j0 > 0 && blas) {  // X_J −= X_{<J} L_{J,<J}ᵀ
       blas->gemm_abt<T>(m, nb, j0, T(-1), X, static_cast<int>(ldx), L + j0, static_cast<int>(ldl),
                         X + j0 * ldx, static_cast<int>(ldx));
+    } else if (j0 > 0 && m >= kPackedRows) {
+      gemm_abt<T>(m, nb, j0, T(-1), X, ldx, L + j0, ldl, X + j0 * ldx, ldx);
     } else if (j0 > 0) {
+      using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+      using Stride = Eigen::OuterStride<>;
       Eigen::Map<Matrix, 0, Stride> XJ(X + j0 * ldx, m, nb, Stride(ldx));
       const Eigen::Map<const Matrix, 0, Stride> before(X, m, j0, Stride(ldx));
       const Eigen::Map<const Matrix, 0, Stride> LJ(L + j0, nb, j0, Stride(ldl));
@@ -157,6 +163,8 @@ std::ptrdiff_t cholesky_lower(T* A, std::ptrdiff_t lda, int n, const OpenBlasKer
     if (blas) {
       blas->syrk_lower<T>(rest, kb, T(-1), below, static_cast<int>(lda), below + kb * lda,
                           static_cast<int>(lda));
+    } else if (rest >= 2 * kPackedRows) {
+      syrk_lower<T>(rest, kb, T(-1), below, lda, below + kb * lda, lda);
     } else {
       const Block B = block(k + kb, k, rest, kb);
       block(k + kb, k + kb, rest, rest)

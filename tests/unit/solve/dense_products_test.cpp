@@ -1,0 +1,125 @@
+// dense_products.cpp's packed products against their definitions, in float and double, at
+// shapes that reach whole and partial tiles, several blocks of depth, rows and columns, and
+// strides larger than the rows; the lower-triangle form leaves the strict upper triangle and
+// the spare rows alone; an entry's bits do not depend on the call that holds it (the supernodal
+// Cholesky's one-thread and two-thread factorisations split the same update differently).
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <limits>
+
+#include "solve/dense_kernels.hpp"
+
+namespace velum {
+namespace {
+
+template <class T>
+using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+
+// |computed − exact| within k eps (|A| |B|ᵀ) entry by entry (the exact product in double or
+// long double from the same rounded inputs).
+template <class T>
+void expect_close(const Matrix<T>& computed, const Matrix<T>& before, T alpha, const Matrix<T>& A,
+                  const Matrix<T>& B, int k) {
+  using Wide = Matrix<long double>;
+  const Wide exact = before.template cast<long double>() +
+                     static_cast<long double>(alpha) * (A.template cast<long double>() *
+                                                        B.template cast<long double>().transpose());
+  const Wide scale = before.template cast<long double>().cwiseAbs() +
+                     A.template cast<long double>().cwiseAbs() *
+                         B.template cast<long double>().cwiseAbs().transpose();
+  const long double eps = std::numeric_limits<T>::epsilon();
+  for (Eigen::Index j = 0; j < computed.cols(); ++j)
+    for (Eigen::Index i = 0; i < computed.rows(); ++i)
+      ASSERT_LE(std::abs(static_cast<long double>(computed(i, j)) - exact(i, j)),
+                (k + 2) * eps * scale(i, j))
+          << i << ", " << j;
+}
+
+template <class T>
+void check_gemm(int m, int n, int k, T alpha) {
+  SCOPED_TRACE(testing::Message() << "m = " << m << ", n = " << n << ", k = " << k << ", "
+                                  << (sizeof(T) == 4 ? "float" : "double"));
+  // Column strides larger than the rows (as in the panels): A and B inside taller matrices.
+  const Matrix<T> A_store = Matrix<T>::Random(m + 3, k), B_store = Matrix<T>::Random(n + 5, k);
+  Matrix<T> C_store = Matrix<T>::Random(m + 2, n);
+  const Matrix<T> C_before = C_store;
+  dense::gemm_abt<T>(m, n, k, alpha, A_store.data() + 1, m + 3, B_store.data() + 2, n + 5,
+                     C_store.data(), m + 2);
+  expect_close<T>(C_store.topRows(m), C_before.topRows(m), alpha, A_store.middleRows(1, m),
+                  B_store.middleRows(2, n), k);
+  EXPECT_TRUE(C_store.bottomRows(2) == C_before.bottomRows(2));  // spare rows not written
+}
+
+TEST(DenseProducts, GemmAgainstItsDefinition) {
+  const int shapes[][3] = {{1, 1, 1},      {7, 3, 5},      {48, 8, 16},   {49, 9, 17},
+                           {47, 7, 256},   {100, 33, 257}, {337, 50, 64}, {700, 20, 600},
+                           {30, 2100, 40}, {1, 100, 3}};
+  for (const auto& s : shapes) {
+    check_gemm<float>(s[0], s[1], s[2], 1.0f);
+    check_gemm<float>(s[0], s[1], s[2], -1.0f);
+    check_gemm<double>(s[0], s[1], s[2], 1.0);
+    check_gemm<double>(s[0], s[1], s[2], -1.0);
+  }
+}
+
+template <class T>
+void check_syrk(int n, int k, T alpha) {
+  SCOPED_TRACE(testing::Message() << "n = " << n << ", k = " << k << ", "
+                                  << (sizeof(T) == 4 ? "float" : "double"));
+  const Matrix<T> A_store = Matrix<T>::Random(n + 4, k);
+  Matrix<T> C_store = Matrix<T>::Random(n + 3, n);
+  const Matrix<T> C_before = C_store;
+  dense::syrk_lower<T>(n, k, alpha, A_store.data() + 4, n + 4, C_store.data(), n + 3);
+  const Matrix<T> A = A_store.bottomRows(n);
+  Matrix<T> lower = C_store.topRows(n), lower_before = C_before.topRows(n);
+  // The strict upper triangle untouched; the lower one (with the diagonal) the product.
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < j; ++i) {
+      ASSERT_EQ(lower(i, j), lower_before(i, j)) << i << ", " << j;
+      lower(i, j) = lower_before(i, j) = 0;
+    }
+  Matrix<T> exact_mask = lower_before;  // compared on the lower triangle only
+  const Matrix<T> product = A * A.transpose();
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < j; ++i) exact_mask(i, j) = -alpha * product(i, j);
+  expect_close<T>(lower, exact_mask, alpha, A, A, k);
+  EXPECT_TRUE(C_store.bottomRows(3) == C_before.bottomRows(3));
+}
+
+TEST(DenseProducts, LowerTriangleAgainstItsDefinition) {
+  for (const auto& [n, k] : {std::pair{1, 1},
+                             {5, 3},
+                             {8, 8},
+                             {47, 9},
+                             {48, 64},
+                             {49, 65},
+                             {200, 300},
+                             {345, 40},
+                             {2100, 12}}) {
+    check_syrk<float>(n, k, 1.0f);
+    check_syrk<double>(n, k, -1.0);
+  }
+}
+
+// An entry's bits depend on its rows of A and B and on k alone: a product cut into pieces of
+// rows and columns (and the lower-triangle form cut into a square and the rectangle below, as
+// SupernodalCholesky::update_columns does) gives the whole call's bits.
+TEST(DenseProducts, EntriesIndependentOfTheCall) {
+  const int m = 461, k = 300;
+  const Matrix<float> A = Matrix<float>::Random(m, k);
+  Matrix<float> whole = Matrix<float>::Zero(m, m);
+  dense::syrk_lower<float>(m, k, 1.0f, A.data(), m, whole.data(), m);
+  Matrix<float> pieces = Matrix<float>::Zero(m, m);
+  for (const auto& [begin, end] : {std::pair{0, 5}, {5, 53}, {53, 200}, {200, m}}) {
+    const int cols = end - begin, below = m - end;
+    dense::syrk_lower<float>(cols, k, 1.0f, A.data() + begin, m, pieces.data() + begin * m + begin,
+                             m);
+    dense::gemm_abt<float>(below, cols, k, 1.0f, A.data() + end, m, A.data() + begin, m,
+                           pieces.data() + begin * m + end, m);
+  }
+  EXPECT_TRUE(whole == pieces);
+}
+
+}  // namespace
+}  // namespace velum
