@@ -46,41 +46,42 @@ constexpr int kPackedRows = 64;
 // Rows [0, P · lanes) of X's columns [j0, j0 + C), its columns before j0 solved: for each row
 // x_j = (b_j − Σ_{k<j0} x_k L_jk − Σ_{j0<=k<j} x_k L_jk) / L_jj, in that order (first sum by
 // fused multiply-adds from zero, the second subtracted term by term), the C P packets in
-// registers (C P + P of the 32 vector registers with P = 3, C = 4).
+// registers (C P + P of the vector registers: 32 with P = 3, C = 8 where there are 32, as with
+// AVX-512; 16 with C = 4).
 template <class T, int P, int C>
 inline void solve_block(T* X, std::ptrdiff_t ldx, const T* L, std::ptrdiff_t ldl, int j0) {
   constexpr int S = kLanes<T>;
   Packet<T> acc[C][P];
-#pragma GCC unroll 4
+#pragma GCC unroll 8
   for (int c = 0; c < C; ++c)
-#pragma GCC unroll 4
+#pragma GCC unroll 8
     for (int p = 0; p < P; ++p) acc[c][p] = pset1<Packet<T>>(T(0));
   for (int k = 0; k < j0; ++k) {
     const T* xk = X + k * ldx;
     const T* lk = L + k * ldl + j0;  // L_{j0 + c, k}
     Packet<T> x[P];
-#pragma GCC unroll 4
+#pragma GCC unroll 8
     for (int p = 0; p < P; ++p) x[p] = load(xk + p * S);
-#pragma GCC unroll 4
+#pragma GCC unroll 8
     for (int c = 0; c < C; ++c) {
       const Packet<T> l = pset1<Packet<T>>(lk[c]);
-#pragma GCC unroll 4
+#pragma GCC unroll 8
       for (int p = 0; p < P; ++p) acc[c][p] = pmadd(x[p], l, acc[c][p]);
     }
   }
-#pragma GCC unroll 4
+#pragma GCC unroll 8
   for (int c = 0; c < C; ++c) {
     T* xc = X + (j0 + c) * ldx;
-#pragma GCC unroll 4
+#pragma GCC unroll 8
     for (int p = 0; p < P; ++p) acc[c][p] = psub(load(xc + p * S), acc[c][p]);
-#pragma GCC unroll 4
+#pragma GCC unroll 8
     for (int c2 = 0; c2 < c; ++c2) {
       const Packet<T> l = pset1<Packet<T>>(-L[(j0 + c2) * ldl + j0 + c]);
-#pragma GCC unroll 4
+#pragma GCC unroll 8
       for (int p = 0; p < P; ++p) acc[c][p] = pmadd(acc[c2][p], l, acc[c][p]);
     }
     const Packet<T> inverse = pset1<Packet<T>>(T(1) / L[(j0 + c) * ldl + j0 + c]);
-#pragma GCC unroll 4
+#pragma GCC unroll 8
     for (int p = 0; p < P; ++p) {
       acc[c][p] = pmul(acc[c][p], inverse);  // x_{j0 + c}, for the columns after it
       Eigen::internal::pstoreu(xc + p * S, acc[c][p]);
@@ -88,10 +89,13 @@ inline void solve_block(T* X, std::ptrdiff_t ldx, const T* L, std::ptrdiff_t ldl
   }
 }
 
-// Rows [0, P · lanes), all w columns: by blocks of four, then one by one.
+// Rows [0, P · lanes), all w columns: by blocks of eight (with 32 vector registers: 1.5x to 1.9x
+// blocks of four from 24 to 150 columns, float, AMD EPYC Zen 5), of four, then one by one.
 template <class T, int P>
 void solve_rows(T* X, std::ptrdiff_t ldx, const T* L, std::ptrdiff_t ldl, int w) {
   int j = 0;
+  if constexpr (EIGEN_ARCH_DEFAULT_NUMBER_OF_REGISTERS >= 32)
+    for (; j + 8 <= w; j += 8) solve_block<T, P, 8>(X, ldx, L, ldl, j);
   for (; j + 4 <= w; j += 4) solve_block<T, P, 4>(X, ldx, L, ldl, j);
   for (; j < w; ++j) solve_block<T, P, 1>(X, ldx, L, ldl, j);
 }
