@@ -41,7 +41,7 @@ constexpr int kEigenCholeskyWidth = 192;
 // Products without OpenBLAS: dense_products.cpp's for this many rows or more (twice as many
 // for the lower triangle's), Eigen's for fewer, where the packing costs more than it saves
 // (float, 128 columns: 50 rows 79 against 109 GFlop/s, 96 rows 143 against 126).
-constexpr int kPackedRows = 64;
+constexpr int kPackedMinRows = 64;
 
 // Rows [0, P · lanes) of X's columns [j0, j0 + C), its columns before j0 solved: for each row
 // x_j = (b_j − Σ_{k<j0} x_k L_jk − Σ_{j0<=k<j} x_k L_jk) / L_jj, in that order (first sum by
@@ -131,7 +131,7 @@ void solve_lower_transposed(T* X, std::ptrdiff_t ldx, int m, const T* L, std::pt
     if (j0 > 0 && blas) {  // X_J −= X_{<J} L_{J,<J}ᵀ
       blas->gemm_abt<T>(m, nb, j0, T(-1), X, static_cast<int>(ldx), L + j0, static_cast<int>(ldl),
                         X + j0 * ldx, static_cast<int>(ldx));
-    } else if (j0 > 0 && m >= kPackedRows) {
+    } else if (j0 > 0 && m >= kPackedMinRows) {
       gemm_abt<T>(m, nb, j0, T(-1), X, ldx, L + j0, ldl, X + j0 * ldx, ldx);
     } else if (j0 > 0) {
       using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
@@ -167,7 +167,7 @@ std::ptrdiff_t cholesky_lower(T* A, std::ptrdiff_t lda, int n, const OpenBlasKer
     if (blas) {
       blas->syrk_lower<T>(rest, kb, T(-1), below, static_cast<int>(lda), below + kb * lda,
                           static_cast<int>(lda));
-    } else if (rest >= 2 * kPackedRows) {
+    } else if (rest >= 2 * kPackedMinRows) {
       syrk_lower<T>(rest, kb, T(-1), below, lda, below + kb * lda, lda);
     } else {
       const Block B = block(k + kb, k, rest, kb);

@@ -43,8 +43,9 @@ class SupernodalCholesky final : public LinearSolver {
   /// Updates of supernodes this wide or wider go to OpenBLAS's syrk and gemm where its
   /// AVX-512 kernels run (blas_kernels.hpp), else to dense_products.cpp's packed products.
   static constexpr int kBlasWidth = 64;
-  /// ... and dense_products.cpp's for this many rows below or more (fewer: Eigen's products,
-  /// faster there: 8.7 against 12.5 µs for 100 rows of a 64-wide float panel, even at 300).
+  /// ... and dense_products.cpp's for this many rows below or more; fewer go to Eigen's
+  /// products, faster there (a 64-wide float panel: 8.7 against 12.5 µs with 100 rows below,
+  /// 52.8 against 54.9 µs with 300).
   static constexpr int kPackedRows = 256;
   /// The panels' scalar: double, or float with iterative refinement in double (kMixed): each
   /// solve corrects x by the float factor's solution of the residual r = b − A x, computed in
