@@ -5,11 +5,8 @@
 
 #include <algorithm>
 
+#include "dense_packets.hpp"
 #include "velum/solve/blas_kernels.hpp"
-
-// Eigen's packet types carry alignment attributes that a template argument drops (harmless:
-// the packets are loaded and stored unaligned here).
-#pragma GCC diagnostic ignored "-Wignored-attributes"
 
 namespace velum::dense {
 namespace {
@@ -18,16 +15,10 @@ using Eigen::internal::pmadd;
 using Eigen::internal::pmul;
 using Eigen::internal::pset1;
 using Eigen::internal::psub;
-
-template <class T>
-using Packet = typename Eigen::internal::packet_traits<T>::type;
-template <class T>
-constexpr int kLanes = Eigen::internal::unpacket_traits<Packet<T>>::size;
-
-template <class T>
-Packet<T> load(const T* p) {
-  return Eigen::internal::ploadu<Packet<T>>(p);
-}
+using packets::kLanes;
+using packets::load;
+using packets::Packet;
+using packets::store;
 
 // Columns of one call solved directly (wider ones by blocks of kColumns, the columns before a
 // block subtracted by a matrix product): past about 160 columns a row block's earlier columns
@@ -52,10 +43,7 @@ template <class T, int P, int C>
 inline void solve_block(T* X, std::ptrdiff_t ldx, const T* L, std::ptrdiff_t ldl, int j0) {
   constexpr int S = kLanes<T>;
   Packet<T> acc[C][P];
-#pragma GCC unroll 8
-  for (int c = 0; c < C; ++c)
-#pragma GCC unroll 8
-    for (int p = 0; p < P; ++p) acc[c][p] = pset1<Packet<T>>(T(0));
+  packets::clear<T>(acc);
   for (int k = 0; k < j0; ++k) {
     const T* xk = X + k * ldx;
     const T* lk = L + k * ldl + j0;  // L_{j0 + c, k}
@@ -84,7 +72,7 @@ inline void solve_block(T* X, std::ptrdiff_t ldx, const T* L, std::ptrdiff_t ldl
 #pragma GCC unroll 8
     for (int p = 0; p < P; ++p) {
       acc[c][p] = pmul(acc[c][p], inverse);  // x_{j0 + c}, for the columns after it
-      Eigen::internal::pstoreu(xc + p * S, acc[c][p]);
+      store(xc + p * S, acc[c][p]);
     }
   }
 }

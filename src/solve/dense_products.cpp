@@ -12,20 +12,18 @@
 #include <vector>
 
 #include "dense_kernels.hpp"
-
-// Eigen's packet types carry alignment attributes that a template argument drops (harmless:
-// the packets are loaded and stored unaligned here).
-#pragma GCC diagnostic ignored "-Wignored-attributes"
+#include "dense_packets.hpp"
 
 namespace velum::dense {
 namespace {
 
-template <class T>
-using Packet = typename Eigen::internal::packet_traits<T>::type;
+using packets::load;
+using packets::Packet;
+using packets::store;
 
 template <class T>
 struct Shape {
-  static constexpr int kLanes = Eigen::internal::unpacket_traits<Packet<T>>::size;
+  static constexpr int kLanes = packets::kLanes<T>;
   // A micro-tile: three packets of rows by kColumns columns, its accumulators in registers
   // (24 of the 32 vector registers with AVX-512, 12 of 16 with AVX2), with the three packets
   // of A and a broadcast of B.
@@ -35,7 +33,8 @@ struct Shape {
   // The depth of a block (a sliver of B, kColumns x kDepth, stays in L1 while A's micro-panels
   // pass) and A's rows per block (kBlockRows x kDepth in L2: 336 KB).
   static constexpr int kDepth = 256;
-  static constexpr int kBlockRows = kRows * (344064 / (kRows * kDepth * int(sizeof(T))));
+  static constexpr int kBlockBytes = 336 * 1024;
+  static constexpr int kBlockRows = kRows * (kBlockBytes / (kRows * kDepth * int(sizeof(T))));
   // B's rows per block (its packed block, kDepth x kBlockColumns, in the last-level cache).
   static constexpr int kBlockColumns = 2048;
 };
@@ -81,14 +80,11 @@ void tile(int depth, const T* a, const T* b, T alpha, T* C, std::ptrdiff_t ldc, 
   using Eigen::internal::pset1;
   constexpr int L = S::kLanes, P = S::kPackets, N = S::kColumns;
   Packet<T> acc[N][P];
-#pragma GCC unroll 8
-  for (int c = 0; c < N; ++c)
-#pragma GCC unroll 3
-    for (int p = 0; p < P; ++p) acc[c][p] = pset1<Packet<T>>(T(0));
+  packets::clear<T>(acc);
   for (int k = 0; k < depth; ++k) {
     Packet<T> x[P];
 #pragma GCC unroll 3
-    for (int p = 0; p < P; ++p) x[p] = Eigen::internal::ploadu<Packet<T>>(a + k * S::kRows + p * L);
+    for (int p = 0; p < P; ++p) x[p] = load(a + k * S::kRows + p * L);
 #pragma GCC unroll 8
     for (int c = 0; c < N; ++c) {
       const Packet<T> y = pset1<Packet<T>>(b[k * N + c]);
@@ -104,8 +100,7 @@ void tile(int depth, const T* a, const T* b, T alpha, T* C, std::ptrdiff_t ldc, 
 #pragma GCC unroll 3
       for (int p = 0; p < P; ++p) {
         T* to = C + c * ldc + p * L;
-        Eigen::internal::pstoreu(to,
-                                 pmadd(scale, acc[c][p], Eigen::internal::ploadu<Packet<T>>(to)));
+        store(to, pmadd(scale, acc[c][p], load(to)));
       }
     return;
   }
@@ -119,9 +114,7 @@ void tile(int depth, const T* a, const T* b, T alpha, T* C, std::ptrdiff_t ldc, 
     std::copy(to + first, to + rows, column + first);
 #pragma GCC unroll 3
     for (int p = 0; p < P; ++p)
-      Eigen::internal::pstoreu(
-          column + p * L,
-          pmadd(scale, acc[c][p], Eigen::internal::ploadu<Packet<T>>(column + p * L)));
+      store(column + p * L, pmadd(scale, acc[c][p], load(column + p * L)));
     std::copy(column + first, column + rows, to + first);
   }
 }

@@ -9,6 +9,7 @@
 #include <omp.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <array>
 #include <limits>
 #include <random>
@@ -502,6 +503,40 @@ TEST(MixedCholesky, FallsBackToDoubleWhereRefinementCannotConverge) {
   EXPECT_GE(refined, 3);
   EXPECT_GE(fallbacks, 1);
   EXPECT_GE(refused, 1);
+}
+
+// A grid large enough that some updates are 64 columns wide or wider with 256 rows below or
+// more, in the subtrees and in the top (without OpenBLAS's AVX-512 kernels they go to
+// dense_products.cpp's packed products, the top's by column blocks): double and mixed, the
+// same solution to the bit on one thread and on two, and the backward error at round-off.
+TEST(SupernodalCholesky, WideUpdatesOnTwoThreadsMatchOneThreadToTheBit) {
+  const SparseMatrix A = spd_membrane_matrix(110, 100, 5);
+  const Eigen::VectorXd b = rhs(A.rows());
+  for (const Precision precision : {Precision::kDouble, Precision::kMixed}) {
+    std::vector<Eigen::VectorXd> solutions;
+    for (const int threads : {1, 2, 1, 2}) {
+      const ThreadCount scope(threads);
+      SupernodalCholesky split({}, 0.0, precision);
+      ASSERT_TRUE(split.refactorize(A)) << split.status();
+      ASSERT_TRUE(split.splits());
+      if (solutions.empty()) {  // the shapes this test is for: wide, tall updates on both sides
+        const SupernodalStructure& st = split.structure();
+        const auto wide_and_tall = [&](int s) {
+          return st.width(s) >= SupernodalCholesky::kBlasWidth &&
+                 st.below(s) >= SupernodalCholesky::kPackedRows;
+        };
+        const TreeSplit& ts = split.split();
+        EXPECT_TRUE(std::any_of(ts.members[0].begin(), ts.members[0].end(), wide_and_tall));
+        EXPECT_TRUE(std::any_of(ts.top.begin(), ts.top.end(), wide_and_tall));
+      }
+      Eigen::VectorXd x;
+      ASSERT_TRUE(split.solve(b, x));
+      EXPECT_LE(backward_error(A, x, b),
+                std::sqrt(double(A.rows())) * SupernodalCholesky::kRoundoff);
+      solutions.push_back(x);
+    }
+    for (const Eigen::VectorXd& x : solutions) EXPECT_TRUE(x == solutions.front());
+  }
 }
 
 // Above the split threshold the float factor and the refinement are the same, to the bit, on one
