@@ -382,7 +382,7 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
             b.internal(elems, x, r, Ke);
             return false;
           }
-          b.internal_and_pressure(elems, x, p, r, Ke, f, Kp);
+          b.surface()->internal_and_pressure(elems, x, p, r, Ke, f, Kp);
           return true;
         },
         K != nullptr, F, &Fp, K, 1.0);
@@ -394,7 +394,7 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
 void Assembler::pressure(int i, double p, const NodePositions& x, NodePositions& Fext,
                          SparseMatrix* K) const {
   const auto& load = model_.pressures[i];
-  const auto& b = *model_.blocks[load.block];
+  const auto& b = *model_.blocks[load.block]->surface();
   // On several processes this process's share is summed apart, then added.
   NodePositions& F = shared() ? scratch_ : Fext;
   if (shared()) scratch_.setZero(3, model_.num_nodes());
@@ -451,7 +451,7 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
   for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
     const auto& b = *model_.blocks[bi];
     const int nn = b.nodes_per_element();
-    const bool hrz = b.type_name() == "tri6" || b.type_name() == "quad8";
+    const bool hrz = b.shape().lumping == shape::Lumping::kHrz;
     MatX Me(nn, nn);
     for (size_t k = 0; k < own_[bi].size(); ++k) {
       const int e = own_[bi][k];

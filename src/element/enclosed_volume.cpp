@@ -143,12 +143,14 @@ class ShapeVolumeKernel final : public SurfaceVolumeKernel {
 }  // namespace
 
 std::unique_ptr<SurfaceVolumeKernel> make_surface_volume_kernel(std::string_view type) {
-  if (type == "tri3") return std::make_unique<ShapeVolumeKernel<shape::Tri3>>();
-  if (type == "tri6") return std::make_unique<ShapeVolumeKernel<shape::Tri6>>();
-  if (type == "quad4") return std::make_unique<ShapeVolumeKernel<shape::Quad4>>();
-  if (type == "quad8") return std::make_unique<ShapeVolumeKernel<shape::Quad8>>();
-  if (type == "quad9") return std::make_unique<ShapeVolumeKernel<shape::Quad9>>();
-  return nullptr;
+  const shape::ShapeInfo* info = shape::find(type);
+  if (!info) return nullptr;
+  return shape::with_shape(*info, []<class S>(S) -> std::unique_ptr<SurfaceVolumeKernel> {
+    if constexpr (S::kDim == 2)
+      return std::make_unique<ShapeVolumeKernel<S>>();
+    else
+      return nullptr;
+  });
 }
 
 template struct EnclosedVolume<shape::Tri3>;

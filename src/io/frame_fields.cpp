@@ -62,8 +62,9 @@ FrameFields evaluate_cells(const Model& model, const NodePositions& x,
   // One value per listed cell (compact: a process holds no whole-mesh array for its piece).
   size_t ne = 0;
   for (const auto& mine : own) ne += mine.size();
-  const bool wrinkling = std::any_of(model.blocks.begin(), model.blocks.end(),
-                                     [](const auto& b) { return b->tension_field(); });
+  const bool wrinkling = std::any_of(model.blocks.begin(), model.blocks.end(), [](const auto& b) {
+    return b->surface() && b->surface()->tension_field();
+  });
   FrameFields f;
   f.cells.reserve(kCellFieldCount);
   for (const Spec& s : kSpecs) {

@@ -10,16 +10,6 @@
 namespace velum::io {
 namespace {
 
-int vtk_type(std::string_view t) {
-  if (t == "tri3") return 5;
-  if (t == "tri6") return 22;
-  if (t == "quad4") return 9;
-  if (t == "quad8") return 23;
-  if (t == "quad9") return 28;
-  if (t == "cable2") return 3;
-  return 21;  // cable3: VTK_QUADRATIC_EDGE (ends, then middle: Gmsh order)
-}
-
 // Appended raw binary: each array is a UInt64 byte count followed by the values. The arrays
 // are laid out last first: meshio (5.0) reads raw appended data by finding each array's tag
 // by its offset while rewriting the offsets of those it has read, and with ascending offsets
@@ -107,7 +97,7 @@ FrameWriter::FrameWriter(const ModelInput& input, std::filesystem::path results,
   std::int64_t first = 0;  // the block's first cell in the one-process order
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
     const auto& b = model.blocks[bi];
-    const auto vt = static_cast<std::uint8_t>(vtk_type(b->type_name()));
+    const auto vt = static_cast<std::uint8_t>(b->shape().vtk);
     for (int e : own[bi]) {
       for (int node : b->nodes(e)) conn_.push_back(local[static_cast<size_t>(node)]);
       offsets_.push_back(static_cast<std::int64_t>(conn_.size()));

@@ -317,12 +317,13 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
     }
     case Q::kFiberAngleChange: {
       if (!a.owns(h.block, h.element)) return 0.0;
-      const double angle = model.blocks[h.block]->output_at(h.element, h.xi, x).fiber_angle_change;
+      const double angle =
+          model.blocks[h.block]->surface()->output_at(h.element, h.xi, x).fiber_angle_change;
       return h.degrees ? angle * kDeg : angle;
     }
     case Q::kStress: {
       if (!a.owns(h.block, h.element)) return 0.0;
-      const MembraneStress s = model.blocks[h.block]->output_at(h.element, h.xi, x);
+      const MembraneStress s = model.blocks[h.block]->surface()->output_at(h.element, h.xi, x);
       switch (h.component) {
         case 0:
           return s.max;

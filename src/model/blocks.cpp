@@ -44,7 +44,7 @@ PrestressedPoints points_policy<PrestressedPoints>(const SheetLaw& law) {
 }
 
 template <class Shape, class Law>
-class MembraneBlock final : public ElementBlock {
+class MembraneBlock final : public SurfaceBlock {
   using K = Membrane<Shape>;
   static constexpr int kN = Shape::kNodes;
 
@@ -52,7 +52,7 @@ class MembraneBlock final : public ElementBlock {
   MembraneBlock(std::string set, std::vector<int> conn, const NodePositions& X, const SheetLaw& law,
                 double density, double t0, const SheetAxes* axes, shape::Integration integration,
                 BlockSetupReport& report)
-      : ElementBlock(std::move(set), std::move(conn), density),
+      : SurfaceBlock(shape::info_of<Shape>(), std::move(set), std::move(conn), density),
         t0_(t0),
         axes_(axes ? std::optional<SheetAxes>(*axes) : std::nullopt),
         law_(std::make_unique<SheetLaw>(law)),
@@ -85,8 +85,6 @@ class MembraneBlock final : public ElementBlock {
     }
   }
 
-  std::string_view type_name() const override { return Shape::kName; }
-  ElementKind kind() const override { return ElementKind::kMembrane; }
   bool prestressed() const override { return law_->has_prestress(); }
   std::unique_ptr<ElementBlock> rebuilt(std::vector<int> connectivity, const NodePositions& X,
                                         double stabilizer,
@@ -114,7 +112,6 @@ class MembraneBlock final : public ElementBlock {
     return out;
   }
   bool tension_field() const override { return law_->wrinkling(); }
-  int nodes_per_element() const override { return kN; }
 
   void internal(std::span<const int> elements, const NodePositions& x, double* r,
                 double* Kout) const override {
@@ -315,7 +312,7 @@ class CableBlock final : public ElementBlock {
  public:
   CableBlock(std::string set, std::vector<int> conn, const NodePositions& X, const CableLaw& law,
              double density, double area, shape::Integration integration, BlockSetupReport& report)
-      : ElementBlock(std::move(set), std::move(conn), density),
+      : ElementBlock(shape::info_of<Shape>(), std::move(set), std::move(conn), density),
         law_(law),
         area_(area),
         integration_(integration) {
@@ -330,8 +327,6 @@ class CableBlock final : public ElementBlock {
     }
   }
 
-  std::string_view type_name() const override { return Shape::kName; }
-  ElementKind kind() const override { return ElementKind::kCable; }
   bool prestressed() const override { return law_.S0 != 0; }
   std::unique_ptr<ElementBlock> rebuilt(std::vector<int> connectivity, const NodePositions& X,
                                         double stabilizer,
@@ -348,8 +343,6 @@ class CableBlock final : public ElementBlock {
                       Shape::kName, element_number(report.worst_element, listed), set_name()));
     return out;
   }
-  int nodes_per_element() const override { return kN; }
-
   void internal(std::span<const int> elements, const NodePositions& x, double* r,
                 double* Kout) const override {
     typename K::Vector re;
@@ -364,14 +357,6 @@ class CableBlock final : public ElementBlock {
       }
       Eigen::Map<typename K::Vector>(r + i * K::kDofs) = re;
     }
-  }
-  void pressure(std::span<const int>, const NodePositions&, double, double*,
-                double*) const override {
-    throw std::logic_error("pressure on a cable block");
-  }
-  void directed_pressure(std::span<const int>, const NodePositions&, double, const Vec3&, bool,
-                         double*, double*) const override {
-    throw std::logic_error("pressure on a cable block");
   }
   void mass(int e, double* M) const override {
     Eigen::Map<typename K::NodeMatrix> out(M);
@@ -403,10 +388,6 @@ class CableBlock final : public ElementBlock {
     ElementOutput out;
     out.cable_force = K::true_force(points_[slot(e)], law_, gather<kN>(x, nodes(e)));
     return out;
-  }
-  bool locate(int, const Vec3&, std::array<double, 2>&) const override { return false; }
-  MembraneStress output_at(int, const std::array<double, 2>&, const NodePositions&) const override {
-    return {};
   }
 
  private:
@@ -448,19 +429,16 @@ void ElementBlock::keep_piece(std::span<const int> elements, const std::vector<i
   connectivity_ = std::move(renumbered);
 }
 
-int nodes_of_type(std::string_view t) {
-  if (t == "tri3") return 3;
-  if (t == "tri6") return 6;
-  if (t == "quad4") return 4;
-  if (t == "quad8") return 8;
-  if (t == "quad9") return 9;
-  if (t == "cable2") return 2;
-  if (t == "cable3") return 3;
-  return 0;
+void ElementBlock::pressure(std::span<const int> elements, const NodePositions& x, double p,
+                            double* f, double* K) const {
+  if (!surface()) throw std::logic_error(fmt::format("pressure on a {} block", type_name()));
+  surface()->pressure(elements, x, p, f, K);
 }
 
-bool is_membrane_type(std::string_view t) {
-  return t == "tri3" || t == "tri6" || t == "quad4" || t == "quad8" || t == "quad9";
+MembraneStress ElementBlock::output_at(int e, const std::array<double, 2>& xi,
+                                       const NodePositions& x) const {
+  if (!surface()) throw std::logic_error(fmt::format("surface output of a {} block", type_name()));
+  return surface()->output_at(e, xi, x);
 }
 
 std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::string set,
@@ -481,12 +459,15 @@ std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::st
     if (law.has_prestress()) return make(PrestressedPoints{});
     return make(ElasticPoints{});
   };
-  if (type == "tri3") return build(shape::Tri3{});
-  if (type == "tri6") return build(shape::Tri6{});
-  if (type == "quad4") return build(shape::Quad4{});
-  if (type == "quad8") return build(shape::Quad8{});
-  if (type == "quad9") return build(shape::Quad9{});
-  throw std::invalid_argument("unknown membrane element type '" + std::string(type) + "'");
+  const shape::ShapeInfo* info = shape::find(type);
+  if (!info || !info->surface())
+    throw std::invalid_argument("unknown membrane element type '" + std::string(type) + "'");
+  return shape::with_shape(*info, [&]<class S>(S) -> std::unique_ptr<ElementBlock> {
+    if constexpr (S::kDim == 2)
+      return build(S{});
+    else
+      return nullptr;  // a surface row names a surface shape (shape_info_test)
+  });
 }
 
 std::unique_ptr<ElementBlock> make_cable_block(std::string_view type, std::string set,
@@ -494,13 +475,16 @@ std::unique_ptr<ElementBlock> make_cable_block(std::string_view type, std::strin
                                                const CableLaw& law, double density, double area,
                                                shape::Integration integration,
                                                BlockSetupReport& report) {
-  if (type == "cable2")
-    return std::make_unique<CableBlock<shape::Line2>>(std::move(set), std::move(conn), X, law,
-                                                      density, area, integration, report);
-  if (type == "cable3")
-    return std::make_unique<CableBlock<shape::Line3>>(std::move(set), std::move(conn), X, law,
-                                                      density, area, integration, report);
-  throw std::invalid_argument("unknown cable element type '" + std::string(type) + "'");
+  const shape::ShapeInfo* info = shape::find(type);
+  if (!info || !info->line())
+    throw std::invalid_argument("unknown cable element type '" + std::string(type) + "'");
+  return shape::with_shape(*info, [&]<class S>(S) -> std::unique_ptr<ElementBlock> {
+    if constexpr (S::kDim == 1)
+      return std::make_unique<CableBlock<S>>(std::move(set), std::move(conn), X, law, density, area,
+                                             integration, report);
+    else
+      return nullptr;  // a line row names a line shape (shape_info_test)
+  });
 }
 
 }  // namespace velum

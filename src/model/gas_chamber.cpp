@@ -12,15 +12,6 @@
 namespace velum {
 namespace {
 
-// Edges of a membrane element as local node lists (corners first, then the mid node of a
-// quadratic edge), in the element's direction of traversal.
-std::vector<std::vector<int>> element_edges(std::string_view type) {
-  if (type == "tri3") return {{0, 1}, {1, 2}, {2, 0}};
-  if (type == "tri6") return {{0, 1, 3}, {1, 2, 4}, {2, 0, 5}};
-  if (type == "quad4") return {{0, 1}, {1, 2}, {2, 3}, {3, 0}};
-  return {{0, 1, 4}, {1, 2, 5}, {2, 3, 6}, {3, 0, 7}};  // quad8, quad9
-}
-
 struct EdgeUse {
   int part = 0, element = 0;
   bool forward = true;     ///< traversed from the smaller corner index to the larger
@@ -64,10 +55,11 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
   std::map<std::pair<int, int>, EdgeUse> edges;
   for (size_t pi = 0; pi < gas.parts.size(); ++pi) {
     const auto& b = *model.blocks[gas.parts[pi].block];
-    const auto local = element_edges(b.type_name());
+    const shape::ShapeInfo& shape = b.shape();  // edges in the element's direction of traversal
     for (int e : gas.parts[pi].elements) {
       const auto nodes = b.nodes(e);
-      for (const auto& le : local) {
+      for (int side = 0; side < shape.num_edges; ++side) {
+        const auto le = shape.edge(side);
         const int a = nodes[le[0]], c = nodes[le[1]];
         auto& use = edges[{std::min(a, c), std::max(a, c)}];
         const bool forward = a < c;

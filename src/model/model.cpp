@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <unordered_set>
 
-#include "velum/shape/shapes.hpp"
+#include "velum/shape/shape_info.hpp"
 
 namespace velum {
 
@@ -24,14 +24,6 @@ int Model::num_elements() const {
 }
 
 namespace {
-// Local node lists of the edges of each membrane shape (2 or 3 nodes, ends first).
-std::vector<std::vector<int>> edges_of(std::string_view type) {
-  if (type == "tri3") return {{0, 1}, {1, 2}, {2, 0}};
-  if (type == "tri6") return {{0, 1, 3}, {1, 2, 4}, {2, 0, 5}};
-  if (type == "quad4") return {{0, 1}, {1, 2}, {2, 3}, {3, 0}};
-  return {{0, 1, 4}, {1, 2, 5}, {2, 3, 6}, {3, 0, 7}};  // quad8, quad9
-}
-
 template <class Line>
 void add_edge(const NodePositions& X, const std::vector<int>& nodes, const Vec3& t,
               NodePositions& F) {
@@ -54,18 +46,18 @@ std::vector<EdgeLoad::Edge> boundary_edges(const Model& model, const EdgeLoad& l
   std::vector<std::pair<EdgeLoad::Edge, std::pair<int, int>>> candidates;  // with their key
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
     const auto& b = model.blocks[bi];
-    if (b->kind() != ElementKind::kMembrane) continue;
-    const auto edges = edges_of(b->type_name());
+    if (!b->surface()) continue;
+    const shape::ShapeInfo& shape = b->shape();
     for (int e = 0; e < b->size(); ++e) {
       const auto nodes = b->nodes(e);
-      for (size_t side = 0; side < edges.size(); ++side) {
-        const auto& ed = edges[side];
+      for (int side = 0; side < shape.num_edges; ++side) {
+        const auto ed = shape.edge(side);
         const int a = nodes[ed[0]], c = nodes[ed[1]];
         const std::pair<int, int> key{std::min(a, c), std::max(a, c)};
         ++count[key];
         bool all = true;
         for (int l : ed) all = all && in_set.count(nodes[l]);
-        if (all) candidates.push_back({{static_cast<int>(bi), e, static_cast<int>(side)}, key});
+        if (all) candidates.push_back({{static_cast<int>(bi), e, side}, key});
       }
     }
   }
@@ -82,9 +74,8 @@ NodePositions edge_load_forces(const Model& model, const EdgeLoad& load) {
   for (const auto& ed : load.resolved ? load.edges : found) {
     const auto& b = model.blocks[static_cast<size_t>(ed.block)];
     const auto nodes = b->nodes(ed.element);
-    const std::vector<int> local = edges_of(b->type_name())[static_cast<size_t>(ed.side)];
     std::vector<int> side;
-    for (int l : local) side.push_back(nodes[l]);
+    for (int l : b->shape().edge(ed.side)) side.push_back(nodes[l]);
     if (side.size() == 2)
       add_edge<shape::Line2>(model.X, side, load.force_per_length, F);
     else

@@ -10,7 +10,7 @@
 #include <span>
 #include <string_view>
 
-#include "velum/shape/shapes.hpp"
+#include "velum/shape/shape_info.hpp"
 
 namespace velum {
 
@@ -47,7 +47,7 @@ class SurfaceVolumeKernel {
                            double scale, double* a, double* H) const = 0;
 };
 
-/// The kernel of a membrane shape (tri3 tri6 quad4 quad8 quad9); null for any other name.
+/// The kernel of a surface shape (shape_info.hpp) by its name; null for a line or an unknown name.
 std::unique_ptr<SurfaceVolumeKernel> make_surface_volume_kernel(std::string_view type);
 
 }  // namespace velum

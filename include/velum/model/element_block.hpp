@@ -15,13 +15,14 @@
 #include "velum/material/axes.hpp"
 #include "velum/material/cable_law.hpp"
 #include "velum/material/sheet_law.hpp"
-#include "velum/shape/shapes.hpp"
+#include "velum/shape/shape_info.hpp"
 
 namespace velum {
 
 /// Current node positions, one column per node (3 x nodes), global Cartesian.
 using NodePositions = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 
+/// Membranes are the surface blocks (ElementBlock::surface() non-null), cables the others.
 enum class ElementKind { kMembrane, kCable };
 
 struct ElementOutput {
@@ -30,15 +31,22 @@ struct ElementOutput {
   double cable_force = 0;  ///< cables: true axial force, mean over the points
 };
 
+class SurfaceBlock;
+
+/// What every block answers. A capability only some blocks have (loads on a surface, points
+/// located on it) is its own interface, reached through an accessor that is null elsewhere:
+/// surface(). A new element kind is a class implementing these (and its capabilities).
 class ElementBlock {
  public:
   virtual ~ElementBlock() = default;
 
-  virtual std::string_view type_name() const = 0;  ///< tri3 ... quad9, cable2, cable3
-  virtual ElementKind kind() const = 0;
-  /// True for membranes whose law is a tension field (wrinkling): outputs carry its state.
-  virtual bool tension_field() const { return false; }
-  virtual int nodes_per_element() const = 0;
+  /// The shape's row (shape_info.hpp): node count, edges, file-format ids, lumping.
+  const shape::ShapeInfo& shape() const { return *shape_; }
+  std::string_view type_name() const { return shape_->name; }  ///< tri3 ... quad9, cable2, cable3
+  /// The surface capability (membranes), or null (lines).
+  virtual const SurfaceBlock* surface() const { return nullptr; }
+  ElementKind kind() const { return surface() ? ElementKind::kMembrane : ElementKind::kCable; }
+  int nodes_per_element() const { return shape_->nodes; }
   int dofs_per_element() const { return 3 * nodes_per_element(); }
   int size() const { return static_cast<int>(connectivity_.size()) / nodes_per_element(); }
   /// Node indices (0-based, into the model's node arrays) of element e.
@@ -54,20 +62,6 @@ class ElementBlock {
   /// of the listed elements.
   virtual void internal(std::span<const int> elements, const NodePositions& x, double* r,
                         double* K) const = 0;
-  /// Follower pressure forces and (when K non-null) load stiffness df/dx; membranes only.
-  virtual void pressure(std::span<const int> elements, const NodePositions& x, double p, double* f,
-                        double* K) const = 0;
-  /// internal() and pressure() of the same elements in one pass, for blocks whose kernels
-  /// share work between them (a membrane's points serve both).
-  virtual void internal_and_pressure(std::span<const int> elements, const NodePositions& x,
-                                     double p, double* r, double* K, double* f, double* Kp) const {
-    internal(elements, x, r, K);
-    pressure(elements, x, p, f, Kp);
-  }
-  /// Pressure p along the fixed unit direction d, per area projected normal to d
-  /// (`projected`) or per current area, and (when K non-null) its load stiffness; membranes.
-  virtual void directed_pressure(std::span<const int> elements, const NodePositions& x, double p,
-                                 const Vec3& d, bool projected, double* f, double* K) const = 0;
   /// Consistent mass of element e including density (scalar nodes x nodes, column-major).
   virtual void mass(int e, double* M) const = 0;
   /// Geometric stiffness of a uniform unit tension (a unit 2nd PK stress in every direction of
@@ -84,12 +78,12 @@ class ElementBlock {
   virtual int first_inverted(std::span<const int> elements, const NodePositions& from,
                              const NodePositions& to) const = 0;
   virtual ElementOutput output(int e, const NodePositions& x) const = 0;
-  /// Natural coordinates of the reference point P inside element e, if it lies there
-  /// (membranes; used to locate history points). Returns false otherwise.
-  virtual bool locate(int e, const Vec3& P, std::array<double, 2>& xi) const = 0;
-  /// Output at natural coordinates xi of element e (membranes).
-  virtual MembraneStress output_at(int e, const std::array<double, 2>& xi,
-                                   const NodePositions& x) const = 0;
+
+  /// surface()->pressure(...) and surface()->output_at(...), for code holding a block it
+  /// knows to be a surface; std::logic_error on a line block.
+  void pressure(std::span<const int> elements, const NodePositions& x, double p, double* f,
+                double* K) const;
+  MembraneStress output_at(int e, const std::array<double, 2>& xi, const NodePositions& x) const;
 
   /// The same block (elements, section) set up on the reference configuration X (form
   /// finding updates the reference to the current shape). With `stabilizer` > 0, the
@@ -117,8 +111,12 @@ class ElementBlock {
   void keep_piece(std::span<const int> elements, const std::vector<int>& local_of);
 
  protected:
-  ElementBlock(std::string set_name, std::vector<int> connectivity, double density)
-      : set_name_(std::move(set_name)), connectivity_(std::move(connectivity)), density_(density) {}
+  ElementBlock(const shape::ShapeInfo& shape, std::string set_name, std::vector<int> connectivity,
+               double density)
+      : shape_(&shape),
+        set_name_(std::move(set_name)),
+        connectivity_(std::move(connectivity)),
+        density_(density) {}
   /// Where element e's section data is stored (e itself until keep_only).
   int slot(int e) const {
     assert(holds(e) && "an element whose section data this process does not hold");
@@ -151,10 +149,42 @@ class ElementBlock {
   }
 
  private:
+  const shape::ShapeInfo* shape_;  // a row of kShapeTable (static storage)
   std::string set_name_;
   std::vector<int> connectivity_;
   double density_;
   std::vector<int> slot_;  // element -> its section data (-1: not held); empty: itself
+};
+
+/// The surface capability: loads on the surface and points located on it (membranes).
+class SurfaceBlock : public ElementBlock {
+ public:
+  const SurfaceBlock* surface() const final { return this; }
+  /// True when the law is a tension field (wrinkling): outputs carry its state.
+  virtual bool tension_field() const { return false; }
+  /// Follower pressure forces and (when K non-null) load stiffness df/dx.
+  virtual void pressure(std::span<const int> elements, const NodePositions& x, double p, double* f,
+                        double* K) const = 0;
+  /// internal() and pressure() of the same elements in one pass, for blocks whose kernels
+  /// share work between them (a membrane's points serve both).
+  virtual void internal_and_pressure(std::span<const int> elements, const NodePositions& x,
+                                     double p, double* r, double* K, double* f, double* Kp) const {
+    internal(elements, x, r, K);
+    pressure(elements, x, p, f, Kp);
+  }
+  /// Pressure p along the fixed unit direction d, per area projected normal to d
+  /// (`projected`) or per current area, and (when K non-null) its load stiffness.
+  virtual void directed_pressure(std::span<const int> elements, const NodePositions& x, double p,
+                                 const Vec3& d, bool projected, double* f, double* K) const = 0;
+  /// Natural coordinates of the reference point P inside element e, if it lies there (used to
+  /// locate history points). Returns false otherwise.
+  virtual bool locate(int e, const Vec3& P, std::array<double, 2>& xi) const = 0;
+  /// Output at natural coordinates xi of element e.
+  virtual MembraneStress output_at(int e, const std::array<double, 2>& xi,
+                                   const NodePositions& x) const = 0;
+
+ protected:
+  using ElementBlock::ElementBlock;
 };
 
 /// Diagnostics of a block's set-up: the worst element found, for validation messages.
@@ -165,7 +195,7 @@ struct BlockSetupReport {
   double poor_axes_quality = 1;
 };
 
-/// Membrane block of shape `type` (tri3 tri6 quad4 quad8 quad9). `axes` are the sector axes,
+/// Membrane block of the surface shape named `type` (shape_info.hpp). `axes` are the sector axes,
 /// or null for the default (global x projected). Throws std::invalid_argument for an unknown
 /// type or a nodal integration the shape has no rule for; `report` receives degenerate
 /// elements (the caller decides how to complain).
@@ -174,16 +204,12 @@ std::unique_ptr<ElementBlock> make_membrane_block(
     const NodePositions& X, const SheetLaw& law, double density, double thickness,
     const SheetAxes* axes, shape::Integration integration, BlockSetupReport& report);
 
-/// Cable block (cable2, cable3).
+/// Cable block of the line shape named `type` (cable2, cable3).
 std::unique_ptr<ElementBlock> make_cable_block(std::string_view type, std::string set_name,
                                                std::vector<int> connectivity,
                                                const NodePositions& X, const CableLaw& law,
                                                double density, double area,
                                                shape::Integration integration,
                                                BlockSetupReport& report);
-
-/// Number of nodes of an element type name, or 0 when unknown.
-int nodes_of_type(std::string_view type);
-bool is_membrane_type(std::string_view type);
 
 }  // namespace velum

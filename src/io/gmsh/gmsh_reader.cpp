@@ -19,28 +19,13 @@
 
 #include "msh_input.hpp"
 #include "velum/io/mesh_data.hpp"
+#include "velum/shape/shape_info.hpp"
 
 namespace velum::io {
 
 std::string type_of_gmsh(int gmsh_type) {
-  switch (gmsh_type) {
-    case 1:
-      return "cable2";
-    case 2:
-      return "tri3";
-    case 3:
-      return "quad4";
-    case 8:
-      return "cable3";
-    case 9:
-      return "tri6";
-    case 10:
-      return "quad9";
-    case 16:
-      return "quad8";
-    default:
-      return {};
-  }
+  const shape::ShapeInfo* s = shape::find_gmsh(gmsh_type);
+  return s ? std::string(s->name) : std::string();
 }
 
 namespace {

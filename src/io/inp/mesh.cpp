@@ -7,36 +7,23 @@
 #include <set>
 
 #include "model.hpp"
+#include "velum/shape/shape_info.hpp"
 
 namespace velum::io::inp {
 namespace {
 
-struct ElementType {
-  const char* abaqus;
-  const char* velum;
-  int nodes;
-  bool reduced;
-};
-
-// Abaqus's membrane and truss node orders equal Gmsh's for the surfaces (corners, then the
-// edge midpoints 1-2, 2-3, ..., then the centre); a T3D3 has its middle node second, Gmsh's
-// line3 third.
-constexpr std::array<ElementType, 10> kTypes = {{{"M3D3", "tri3", 3, false},
-                                                 {"M3D4", "quad4", 4, false},
-                                                 {"M3D4R", "quad4", 4, true},
-                                                 {"M3D6", "tri6", 6, false},
-                                                 {"M3D8", "quad8", 8, false},
-                                                 {"M3D8R", "quad8", 8, true},
-                                                 {"M3D9", "quad9", 9, false},
-                                                 {"M3D9R", "quad9", 9, true},
-                                                 {"T3D2", "cable2", 2, false},
-                                                 {"T3D3", "cable3", 3, false}}};
-
+// The Abaqus element types of the shape table (shape_info.hpp), in alphabetical order.
 std::string type_list() {
+  std::vector<std::string_view> names;
+  for (const auto& t : shape::kShapeTable) {
+    if (!t.abaqus.empty()) names.push_back(t.abaqus);
+    if (!t.abaqus_reduced.empty()) names.push_back(t.abaqus_reduced);
+  }
+  std::sort(names.begin(), names.end());
   std::string s;
-  for (const auto& t : kTypes) {
+  for (const auto name : names) {
     if (!s.empty()) s += ' ';
-    s += t.abaqus;
+    s += name;
   }
   return s;
 }
@@ -139,17 +126,16 @@ void read_elements(const Keyword& k, Mesh& mesh, Diagnostics& diag) {
   auto type_name = diag.required(k, "TYPE");
   if (!type_name) return;
   const std::string tn = canonical(*type_name);
-  const auto t = std::find_if(kTypes.begin(), kTypes.end(),
-                              [&](const ElementType& e) { return tn == e.abaqus; });
-  if (t == kTypes.end()) {
+  const shape::ShapeInfo* t = shape::find_abaqus(tn);
+  if (!t) {
     diag.error(k, fmt::format("element type {} is not supported (membranes and trusses: {})", tn,
                               type_list()));
     return;
   }
-  if (t->reduced)
+  if (tn == t->abaqus_reduced)
     diag.warn(k, fmt::format("{}: Velum integrates a {} with its full Gauss rule (no reduced "
                              "integration with hourglass control)",
-                             tn, t->velum));
+                             tn, t->name));
   std::vector<long> ids;
   // An element's nodes may continue on the next lines (Abaqus: a line ending in a comma;
   // CalculiX: until the element has its nodes).
@@ -169,7 +155,7 @@ void read_elements(const Keyword& k, Mesh& mesh, Diagnostics& diag) {
     }
     auto id = diag.integer(k, all, 0);
     if (!id) continue;
-    Element e{*id, t->velum, {}, d.file, d.line};
+    Element e{*id, std::string(t->name), {}, d.file, d.line};
     bool ok = true;
     for (int j = 1; j <= t->nodes && ok; ++j) {
       auto n = diag.integer(k, all, static_cast<size_t>(j));
@@ -191,7 +177,12 @@ void read_elements(const Keyword& k, Mesh& mesh, Diagnostics& diag) {
       diag.error(k, d, fmt::format("element {} is defined twice", *id));
       continue;
     }
-    if (tn == "T3D3") std::swap(e.nodes[1], e.nodes[2]);  // Abaqus: end, middle, end
+    // Abaqus's node order to Velum's (Gmsh's): a T3D3 has its middle node second.
+    std::array<long, shape::kMaxNodes> abaqus_nodes{};
+    std::copy(e.nodes.begin(), e.nodes.end(), abaqus_nodes.begin());
+    for (int j = 0; j < t->nodes; ++j)
+      e.nodes[static_cast<size_t>(j)] =
+          abaqus_nodes[static_cast<size_t>(t->from_abaqus[static_cast<size_t>(j)])];
     mesh.element_at[*id] = mesh.elements.size();
     mesh.elements.push_back(std::move(e));
     ids.push_back(*id);

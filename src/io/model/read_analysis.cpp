@@ -498,10 +498,10 @@ void Reader::parse_output(const Node& o, const Node& root) {
 
 bool Reader::locate(HistoryEntry& he) const {
   for (size_t b = 0; b < in_.model.blocks.size(); ++b) {
-    const auto& blk = *in_.model.blocks[b];
-    if (blk.kind() != ElementKind::kMembrane) continue;
-    for (int e = 0; e < blk.size(); ++e)
-      if (blk.locate(e, he.point, he.xi)) {
+    const SurfaceBlock* blk = in_.model.blocks[b]->surface();
+    if (!blk) continue;
+    for (int e = 0; e < blk->size(); ++e)
+      if (blk->locate(e, he.point, he.xi)) {
         he.block = static_cast<int>(b);
         he.element = e;
         return true;

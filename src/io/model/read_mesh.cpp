@@ -9,8 +9,16 @@
 
 #include "reader.hpp"
 #include "velum/io/inp_reader.hpp"
+#include "velum/shape/shape_info.hpp"
 
 namespace velum::io::model_file {
+namespace {
+// A set's dimension: 2 for surface shapes, 1 otherwise.
+int dimension_of(std::string_view type) {
+  const shape::ShapeInfo* s = shape::find(type);
+  return s && s->surface() ? 2 : 1;
+}
+}  // namespace
 
 void Reader::add_node(long id, const Vec3& x, const Node& at, const std::string& path) {
   if (in_.model.node_index.count(id)) {
@@ -44,7 +52,7 @@ void Reader::parse_mesh(const Node& mesh) {
         for (long id : g.ids) max_element_id = std::max(max_element_id, id);
         auto& set = element_sets_[g.set];
         set.from_file = true;
-        set.dimension = is_membrane_type(g.type) ? 2 : 1;
+        set.dimension = dimension_of(g.type);
         set.groups.push_back(std::move(g));
       }
       for (auto& [name, ids] : m.node_sets) file_node_sets_[name] = std::move(ids);
@@ -151,14 +159,15 @@ void Reader::parse_inline_elements(const Node& els, long max_file_id) {
     auto set = text(e, "set", p, true);
     auto type = text(e, "type", p, true);
     if (!require(e, "connectivity", p) || !set || !type) continue;
-    const int nn = nodes_of_type(*type);
-    if (nn == 0) {
+    const shape::ShapeInfo* shape = shape::find(*type);
+    if (!shape) {
+      std::vector<std::string> names;
+      for (const auto& s : shape::kShapeTable) names.emplace_back(s.name);
       error(e["type"], sub(p, "type"),
-            fmt::format("unknown element type '{}'{}", *type,
-                        suggestion(*type, {"tri3", "tri6", "quad4", "quad8", "quad9", "cable2",
-                                           "cable3"})));
+            fmt::format("unknown element type '{}'{}", *type, suggestion(*type, names)));
       continue;
     }
+    const int nn = shape->nodes;
     const Node conn = e["connectivity"];
     const std::string cp = sub(p, "connectivity");
     if (!conn.IsSequence()) {
@@ -221,7 +230,7 @@ void Reader::parse_inline_elements(const Node& els, long max_file_id) {
             fmt::format("element set '{}' is already defined by the mesh file", *set));
       continue;
     }
-    set_ref.dimension = is_membrane_type(*type) ? 2 : 1;
+    set_ref.dimension = dimension_of(*type);
     set_ref.groups.push_back(std::move(g));
   }
 }

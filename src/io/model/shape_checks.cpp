@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "velum/shape/shapes.hpp"
+#include "velum/shape/shape_info.hpp"
 
 namespace velum::io::model_file {
 namespace {
@@ -78,14 +78,14 @@ ShapeProblem check_lines(std::span<const int> conn, const NodePositions& X,
 
 ShapeProblem check_shapes(std::string_view type, std::span<const int> conn, const NodePositions& X,
                           std::span<const long> ids) {
-  if (type == "tri3") return check_surfaces<shape::Tri3>(conn, X, ids);
-  if (type == "tri6") return check_surfaces<shape::Tri6>(conn, X, ids);
-  if (type == "quad4") return check_surfaces<shape::Quad4>(conn, X, ids);
-  if (type == "quad8") return check_surfaces<shape::Quad8>(conn, X, ids);
-  if (type == "quad9") return check_surfaces<shape::Quad9>(conn, X, ids);
-  if (type == "cable2") return check_lines<shape::Line2>(conn, X, ids);
-  if (type == "cable3") return check_lines<shape::Line3>(conn, X, ids);
-  return {};
+  const shape::ShapeInfo* info = shape::find(type);
+  if (!info) return {};
+  return shape::with_shape(*info, [&]<class S>(S) {
+    if constexpr (S::kDim == 2)
+      return check_surfaces<S>(conn, X, ids);
+    else
+      return check_lines<S>(conn, X, ids);
+  });
 }
 
 }  // namespace velum::io::model_file
