@@ -18,8 +18,8 @@ struct ShapeProblem {
   std::string what;  ///< e.g. "repeats node 4", "crosses itself or folds over at node 3"
 };
 
-/// The first unusable element of a group of `type` (nodes_of_type(type) indices per element
-/// into X, `ids` the user's node ids of X's columns).
+/// The first unusable element of a group of `type` (per element, its shape's node count of
+/// indices into X; `ids` the user's node ids of X's columns).
 ShapeProblem check_shapes(std::string_view type, std::span<const int> conn, const NodePositions& X,
                           std::span<const long> ids);
 
