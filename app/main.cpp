@@ -1,14 +1,14 @@
-// The velum command line: parses arguments and hands over to velum::io's commands.
+// The velum command line: parses arguments and hands over to velum::run's commands.
 #include <malloc.h>
 
 #include <CLI/CLI.hpp>
 
 #include "velum/config.hpp"
-#include "velum/io/commands.hpp"
-#include "velum/io/plot_command.hpp"
+#include "velum/run/commands.hpp"
+#include "velum/run/plot_command.hpp"
 #include "velum/io/run_control.hpp"
 #include "velum/solve/blas_kernels.hpp"
-#include "velum/solve/processes.hpp"
+#include "velum/parallel/processes.hpp"
 
 namespace {
 
@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   velum::choose_blas_kernels(argv);
   velum::io::prepare_standard_streams();
   // Under mpirun every process runs this same program on the same model (docs/parallel.md).
-  if (!velum::processes::start(&argc, &argv)) return velum::io::kExitBadInput;
+  if (!velum::processes::start(&argc, &argv)) return velum::run::kExitBadInput;
   ProcessesGuard processes;
   // The sparse factorisations allocate and free large blocks at every Newton iteration: keep
   // them in the heap instead of mapping fresh (page-faulting, zeroed) memory each time
@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("velum ") + VELUM_VERSION);
   app.require_subcommand(1);
 
-  velum::io::RunOptions run;
+  velum::run::RunOptions run;
   std::string output;
   auto* run_cmd = app.add_subcommand("run", "Solve a model file and write its results");
   run_cmd->add_option("MODEL", run.model, "model file (YAML)")->required();
@@ -71,19 +71,19 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
-    return code == 0 ? 0 : velum::io::kExitBadInput;
+    return code == 0 ? 0 : velum::run::kExitBadInput;
   }
   try {
     if (run_cmd->parsed()) {
       if (!output.empty()) run.output = output;
       if (!restart.empty()) run.restart = restart;
-      return velum::io::run_command(run);
+      return velum::run::run_command(run);
     }
-    if (plot_cmd->parsed()) return velum::io::plot_command(plot_cmd->remaining());
-    if (import_cmd->parsed()) return velum::io::import_command(import_deck, import_output);
-    return velum::io::check_command(check_model);
+    if (plot_cmd->parsed()) return velum::run::plot_command(plot_cmd->remaining());
+    if (import_cmd->parsed()) return velum::run::import_command(import_deck, import_output);
+    return velum::run::check_command(check_model);
   } catch (const std::bad_alloc&) {
     velum::io::say(stderr, "error: out of memory: the model is too large for this machine\n");
-    return velum::io::kExitBadInput;
+    return velum::run::kExitBadInput;
   }
 }

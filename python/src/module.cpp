@@ -1,6 +1,6 @@
 // velum._velum: the compiled half of the Python module. It reads a model dict through the same
 // reader as `velum run` (dict -> YAML node -> ModelInput) and runs it in-process through
-// io::run_model, the command line's own run, with the GIL released while it solves. The
+// run::run_model, the command line's own run, with the GIL released while it solves. The
 // Python half (velum/*.py) wraps what these functions return into Model and Results objects.
 #include <malloc.h>
 #include <pybind11/numpy.h>
@@ -15,7 +15,7 @@
 
 #include "velum/assembly/dof_map.hpp"
 #include "velum/config.hpp"
-#include "velum/io/commands.hpp"
+#include "velum/run/run_model.hpp"
 #include "velum/io/model_reader_yaml.hpp"
 #include "yaml_convert.hpp"
 
@@ -106,7 +106,7 @@ py::dict check(py::handle model, const std::string& name, const std::string& bas
 
 py::dict run(py::handle model, const std::string& name, const std::string& base_dir,
              std::optional<std::string> output, int threads, bool quiet, py::object progress) {
-  io::RunControls controls;  // starts the clock, as the command line does before it reads
+  velum::run::RunControls controls;  // starts the clock, as the command line does before it reads
   // As app/main.cpp: the factorisations allocate and free large blocks at every Newton
   // iteration; keep them in the heap instead of fresh zeroed pages from mmap each time.
   static const bool heap_tuned = [] {
@@ -135,10 +135,10 @@ py::dict run(py::handle model, const std::string& name, const std::string& base_
       return false;
     }
   };
-  io::RunOutcome outcome;
+  velum::run::RunOutcome outcome;
   {
     py::gil_scoped_release nogil;
-    outcome = io::run_model(in, controls);
+    outcome = velum::run::run_model(in, controls);
   }
   controls.on_step = nullptr;
   if (raised) std::rethrow_exception(raised);
@@ -161,10 +161,10 @@ PYBIND11_MODULE(_velum, m) {
   using namespace velum::python;
   m.doc() = "Velum's compiled core; use the velum package, not this module.";
   m.attr("__version__") = VELUM_VERSION;
-  m.attr("EXIT_OK") = velum::io::kExitOk;
-  m.attr("EXIT_BAD_INPUT") = velum::io::kExitBadInput;
-  m.attr("EXIT_SOLVE_FAILED") = velum::io::kExitSolveFailed;
-  m.attr("EXIT_IO") = velum::io::kExitIo;
+  m.attr("EXIT_OK") = velum::run::kExitOk;
+  m.attr("EXIT_BAD_INPUT") = velum::run::kExitBadInput;
+  m.attr("EXIT_SOLVE_FAILED") = velum::run::kExitSolveFailed;
+  m.attr("EXIT_IO") = velum::run::kExitIo;
   m.def("read_yaml", &read_yaml_file, py::arg("path"),
         "A YAML file as plain Python objects (no validation).");
   m.def("check", &check, py::arg("model"), py::arg("name"), py::arg("base_dir"),

@@ -1,5 +1,6 @@
 #include "velum/analysis/analysis.hpp"
 
+#include "velum/analysis/form_finding.hpp"
 #include "velum/analysis/plausibility.hpp"
 
 #include <fmt/format.h>
@@ -8,7 +9,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "velum/solve/processes.hpp"
+#include "velum/parallel/processes.hpp"
 
 namespace velum {
 
@@ -183,12 +184,12 @@ class EnergyAccount {
   double held0_ = 0, work_scale_ = 0;
 };
 
-}  // namespace
-
-AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& settings,
-                            const std::function<bool(const StepSnapshot&)>& observer,
-                            const std::function<void(const std::string&)>& on_warning,
-                            const State* start, const Checkpoint* resume) {
+// Load stepping, relaxation, dynamics (the time loop) and path following: the analyses that
+// march a fixed model, with one energy account, stability watch and plausibility check.
+AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
+                     const std::function<bool(const StepSnapshot&)>& observer,
+                     const std::function<void(const std::string&)>& on_warning,
+                     const State* start, const Checkpoint* resume) {
   AnalysisResult result;
   auto warn = [&](std::string w) {
     if (on_warning) on_warning(w);
@@ -293,8 +294,8 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
       settings.path.method != PathSettings::Method::kLoadControl) {
     PathSettings path = settings.path;
     // (Under mpirun set from the whole model before it was shared out.)
-    if (path.method == PathSettings::Method::kDisplacement && path.equation < 0)
-      path.equation = sys.dofs().global_equation(path.node, path.component);
+    // A component that cannot be controlled leaves equation < 0: run_path_following says so.
+    (void)resolve_path_equation(path, sys.model(), sys.dofs());
     result.integrator = path.method == PathSettings::Method::kDisplacement ? "displacement control"
                         : path.constraint == PathSettings::Constraint::kRiks
                             ? "arc length (Riks)"
@@ -315,6 +316,65 @@ AnalysisResult run_analysis(MechanicalSystem& sys, const AnalysisSettings& setti
   result.factorizations = solver->factorizations();
   result.analyses = solver->analyses();
   return result;
+}
+
+}  // namespace
+
+AnalysisResult run_analysis(Model& model, MechanicalSystem& system,
+                            const AnalysisSettings& settings, const AnalysisObservers& observers,
+                            const AnalysisStart& from) {
+  switch (settings.type) {
+    case AnalysisSettings::Type::kFormFinding:
+      return run_form_finding(model, system, settings, observers.step, observers.warning,
+                              observers.form);
+    case AnalysisSettings::Type::kStatic:
+    case AnalysisSettings::Type::kDynamic:
+    case AnalysisSettings::Type::kRelaxation:
+      break;
+  }
+  return march(system, settings, observers.step, observers.warning, from.state, from.resume);
+}
+
+AnalysisResult run_analysis(MechanicalSystem& system, const AnalysisSettings& settings,
+                            const std::function<bool(const StepSnapshot&)>& observer,
+                            const std::function<void(const std::string&)>& on_warning,
+                            const State* start, const Checkpoint* resume) {
+  if (settings.type == AnalysisSettings::Type::kFormFinding)
+    throw std::invalid_argument(
+        "form finding moves its model's reference: run_analysis(model, system, ...)");
+  return march(system, settings, observer, on_warning, start, resume);
+}
+
+std::string resolve_path_equation(PathSettings& path, const Model& model, const DofMap& dofs) {
+  if (path.method != PathSettings::Method::kDisplacement || path.equation >= 0) return {};
+  path.equation = dofs.global_equation(path.node, path.component);
+  if (path.equation >= 0) return {};
+  return fmt::format(
+      "analysis.path: node {} {} is fixed, prescribed or normal to a symmetry plane: "
+      "displacement control needs a free component",
+      model.node_ids[static_cast<size_t>(path.node)], "xyz"[path.component]);
+}
+
+namespace {
+
+const AnalysisTypeInfo& info_of(AnalysisSettings::Type t) {
+  for (const AnalysisTypeInfo& i : kAnalysisTypes)
+    if (i.type == t) return i;
+  throw std::logic_error("an analysis type without its row in kAnalysisTypes");
+}
+
+}  // namespace
+
+std::string AnalysisSettings::type_name() const { return info_of(type).name; }
+
+std::string AnalysisSettings::method() const {
+  const AnalysisTypeInfo& i = info_of(type);
+  return *i.method ? i.method : scheme;
+}
+
+std::string AnalysisSettings::run_name() const {
+  const AnalysisTypeInfo& i = info_of(type);
+  return *i.run ? std::string(i.run) : "dynamic run (" + scheme + ")";
 }
 
 }  // namespace velum

@@ -7,7 +7,7 @@
 #include <limits>
 #include <optional>
 
-#include "velum/solve/processes.hpp"
+#include "velum/parallel/processes.hpp"
 
 namespace velum {
 namespace {

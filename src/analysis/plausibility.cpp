@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "velum/assembly/model_piece.hpp"
-#include "velum/solve/processes.hpp"
+#include "velum/parallel/model_piece.hpp"
+#include "velum/parallel/processes.hpp"
 
 namespace velum {
 namespace {

@@ -6,8 +6,8 @@
 #include <numeric>
 
 #include "element_colors.hpp"
-#include "velum/assembly/model_piece.hpp"
-#include "velum/solve/processes.hpp"
+#include "velum/parallel/model_piece.hpp"
+#include "velum/parallel/processes.hpp"
 
 namespace velum {
 namespace {

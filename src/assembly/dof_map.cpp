@@ -4,8 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "velum/assembly/model_piece.hpp"
-#include "velum/solve/processes.hpp"
+#include "velum/parallel/model_piece.hpp"
+#include "velum/parallel/processes.hpp"
 
 namespace velum {
 

@@ -4,7 +4,7 @@
 
 #include <system_error>
 
-#include "velum/assembly/model_piece.hpp"
+#include "velum/parallel/model_piece.hpp"
 #include "velum/io/results_writer.hpp"
 
 namespace velum::io {

@@ -1,7 +1,7 @@
 #include "velum/io/results_writer.hpp"
 
-#include "velum/assembly/model_piece.hpp"
-#include "velum/solve/processes.hpp"
+#include "velum/parallel/model_piece.hpp"
+#include "velum/parallel/processes.hpp"
 
 #include <fmt/format.h>
 

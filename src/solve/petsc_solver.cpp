@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "velum/solve/processes.hpp"
+#include "velum/parallel/processes.hpp"
 
 #ifdef VELUM_HAVE_PETSC
 #include <fmt/format.h>

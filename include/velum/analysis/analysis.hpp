@@ -9,7 +9,8 @@
 #include <vector>
 
 #include "velum/analysis/mechanical_system.hpp"
-#include "velum/assembly/element_partition.hpp"
+#include "velum/assembly/dof_map.hpp"
+#include "velum/parallel/element_partition.hpp"
 #include "velum/solve/linear_solver.hpp"
 #include "velum/time/path_following.hpp"
 #include "velum/time/relaxation.hpp"
@@ -34,16 +35,17 @@ struct AnalysisSettings {
   /// static: load stepping with Newton; relaxation: each load level by dynamic relaxation,
   /// finished by Newton (relaxation.hpp); dynamic: a time integrator.
   /// form_finding: the shape in equilibrium with the prestress (form_finding.hpp).
+  /// A new type is a value here, its row in kAnalysisTypes and its branch in run_analysis.
   enum class Type { kStatic, kDynamic, kRelaxation, kFormFinding };
   Type type = Type::kDynamic;
   /// Equilibrium at each load level, no inertia (static, relaxation and form finding).
   bool equilibrium() const { return type != Type::kDynamic; }
-  std::string type_name() const {
-    return type == Type::kStatic       ? "static"
-           : type == Type::kRelaxation ? "relaxation"
-           : type == Type::kDynamic    ? "dynamic"
-                                       : "form_finding";
-  }
+  /// Its name in a model file (analysis.type).
+  std::string type_name() const;
+  /// How it solves, for `velum check` ("load stepping"; the scheme of a dynamic run).
+  std::string method() const;
+  /// What runs, for the progress line ("static load stepping").
+  std::string run_name() const;
   /// newmark | hht | generalized-alpha | central-difference
   std::string scheme = "generalized-alpha";
   double rho_inf = 0.8;     ///< generalized-alpha
@@ -66,6 +68,30 @@ struct AnalysisSettings {
   std::string petsc_options;
   /// Under mpirun: how the elements are shared (analysis.partition).
   ElementPartition partition = ElementPartition::kRows;
+};
+
+/// The analysis types: each one's name in a model file (analysis.type), how `velum check`
+/// describes its method (empty: the integrator scheme) and the progress line's name of its run
+/// (empty: "dynamic run (scheme)").
+struct AnalysisTypeInfo {
+  AnalysisSettings::Type type;
+  const char* name;
+  const char* method;
+  const char* run;
+};
+inline constexpr AnalysisTypeInfo kAnalysisTypes[] = {
+    {AnalysisSettings::Type::kStatic, "static", "load stepping", "static load stepping"},
+    {AnalysisSettings::Type::kDynamic, "dynamic", "", ""},
+    {AnalysisSettings::Type::kRelaxation, "relaxation", "kinetic damping, then Newton", "dynamic relaxation"},
+    {AnalysisSettings::Type::kFormFinding, "form_finding", "updated reference", "form finding (updated reference)"},
+};
+
+/// What form finding reports beyond an AnalysisResult.
+struct FormFindingReport {
+  int updates = 0;        ///< reference updates over all load levels
+  double residual = 0;    ///< ‖r‖ / force scale of prestress and loads on the final shape
+  double stabilizer = 0;  ///< the stabilizing stiffness in force at the end
+  NodePositions shape;    ///< the found node coordinates (3 x nodes)
 };
 
 struct Energies {
@@ -113,13 +139,41 @@ std::unique_ptr<TimeIntegrator> make_integrator(const AnalysisSettings& s);
 std::unique_ptr<LinearSolver> make_solver(const MechanicalSystem& system,
                                           const AnalysisSettings& s);
 
-/// Runs the analysis from `resume` (a checkpoint of the same model, not in path following),
-/// from `start` at t0, or from rest at the reference configuration. The
-/// observer is called after each accepted step (and once at t0 with step 0); returning false
-/// stops the run. `on_warning` hears each warning as it arises.
+/// Where a run starts: from rest at the reference configuration (both null), from `state` at
+/// t0, or from `resume`, a checkpoint of the same model (not in path following or form
+/// finding, which start from their model).
+struct AnalysisStart {
+  const State* state = nullptr;
+  const Checkpoint* resume = nullptr;
+};
+
+/// Who hears a run: `step` after each accepted step (and once at t0 with step 0; false stops
+/// the run), `warning` each warning as it arises, `form` what form finding found.
+struct AnalysisObservers {
+  std::function<bool(const StepSnapshot&)> step;
+  std::function<void(const std::string&)> warning;
+  FormFindingReport* form = nullptr;
+};
+
+/// Every analysis type from one call, which chooses once what runs: form finding (on `model`,
+/// the model `system` was built on, whose reference it moves: form_finding.hpp), path following
+/// (a static analysis with analysis.path), load stepping, relaxation or dynamics (a time
+/// integrator in the time loop).
+AnalysisResult run_analysis(Model& model, MechanicalSystem& system,
+                            const AnalysisSettings& settings, const AnalysisObservers& observers,
+                            const AnalysisStart& from = {});
+
+/// run_analysis for every type but form finding (which needs the model it moves: throws
+/// std::invalid_argument), with the observers and the start as arguments.
 AnalysisResult run_analysis(MechanicalSystem& system, const AnalysisSettings& settings,
                             const std::function<bool(const StepSnapshot&)>& observer = {},
                             const std::function<void(const std::string&)>& on_warning = {},
                             const State* start = nullptr, const Checkpoint* resume = nullptr);
+
+/// Displacement control (path.method): sets path.equation, when not yet set, to the
+/// controlled component's equation in `dofs`, the numbering of `model` (the whole model's:
+/// under mpirun it is resolved before the model is shared out). Returns why that component
+/// cannot be controlled (fixed, prescribed, normal to a symmetry plane), or an empty string.
+std::string resolve_path_equation(PathSettings& path, const Model& model, const DofMap& dofs);
 
 }  // namespace velum

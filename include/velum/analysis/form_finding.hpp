@@ -13,14 +13,6 @@
 
 namespace velum {
 
-/// What form finding reports beyond an AnalysisResult.
-struct FormFindingReport {
-  int updates = 0;        ///< reference updates over all load levels
-  double residual = 0;    ///< ‖r‖ / force scale of prestress and loads on the final shape
-  double stabilizer = 0;  ///< the stabilizing stiffness in force at the end
-  NodePositions shape;    ///< the found node coordinates (3 x nodes)
-};
-
 /// Runs form finding on `model` (its blocks are replaced, at each converged load level, by the
 /// same sections set up on the found shape, so that `view`, a MechanicalSystem on `model`,
 /// shows the found shape and its stresses; the model's X stays the shape it started from,

@@ -18,9 +18,9 @@
 #include <vector>
 
 #include "velum/assembly/dof_map.hpp"
-#include "velum/assembly/element_partition.hpp"
+#include "velum/parallel/element_partition.hpp"
 #include "velum/assembly/element_scatter.hpp"
-#include "velum/assembly/model_piece.hpp"
+#include "velum/parallel/model_piece.hpp"
 #include "velum/element/enclosed_volume.hpp"
 #include "velum/math/sparse.hpp"
 

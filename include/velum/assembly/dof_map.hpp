@@ -12,7 +12,7 @@
 
 #include <vector>
 
-#include "velum/assembly/equation_layout.hpp"
+#include "velum/parallel/equation_layout.hpp"
 #include "velum/model/model.hpp"
 
 namespace velum {

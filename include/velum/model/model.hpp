@@ -14,6 +14,7 @@
 
 #include "velum/model/element_block.hpp"
 #include "velum/model/time_function.hpp"
+#include "velum/parallel/model_piece.hpp"
 
 namespace velum {
 
@@ -105,8 +106,6 @@ struct GravityLoad {
   Vec3 acceleration = Vec3::Zero();
   int function = -1;
 };
-
-struct ModelPiece;  // assembly/model_piece.hpp
 
 struct Model {
   // Nodes

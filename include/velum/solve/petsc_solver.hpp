@@ -16,7 +16,7 @@
 #include <memory>
 #include <string>
 
-#include "velum/assembly/equation_layout.hpp"
+#include "velum/parallel/equation_layout.hpp"
 #include "velum/math/types.hpp"
 #include "velum/solve/linear_solver.hpp"
 

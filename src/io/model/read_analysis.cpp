@@ -7,7 +7,7 @@
 #include <set>
 
 #include "reader.hpp"
-#include "velum/solve/processes.hpp"
+#include "velum/parallel/processes.hpp"
 
 namespace velum::io::model_file {
 namespace {
@@ -57,18 +57,17 @@ void Reader::parse_analysis(const Node& a) {
     return;
   AnalysisSettings& s = in_.analysis;
   if (auto t = text(a, "type", "analysis", false)) {
-    if (*t == "static")
-      s.type = AnalysisSettings::Type::kStatic;
-    else if (*t == "dynamic")
-      s.type = AnalysisSettings::Type::kDynamic;
-    else if (*t == "relaxation")
-      s.type = AnalysisSettings::Type::kRelaxation;
-    else if (*t == "form_finding")
-      s.type = AnalysisSettings::Type::kFormFinding;
+    const AnalysisTypeInfo* found = nullptr;
+    std::vector<std::string> names;
+    for (const AnalysisTypeInfo& i : kAnalysisTypes) {
+      names.emplace_back(i.name);
+      if (*t == i.name) found = &i;
+    }
+    if (found)
+      s.type = found->type;
     else
       error(a["type"], "analysis.type",
-            fmt::format("unknown analysis type '{}'{}", *t,
-                        suggestion(*t, {"static", "dynamic", "relaxation", "form_finding"})));
+            fmt::format("unknown analysis type '{}'{}", *t, suggestion(*t, names)));
   }
   if (has(a, "form_finding")) {
     const Node f = a["form_finding"];

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "velum/solve/petsc_solver.hpp"
-#include "velum/solve/processes.hpp"
+#include "velum/parallel/processes.hpp"
 
 namespace velum {
 namespace {

@@ -7,11 +7,12 @@
 #include <cstdio>
 #include <fstream>
 
-#include "velum/io/commands.hpp"
+#include "run_parts.hpp"
+#include "velum/run/commands.hpp"
 #include "velum/io/inp_reader.hpp"
 #include "velum/io/run_control.hpp"
 
-namespace velum::io {
+namespace velum::run {
 
 int import_command(const std::filesystem::path& deck, const std::filesystem::path& output) {
   std::vector<std::string> warnings;
@@ -54,4 +55,4 @@ int import_command(const std::filesystem::path& deck, const std::filesystem::pat
   return kExitOk;
 }
 
-}  // namespace velum::io
+}  // namespace velum::run

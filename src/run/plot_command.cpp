@@ -1,4 +1,4 @@
-#include "velum/io/plot_command.hpp"
+#include "velum/run/plot_command.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <cstring>
 
-#include "velum/io/commands.hpp"
+#include "run_parts.hpp"
 #include "velum/io/run_control.hpp"
 
-namespace velum::io {
+namespace velum::run {
 namespace {
 
 constexpr const char* kPython = "/usr/bin/python3";
@@ -71,4 +71,4 @@ int plot_command(const std::vector<std::string>& args) {
   return kExitIo;
 }
 
-}  // namespace velum::io
+}  // namespace velum::run

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace velum::io {
+namespace velum::run {
 
 /// The plotting script for the running executable, or nothing when it is not installed.
 std::optional<std::filesystem::path> plot_script();
@@ -17,4 +17,4 @@ std::optional<std::filesystem::path> plot_script();
 /// status (0, or 1 for bad input with its message on stderr).
 int plot_command(const std::vector<std::string>& args);
 
-}  // namespace velum::io
+}  // namespace velum::run

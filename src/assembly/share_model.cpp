@@ -1,10 +1,10 @@
-#include "velum/assembly/model_piece.hpp"
+#include "velum/assembly/share_model.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 
 #include "velum/assembly/dof_map.hpp"
-#include "velum/solve/processes.hpp"
+#include "velum/parallel/processes.hpp"
 
 namespace velum {
 namespace {

@@ -4,15 +4,15 @@
 // renumbered 0 .. n-1 in their global order. Every per-node array from there on (positions,
 // displacements, forces, the output's fields) is over the piece's nodes only, so that the
 // memory of a process falls with the processes. On one process nothing is shared and the
-// model is left whole (Model::piece stays null).
+// model is left whole (Model::piece stays null). Plain data on the ground floor, so that the
+// Model that holds it may include it; the cutting itself is assembly/share_model.hpp.
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "velum/assembly/element_partition.hpp"
-#include "velum/model/model.hpp"
+#include "velum/parallel/element_partition.hpp"
 
 namespace velum {
 
@@ -45,15 +45,5 @@ struct ModelPiece {
   /// Nodes held by elements of more than one process (the partition's cut, as reported).
   long element_cut = 0;
 };
-
-/// Shares the model's elements between the processes (`partition`; PT-Scotch through PETSc
-/// when asked for and available, else the row rule) and cuts `model` down to this process's
-/// piece: its nodes renumbered, its own elements' connectivity and section data kept (other
-/// elements keep their index but no data: ElementBlock::keep_piece), node sets, point masses
-/// and edge loads restricted to the piece, and model.piece set. Returns, per node of the
-/// whole model, its local index (-1: not held here), for references the caller keeps
-/// (history nodes). A collective call; on one process it does nothing and returns {}.
-/// Throws std::invalid_argument when the model cannot be numbered.
-std::vector<int> share_model(Model& model, ElementPartition partition);
 
 }  // namespace velum

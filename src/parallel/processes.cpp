@@ -1,4 +1,4 @@
-#include "velum/solve/processes.hpp"
+#include "velum/parallel/processes.hpp"
 
 #include <algorithm>
 #include <cstdio>

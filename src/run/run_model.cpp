@@ -1,4 +1,4 @@
-#include "velum/io/commands.hpp"
+#include "velum/run/run_model.hpp"
 
 #include <fmt/format.h>
 #include <omp.h>
@@ -9,111 +9,23 @@
 #include <cstdio>
 #include <map>
 
-#include "velum/analysis/form_finding.hpp"
+#include "velum/analysis/analysis.hpp"
 #include "velum/assembly/dof_map.hpp"
-#include "velum/assembly/model_piece.hpp"
+#include "velum/assembly/share_model.hpp"
 #include "velum/config.hpp"
 #include "velum/io/checkpoint.hpp"
 #include "velum/io/form_model.hpp"
 #include "velum/io/run_control.hpp"
-#include "velum/solve/processes.hpp"
+#include "progress.hpp"
+#include "run_parts.hpp"
+#include "velum/parallel/processes.hpp"
 
 // Present when the BLAS behind SuiteSparse is OpenBLAS (Debian's alternatives), absent (null)
 // with the reference BLAS.
 extern "C" void openblas_set_num_threads(int) __attribute__((weak));
 
-namespace velum::io {
+namespace velum::run {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-constexpr const char* kUnitsNote =
-    "units: the model's own (any consistent set); nothing is converted";
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-std::string duration_text(double s) {
-  if (!std::isfinite(s) || s < 0) return "--";
-  if (s < 60) return fmt::format("{:.0f}s", s);
-  if (s < 3600) return fmt::format("{:.0f}m{:02.0f}s", std::floor(s / 60), std::fmod(s, 60));
-  return fmt::format("{:.0f}h{:02.0f}m", std::floor(s / 3600), std::fmod(s / 60, 60));
-}
-
-/// Progress on stderr: a bar redrawn at most ten times a second on a terminal, otherwise
-/// one line at the start and one at the end.
-class Progress {
- public:
-  Progress(bool quiet, double t0, double t_end)
-      : quiet_(quiet),
-        tty_(isatty(fileno(stderr)) != 0),
-        t0_(t0),
-        t_end_(t_end),
-        start_(Clock::now()) {}
-
-  void start(const std::string& what) {
-    if (quiet_) return;
-    if (!tty_) say(stderr, "velum: {} from t = {:.6g} to {:.6g}\n", what, t0_, t_end_);
-  }
-  void update(const AcceptedStep& s) {
-    if (quiet_ || !tty_) return;
-    const auto now = Clock::now();
-    if (now - last_ < std::chrono::milliseconds(100) && s.t < t_end_) return;
-    last_ = now;
-    const double frac = std::clamp((s.t - t0_) / (t_end_ - t0_), 0.0, 1.0);
-    const double elapsed = seconds_since(start_);
-    const double eta = frac > 0 ? elapsed * (1 - frac) / frac : -1;
-    constexpr int kWidth = 30;
-    const int filled = static_cast<int>(frac * kWidth);
-    say(stderr, "\r[{}{}] t = {:<10.4g} h = {:<9.3g} step {:<6d} newton {:<3d} ETA {:<8}",
-        std::string(static_cast<size_t>(filled), '#'),
-        std::string(static_cast<size_t>(kWidth - filled), '.'), s.t, s.h, s.step, s.iterations,
-        duration_text(eta));
-    std::fflush(stderr);
-    drawn_ = true;
-  }
-  /// Ends the bar's line so that a message can follow.
-  void end_line() {
-    if (drawn_) say(stderr, "\n");
-    drawn_ = false;
-  }
-  // A warning on its own line (the bar, if drawn, continues below it).
-  void warn(const std::string& w) {
-    if (drawn_) fmt::print(stderr, "\n");
-    drawn_ = false;
-    fmt::print(stderr, "warning: {}\n", w);
-  }
-  void finish(const TimeLoopResult& r) {
-    if (quiet_) return;
-    end_line();
-    say(stderr,
-        "velum: {} at t = {:.6g} after {} steps, {} Newton iterations ({} factorisations), {} "
-        "cut-backs, {:.2f} s\n",
-        r.completed ? "finished" : "stopped", r.t, r.steps, r.iterations, r.factorizations,
-        r.cutbacks, seconds_since(start_));
-  }
-
- private:
-  bool quiet_, tty_;
-  double t0_, t_end_;
-  Clock::time_point start_, last_{};
-  bool drawn_ = false;
-};
-
-/// Reads the model; on bad input prints every message and returns nullopt.
-std::optional<ModelInput> load(const std::filesystem::path& file) {
-  try {
-    ModelInput in = read_model(file);
-    for (const auto& w : in.warnings) say(stderr, "warning: {}\n", w);
-    return in;
-  } catch (const InputError& e) {
-    for (const auto& m : e.messages()) say(stderr, "error: {}\n", m);
-    say(stderr, "velum: {} error{} in {}\n", e.messages().size(),
-        e.messages().size() == 1 ? "" : "s", file.string());
-    return std::nullopt;
-  }
-}
 
 // When output.checkpoint asks for one: every `steps` accepted steps, or at the first step at
 // or past each multiple of `interval`; and at the end of the run (which can then be extended).
@@ -170,45 +82,6 @@ std::optional<CheckpointFile> load_checkpoint(const std::filesystem::path& dir,
   }
 }
 
-std::map<std::string, int> elements_per_type(const Model& m) {
-  std::map<std::string, int> out;
-  for (const auto& b : m.blocks) out[std::string(b->type_name())] += b->size();
-  return out;
-}
-
-std::string json_escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '"' || c == '\\')
-      o += '\\', o += c;
-    else if (static_cast<unsigned char>(c) < 0x20)
-      o += fmt::format("\\u{:04x}", static_cast<int>(c));
-    else
-      o += c;
-  }
-  return o;
-}
-
-/// Marks DIR as holding a run in progress and removes what a previous run left that the new
-/// one might not overwrite (its frames and their index).
-void begin_results(const std::filesystem::path& dir, const std::filesystem::path& model) {
-  write_file_atomically(dir / "summary.json",
-                        fmt::format("{{\n  \"status\": \"running\",\n  \"model\": \"{}\",\n  "
-                                    "\"pid\": {}\n}}\n",
-                                    json_escape(model.string()), getpid()));
-  std::error_code ec;
-  std::filesystem::remove(dir / "results.pvd", ec);
-  if (std::filesystem::is_directory(dir / "frames", ec))
-    for (const auto& f : std::filesystem::directory_iterator(dir / "frames", ec)) {
-      const std::string name = f.path().filename().string();
-      if (name.rfind("frame_", 0) != 0) continue;
-      if (f.path().extension() == ".vtu" || f.path().extension() == ".pvtu")
-        std::filesystem::remove(f.path(), ec);
-      else if (f.is_directory(ec))  // the pieces of a run on several processes
-        std::filesystem::remove_all(f.path(), ec);
-    }
-}
-
 // Under mpirun: the model cut down to this process's piece (share_model), and the history's
 // nodes renumbered to the piece's (-1, or left out of a reaction's list: another process's).
 void share_out(ModelInput& input) {
@@ -225,120 +98,6 @@ void share_out(ModelInput& input) {
 }
 
 }  // namespace
-
-// The output folder, its lock and the results writer (the first process's, under mpirun).
-// One run per folder: the lock first, then "running" in summary.json before anything of a
-// previous run is touched, so that no moment shows its "converged" beside a new history.
-bool open_results(const ModelInput& input, MechanicalSystem& system,
-                  const std::filesystem::path& dir, const std::optional<CheckpointFile>& resume,
-                  RunOutcome& out, std::optional<OutputLock>& lock,
-                  std::unique_ptr<ResultsWriter>& writer) {
-  {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec || !std::filesystem::is_directory(dir)) {
-      out.status = kExitIo;
-      out.errors.push_back(fmt::format("cannot create the output directory {}: {}", dir.string(),
-                                       ec ? ec.message() : "not a directory"));
-      return false;
-    }
-  }
-  lock.emplace(dir);
-  if (!lock->held()) {
-    out.status = kExitIo;
-    out.errors.push_back(
-        fmt::format("{}: {}; wait for it to end or choose another output directory", dir.string(),
-                    lock->why_not()));
-    return false;
-  }
-  try {
-    WriterPosition at;
-    if (resume)  // a restart goes on with the files as its checkpoint left them
-      at = {.history_bytes = resume->history_bytes,
-            .steps_bytes = resume->steps_bytes,
-            .frame_times = resume->frame_times};
-    else
-      begin_results(dir, input.file);
-    writer = std::make_unique<ResultsWriter>(input, system, dir, resume ? &at : nullptr);
-  } catch (const OutputError& e) {
-    out.status = kExitIo;
-    out.errors.push_back(e.what());
-    return false;
-  }
-  return true;
-}
-
-int check_command(const std::filesystem::path& file) {
-  say(stdout, "velum {} check: {}\n{}\n", VELUM_VERSION, file.string(), kUnitsNote);
-  auto in = load(file);
-  if (!in) return kExitBadInput;
-  const Model& m = in->model;
-  int dofs = 0;
-  try {
-    dofs = DofMap(m).num_equations();
-  } catch (const std::exception& e) {
-    say(stderr, "error: {}: {}\n", file.string(), e.what());
-    return kExitBadInput;
-  }
-  if (!in->title.empty()) say(stdout, "title:      {}\n", in->title);
-  say(stdout, "nodes:      {}\n", m.num_nodes());
-  std::string per_type;
-  for (const auto& [t, n] : elements_per_type(m)) per_type += fmt::format(" {} {}", t, n);
-  say(stdout, "elements:   {} ({})\n", m.num_elements(),
-      per_type.empty() ? "" : per_type.substr(1));
-  say(stdout, "blocks:     {}\n", m.blocks.size());
-  say(stdout, "dofs:       {} equations ({} fixed or prescribed components)\n", dofs,
-      3 * m.num_nodes() - dofs);
-  std::string mats;
-  for (const auto& mt : in->materials)
-    mats += fmt::format("{}{} ({})", mats.empty() ? "" : ", ", mt.name, mt.type);
-  say(stdout, "materials:  {}\n", mats);
-  say(stdout, "loads:      {} point, {} edge, {} pressure, {} gravity; {} point masses\n",
-      m.point_loads.size(), m.edge_loads.size(), m.pressures.size(), m.gravity.size(),
-      m.masses.size());
-  for (size_t i = 0; i < m.gases.size(); ++i)
-    say(stdout,
-        "gas {}:      reference volume {:.6g}, initial pressure {:.6g}, ambient {:.6g}, "
-        "gamma {:.6g}\n",
-        i, m.gases[i].V0, m.gases[i].initial_pressure, m.gases[i].ambient, m.gases[i].gamma);
-  say(stdout, "boundary:   {} fixed, {} prescribed, {} symmetry\n", m.fixed.size(),
-      m.prescribed.size(), m.symmetry.size());
-  const auto& a = in->analysis;
-  say(stdout, "analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n", a.type_name(),
-      a.type == AnalysisSettings::Type::kStatic        ? "load stepping"
-      : a.type == AnalysisSettings::Type::kRelaxation  ? "kinetic damping, then Newton"
-      : a.type == AnalysisSettings::Type::kFormFinding ? "updated reference"
-                                                       : a.scheme,
-      a.time.t_end, a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
-  say(stdout, "{}", describe_steps(*in));
-  say(stdout, "output:     {} every {:.6g}, {} history column{}{}\n", in->output.directory.string(),
-      in->output.interval, in->output.history.size(), in->output.history.size() == 1 ? "" : "s",
-      in->output.fields ? ", fields" : "");
-  say(stdout, "velum: {} is valid\n", file.string());
-  return kExitOk;
-}
-
-void mark_interrupted(int sig, const std::string& reason, RunSummary& summary, RunOutcome& out) {
-  summary.status = "interrupted";
-  summary.reason =
-      fmt::format("interrupted by {} {}", sig == SIGINT ? "SIGINT" : "SIGTERM", reason);
-  out.status = sig == SIGINT ? kExitInterrupted : kExitTerminated;
-}
-
-bool finish_summary(ResultsWriter& writer, RunSummary& summary, Clock::time_point started,
-                    double cpu_at_start, RunOutcome& out) {
-  summary.wall_seconds = seconds_since(started);
-  summary.cpu_seconds = cpu_seconds() - cpu_at_start;
-  summary.threads = omp_get_max_threads();
-  try {
-    writer.write_summary(summary);
-  } catch (const OutputError& e) {
-    out.status = kExitIo;
-    out.errors.push_back(e.what());
-    return false;
-  }
-  return true;
-}
 
 RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   RunOutcome out;
@@ -365,18 +124,14 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     return out;
   }
   const int all_nodes = input.model.num_nodes();
-  if (PathSettings& path = input.analysis.path;
-      path.method == PathSettings::Method::kDisplacement) {
-    // Its equation in the whole model's numbering (the node may be another process's).
-    path.equation = DofMap(input.model).global_equation(path.node, path.component);
-    if (path.equation < 0) {
-      out.status = kExitBadInput;
-      out.errors.push_back(fmt::format(
-          "{}: analysis.path: node {} {} is fixed, prescribed or normal to a symmetry plane: "
-          "displacement control needs a free component",
-          input.file.string(), input.model.node_ids[path.node], "xyz"[path.component]));
-      return out;
-    }
+  // Displacement control: its equation in the whole model's numbering (the node may be
+  // another process's once the model is shared out).
+  if (const std::string why =
+          resolve_path_equation(input.analysis.path, input.model, DofMap(input.model));
+      !why.empty()) {
+    out.status = kExitBadInput;
+    out.errors.push_back(fmt::format("{}: {}", input.file.string(), why));
+    return out;
   }
   std::unique_ptr<MechanicalSystem> system;
   try {
@@ -441,13 +196,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   }
 
   Progress progress(opt.quiet, settings.time.t0, settings.time.t_end);
-  progress.start(
-      (settings.type == AnalysisSettings::Type::kStatic       ? std::string("static load stepping")
-       : settings.type == AnalysisSettings::Type::kRelaxation ? std::string("dynamic relaxation")
-       : settings.type == AnalysisSettings::Type::kFormFinding
-           ? std::string("form finding (updated reference)")
-           : "dynamic run (" + settings.scheme + ")") +
-      (resume ? fmt::format(", restarted at t = {:.6g}", resume->run.loop.t) : ""));
+  progress.start(settings.run_name() +
+                 (resume ? fmt::format(", restarted at t = {:.6g}", resume->run.loop.t) : ""));
   AnalysisResult result;
   std::exception_ptr output_failure;
   RunSummary& summary = out.summary;
@@ -501,15 +251,14 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
       return several ? processes::all(go) : go;
     };
     const auto warn = [&](const std::string& w) { progress.warn(w); };
+    FormFindingReport found;
+    result = run_analysis(input.model, *system, settings,
+                          {.step = observe, .warning = warn, .form = &found},
+                          {.resume = resume ? &resume->run : nullptr});
     if (settings.type == AnalysisSettings::Type::kFormFinding) {
-      FormFindingReport found;
-      result = run_form_finding(input.model, *system, settings, observe, warn, &found);
       summary.form_residual = found.residual;
       summary.form_updates = found.updates;
       if (result.loop.completed && writes) write_form_model(input, found.shape, dir / "form.yaml");
-    } else {
-      result =
-          run_analysis(*system, settings, observe, warn, nullptr, resume ? &resume->run : nullptr);
     }
     if (output_failure) std::rethrow_exception(output_failure);
     progress.finish(result.loop);
@@ -564,32 +313,4 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   return out;
 }
 
-int run_command(const RunOptions& opt) {
-  RunControls controls;
-  const bool speaks = processes::rank() == 0;  // under mpirun, the first process only
-  if (!opt.quiet && speaks)
-    say(stderr, "velum {} run: {}\n{}\n", VELUM_VERSION, opt.model.string(), kUnitsNote);
-  controls.output = opt.output;
-  controls.threads = opt.threads;
-  controls.quiet = opt.quiet;
-  controls.restart = opt.restart;
-  InterruptGuard interrupts;  // SIGINT, SIGTERM: finish the current step, then stop
-  auto in = load(opt.model);
-  if (!in) return kExitBadInput;
-  if (const int sig = InterruptGuard::signal_received())  // nothing written yet
-    return sig == SIGINT ? kExitInterrupted : kExitTerminated;
-  const RunOutcome out = run_model(*in, controls);
-  if (!speaks) {  // the first process speaks; another one only of its own output's failure
-    if (out.status == kExitIo)
-      for (const auto& e : out.errors)
-        say(stderr, "error (process {}): {}\n", processes::rank(), e);
-    return out.status;
-  }
-  for (const auto& e : out.errors) say(stderr, "error: {}\n", e);
-  if (out.status == kExitInterrupted || out.status == kExitTerminated)
-    say(stderr, "velum: {}; results up to there are in {}\n", out.summary.reason,
-        out.directory.string());
-  return out.status;
-}
-
-}  // namespace velum::io
+}  // namespace velum::run

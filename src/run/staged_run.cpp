@@ -5,11 +5,11 @@
 
 #include <algorithm>
 
-#include "velum/io/commands.hpp"
+#include "run_parts.hpp"
 #include "velum/io/run_control.hpp"
-#include "velum/solve/processes.hpp"
+#include "velum/parallel/processes.hpp"
 
-namespace velum::io {
+namespace velum::run {
 
 RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
   RunOutcome out;
@@ -140,4 +140,4 @@ std::string describe_steps(const ModelInput& in) {
   return s;
 }
 
-}  // namespace velum::io
+}  // namespace velum::run

@@ -1,9 +1,9 @@
-#include "velum/assembly/equation_layout.hpp"
+#include "velum/parallel/equation_layout.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "velum/solve/processes.hpp"
+#include "velum/parallel/processes.hpp"
 
 namespace velum {
 

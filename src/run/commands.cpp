@@ -1,0 +1,116 @@
+// `velum run` and `velum check`: the model read (its errors printed), then run_model or the
+// model's statistics.
+#include "velum/run/commands.hpp"
+
+#include <fmt/format.h>
+
+#include <map>
+
+#include "run_parts.hpp"
+#include "velum/assembly/dof_map.hpp"
+#include "velum/config.hpp"
+#include "velum/parallel/processes.hpp"
+
+namespace velum::run {
+namespace {
+
+constexpr const char* kUnitsNote =
+    "units: the model's own (any consistent set); nothing is converted";
+
+/// Reads the model; on bad input prints every message and returns nullopt.
+std::optional<ModelInput> load(const std::filesystem::path& file) {
+  try {
+    ModelInput in = read_model(file);
+    for (const auto& w : in.warnings) say(stderr, "warning: {}\n", w);
+    return in;
+  } catch (const InputError& e) {
+    for (const auto& m : e.messages()) say(stderr, "error: {}\n", m);
+    say(stderr, "velum: {} error{} in {}\n", e.messages().size(),
+        e.messages().size() == 1 ? "" : "s", file.string());
+    return std::nullopt;
+  }
+}
+
+std::map<std::string, int> elements_per_type(const Model& m) {
+  std::map<std::string, int> out;
+  for (const auto& b : m.blocks) out[std::string(b->type_name())] += b->size();
+  return out;
+}
+
+}  // namespace
+
+int check_command(const std::filesystem::path& file) {
+  say(stdout, "velum {} check: {}\n{}\n", VELUM_VERSION, file.string(), kUnitsNote);
+  auto in = load(file);
+  if (!in) return kExitBadInput;
+  const Model& m = in->model;
+  int dofs = 0;
+  try {
+    dofs = DofMap(m).num_equations();
+  } catch (const std::exception& e) {
+    say(stderr, "error: {}: {}\n", file.string(), e.what());
+    return kExitBadInput;
+  }
+  if (!in->title.empty()) say(stdout, "title:      {}\n", in->title);
+  say(stdout, "nodes:      {}\n", m.num_nodes());
+  std::string per_type;
+  for (const auto& [t, n] : elements_per_type(m)) per_type += fmt::format(" {} {}", t, n);
+  say(stdout, "elements:   {} ({})\n", m.num_elements(),
+      per_type.empty() ? "" : per_type.substr(1));
+  say(stdout, "blocks:     {}\n", m.blocks.size());
+  say(stdout, "dofs:       {} equations ({} fixed or prescribed components)\n", dofs,
+      3 * m.num_nodes() - dofs);
+  std::string mats;
+  for (const auto& mt : in->materials)
+    mats += fmt::format("{}{} ({})", mats.empty() ? "" : ", ", mt.name, mt.type);
+  say(stdout, "materials:  {}\n", mats);
+  say(stdout, "loads:      {} point, {} edge, {} pressure, {} gravity; {} point masses\n",
+      m.point_loads.size(), m.edge_loads.size(), m.pressures.size(), m.gravity.size(),
+      m.masses.size());
+  for (size_t i = 0; i < m.gases.size(); ++i)
+    say(stdout,
+        "gas {}:      reference volume {:.6g}, initial pressure {:.6g}, ambient {:.6g}, "
+        "gamma {:.6g}\n",
+        i, m.gases[i].V0, m.gases[i].initial_pressure, m.gases[i].ambient, m.gases[i].gamma);
+  say(stdout, "boundary:   {} fixed, {} prescribed, {} symmetry\n", m.fixed.size(),
+      m.prescribed.size(), m.symmetry.size());
+  const auto& a = in->analysis;
+  say(stdout, "analysis:   {}, {}, t_end {:.6g}, step {:.6g} (min {:.6g}{})\n", a.type_name(),
+      a.method(), a.time.t_end, a.time.step, a.time.min_step, a.time.adaptive ? ", adaptive" : "");
+  say(stdout, "{}", describe_steps(*in));
+  say(stdout, "output:     {} every {:.6g}, {} history column{}{}\n", in->output.directory.string(),
+      in->output.interval, in->output.history.size(), in->output.history.size() == 1 ? "" : "s",
+      in->output.fields ? ", fields" : "");
+  say(stdout, "velum: {} is valid\n", file.string());
+  return kExitOk;
+}
+
+int run_command(const RunOptions& opt) {
+  RunControls controls;
+  const bool speaks = processes::rank() == 0;  // under mpirun, the first process only
+  if (!opt.quiet && speaks)
+    say(stderr, "velum {} run: {}\n{}\n", VELUM_VERSION, opt.model.string(), kUnitsNote);
+  controls.output = opt.output;
+  controls.threads = opt.threads;
+  controls.quiet = opt.quiet;
+  controls.restart = opt.restart;
+  InterruptGuard interrupts;  // SIGINT, SIGTERM: finish the current step, then stop
+  auto in = load(opt.model);
+  if (!in) return kExitBadInput;
+  if (const int sig = InterruptGuard::signal_received())  // nothing written yet
+    return sig == SIGINT ? kExitInterrupted : kExitTerminated;
+  const RunOutcome out = run_model(*in, controls);
+  if (!speaks) {  // the first process speaks; another one only of its own output's failure
+    if (out.status == kExitIo)
+      for (const auto& e : out.errors)
+        say(stderr, "error (process {}): {}\n", processes::rank(), e);
+    return out.status;
+  }
+  for (const auto& e : out.errors) say(stderr, "error: {}\n", e);
+  if (out.status == kExitInterrupted || out.status == kExitTerminated)
+    say(stderr, "velum: {}; results up to there are in {}\n", out.summary.reason,
+        out.directory.string());
+  return out.status;
+}
+
+}  // namespace velum::run

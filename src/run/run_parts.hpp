@@ -1,0 +1,37 @@
+// The run driver's parts shared between its files (src/run/): the staged run, the results
+// folder and the summary's last lines.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "velum/io/checkpoint.hpp"
+#include "velum/io/run_control.hpp"
+#include "velum/run/run_model.hpp"
+
+namespace velum::run {
+
+using namespace velum::io;  // the readers' and writers' types, as io's own code names them
+
+/// run_model for a model with steps (staged_run.cpp).
+RunOutcome run_staged(ModelInput& input, const RunControls& controls);
+/// `velum check`'s lines for a model's steps (none without steps).
+std::string describe_steps(const ModelInput& input);
+/// The output folder, its lock and the results writer of a run (`resume`: a restart).
+bool open_results(const ModelInput& input, MechanicalSystem& system,
+                  const std::filesystem::path& dir, const std::optional<CheckpointFile>& resume,
+                  RunOutcome& out, std::optional<OutputLock>& lock,
+                  std::unique_ptr<ResultsWriter>& writer);
+
+/// A run stopped by SIGINT or SIGTERM (sig): status "interrupted", `reason`, exit 130 / 143.
+void mark_interrupted(int sig, const std::string& reason, RunSummary& summary, RunOutcome& out);
+/// Times the run (wall since `started`, CPU since `cpu_at_start`, threads) and writes
+/// summary.json; false, with the outcome set to an I/O failure, when it cannot be written.
+bool finish_summary(ResultsWriter& writer, RunSummary& summary,
+                    std::chrono::steady_clock::time_point started, double cpu_at_start,
+                    RunOutcome& out);
+
+}  // namespace velum::run
