@@ -4,11 +4,11 @@
 #include <CLI/CLI.hpp>
 
 #include "velum/config.hpp"
+#include "velum/io/run_control.hpp"
+#include "velum/parallel/processes.hpp"
 #include "velum/run/commands.hpp"
 #include "velum/run/plot_command.hpp"
-#include "velum/io/run_control.hpp"
 #include "velum/solve/blas_kernels.hpp"
-#include "velum/parallel/processes.hpp"
 
 namespace {
 

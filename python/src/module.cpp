@@ -15,8 +15,8 @@
 
 #include "velum/assembly/dof_map.hpp"
 #include "velum/config.hpp"
-#include "velum/run/run_model.hpp"
 #include "velum/io/model_reader_yaml.hpp"
+#include "velum/run/run_model.hpp"
 #include "yaml_convert.hpp"
 
 namespace py = pybind11;

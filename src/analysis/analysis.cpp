@@ -188,8 +188,8 @@ class EnergyAccount {
 // march a fixed model, with one energy account, stability watch and plausibility check.
 AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
                      const std::function<bool(const StepSnapshot&)>& observer,
-                     const std::function<void(const std::string&)>& on_warning,
-                     const State* start, const Checkpoint* resume) {
+                     const std::function<void(const std::string&)>& on_warning, const State* start,
+                     const Checkpoint* resume) {
   AnalysisResult result;
   auto warn = [&](std::string w) {
     if (on_warning) on_warning(w);
@@ -365,7 +365,9 @@ const AnalysisTypeInfo& info_of(AnalysisSettings::Type t) {
 
 }  // namespace
 
-std::string AnalysisSettings::type_name() const { return info_of(type).name; }
+std::string AnalysisSettings::type_name() const {
+  return info_of(type).name;
+}
 
 std::string AnalysisSettings::method() const {
   const AnalysisTypeInfo& i = info_of(type);

@@ -194,9 +194,9 @@ class StageRunner {
              obs_.step(static_cast<int>(k),
                        StepSnapshot{snap.step, snap.system, snap.state, E, snap.checkpoint});
     };
-    o.result = run_analysis(slot_, sys, settings,
-                            {.step = observe, .warning = obs_.warn, .form = &o.form},
-                            {.state = have_state_ ? &start : nullptr});
+    o.result =
+        run_analysis(slot_, sys, settings, {.step = observe, .warning = obs_.warn, .form = &o.form},
+                     {.state = have_state_ ? &start : nullptr});
     const TimeLoopResult& loop = o.result.loop;
     o.t_end = loop.completed ? settings.time.t_end : loop.t;
     out_.energy = o.result.energy;

@@ -4,8 +4,8 @@
 
 #include <system_error>
 
-#include "velum/parallel/model_piece.hpp"
 #include "velum/io/results_writer.hpp"
+#include "velum/parallel/model_piece.hpp"
 
 namespace velum::io {
 namespace {

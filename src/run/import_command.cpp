@@ -8,9 +8,9 @@
 #include <fstream>
 
 #include "run_parts.hpp"
-#include "velum/run/commands.hpp"
 #include "velum/io/inp_reader.hpp"
 #include "velum/io/run_control.hpp"
+#include "velum/run/commands.hpp"
 
 namespace velum::run {
 

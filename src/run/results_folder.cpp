@@ -4,8 +4,8 @@
 #include <omp.h>
 #include <unistd.h>
 
-#include "run_parts.hpp"
 #include "progress.hpp"
+#include "run_parts.hpp"
 
 namespace velum::run {
 namespace {

@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <map>
 
+#include "progress.hpp"
+#include "run_parts.hpp"
 #include "velum/analysis/analysis.hpp"
 #include "velum/assembly/dof_map.hpp"
 #include "velum/assembly/share_model.hpp"
@@ -16,8 +18,6 @@
 #include "velum/io/checkpoint.hpp"
 #include "velum/io/form_model.hpp"
 #include "velum/io/run_control.hpp"
-#include "progress.hpp"
-#include "run_parts.hpp"
 #include "velum/parallel/processes.hpp"
 
 // Present when the BLAS behind SuiteSparse is OpenBLAS (Debian's alternatives), absent (null)

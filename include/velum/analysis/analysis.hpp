@@ -82,8 +82,10 @@ struct AnalysisTypeInfo {
 inline constexpr AnalysisTypeInfo kAnalysisTypes[] = {
     {AnalysisSettings::Type::kStatic, "static", "load stepping", "static load stepping"},
     {AnalysisSettings::Type::kDynamic, "dynamic", "", ""},
-    {AnalysisSettings::Type::kRelaxation, "relaxation", "kinetic damping, then Newton", "dynamic relaxation"},
-    {AnalysisSettings::Type::kFormFinding, "form_finding", "updated reference", "form finding (updated reference)"},
+    {AnalysisSettings::Type::kRelaxation, "relaxation", "kinetic damping, then Newton",
+     "dynamic relaxation"},
+    {AnalysisSettings::Type::kFormFinding, "form_finding", "updated reference",
+     "form finding (updated reference)"},
 };
 
 /// What form finding reports beyond an AnalysisResult.

@@ -7,7 +7,7 @@
 // the reference of the steps after it (displacements and the energy account start again from
 // zero there). Loads and boundary conditions a step does not give go on from the step before,
 // each held at the value it had reached (Abaqus's propagation). A model with steps runs on one
-// process (io/staged_run.cpp refuses more): the state goes on as whole nodal arrays.
+// process (run/staged_run.cpp refuses more): the state goes on as whole nodal arrays.
 #pragma once
 
 #include <functional>

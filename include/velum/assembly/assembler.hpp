@@ -18,11 +18,11 @@
 #include <vector>
 
 #include "velum/assembly/dof_map.hpp"
-#include "velum/parallel/element_partition.hpp"
 #include "velum/assembly/element_scatter.hpp"
-#include "velum/parallel/model_piece.hpp"
 #include "velum/element/enclosed_volume.hpp"
 #include "velum/math/sparse.hpp"
+#include "velum/parallel/element_partition.hpp"
+#include "velum/parallel/model_piece.hpp"
 
 namespace velum {
 

@@ -12,8 +12,8 @@
 
 #include <vector>
 
-#include "velum/parallel/equation_layout.hpp"
 #include "velum/model/model.hpp"
+#include "velum/parallel/equation_layout.hpp"
 
 namespace velum {
 

@@ -16,8 +16,8 @@
 #include <memory>
 #include <string>
 
-#include "velum/parallel/equation_layout.hpp"
 #include "velum/math/types.hpp"
+#include "velum/parallel/equation_layout.hpp"
 #include "velum/solve/linear_solver.hpp"
 
 namespace velum {

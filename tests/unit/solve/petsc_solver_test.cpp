@@ -6,8 +6,8 @@
 #include <Eigen/Eigenvalues>
 #include <vector>
 
-#include "velum/solve/petsc_solver.hpp"
 #include "velum/parallel/processes.hpp"
+#include "velum/solve/petsc_solver.hpp"
 
 namespace velum {
 namespace {
