@@ -126,12 +126,14 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   const int all_nodes = input.model.num_nodes();
   // Displacement control: its equation in the whole model's numbering (the node may be
   // another process's once the model is shared out).
-  if (const std::string why =
-          resolve_path_equation(input.analysis.path, input.model, DofMap(input.model));
-      !why.empty()) {
-    out.status = kExitBadInput;
-    out.errors.push_back(fmt::format("{}: {}", input.file.string(), why));
-    return out;
+  if (PathSettings& path = input.analysis.path;
+      path.method == PathSettings::Method::kDisplacement) {
+    if (const std::string why = resolve_path_equation(path, input.model, DofMap(input.model));
+        !why.empty()) {
+      out.status = kExitBadInput;
+      out.errors.push_back(fmt::format("{}: {}", input.file.string(), why));
+      return out;
+    }
   }
   std::unique_ptr<MechanicalSystem> system;
   try {
