@@ -43,9 +43,9 @@ TEST(RunAnalysis, FormFindingThroughTheEntryPointIsRunFormFinding) {
   FormFindingReport direct, entry;
   int steps = 0;
   const AnalysisResult r_direct = run_form_finding(a, sys_a, form_finding(), {}, {}, &direct);
-  const AnalysisResult r_entry =
-      run_analysis(b, sys_b, form_finding(),
-                   {.step = [&](const StepSnapshot&) { return ++steps > 0; }, .form = &entry});
+  const AnalysisResult r_entry = run_analysis(
+      b, sys_b, form_finding(),
+      {.step = [&](const StepSnapshot&) { return ++steps > 0; }, .warning = {}, .form = &entry});
   ASSERT_TRUE(r_entry.loop.completed) << r_entry.loop.reason;
   EXPECT_EQ(r_entry.loop.completed, r_direct.loop.completed);
   EXPECT_EQ(entry.updates, direct.updates);
