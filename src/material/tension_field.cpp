@@ -14,7 +14,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "velum/material/sheet_law.hpp"
+#include "velum/material/linear_sheet_law.hpp"
 
 namespace velum {
 namespace {

@@ -77,7 +77,8 @@ class MembraneBlock final : public SurfaceBlock {
       }
       // Axes given for the sector are projected per point inside setup; default axes are
       // already in this element's plane.
-      const double jac = K::setup(Xe, law.Q(), axes ? *axes : a, t0, points_[e], integration);
+      const double jac =
+          K::setup(Xe, law.reference_stiffness(), axes ? *axes : a, t0, points_[e], integration);
       if (e == 0 || jac < report.worst_jacobian) {
         report.worst_jacobian = jac;
         report.worst_element = e;
@@ -94,11 +95,7 @@ class MembraneBlock final : public SurfaceBlock {
     const SheetAxes* axes = axes_ ? &*axes_ : nullptr;
     std::unique_ptr<ElementBlock> out;
     if (stabilizer > 0 && law_->has_prestress()) {
-      const double q = law_->Q().diagonal().maxCoeff();
-      const double s0 = law_->prestress().cwiseAbs().maxCoeff();
-      const SheetLaw ff = SheetLaw(PlaneStressLaw::matrix(law_->elastic().name(),
-                                                          (stabilizer * s0 / q) * law_->Q()))
-                              .with_prestress(law_->prestress());
+      const SheetLaw ff = form_finding_law(*law_, stabilizer);
       out = make_membrane_block(Shape::kName, set_name(), std::move(connectivity), X, ff, density(),
                                 t0_, axes, integration_, report);
     } else {
@@ -447,6 +444,10 @@ std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::st
                                                   const SheetAxes* axes,
                                                   shape::Integration integration,
                                                   BlockSetupReport& report) {
+  if (law.state_size() > 0)
+    throw std::invalid_argument("material '" + law.name() +
+                                "' keeps a history per point, which membrane blocks do not "
+                                "store yet");
   auto build = [&]<class S>(S) -> std::unique_ptr<ElementBlock> {
     if (integration == shape::Integration::kNodal && !S::kNodalRule)
       throw std::invalid_argument(fmt::format(

@@ -78,8 +78,9 @@ struct PrestressedPoints {
   }
 };
 
-/// Any sheet law (wrinkling, prestress, nonlinear laws): evaluated in the sheet axes at each
-/// point from the strain there.
+/// Any sheet law that is not affine (wrinkling, nonlinear laws): the law's interface
+/// (SheetLawBase) evaluated in the sheet axes at each point from the strain there, one virtual
+/// call a point. ElasticPoints and PrestressedPoints are the fast path of the affine laws.
 struct LawPoints {
   const SheetLaw* law = nullptr;
   template <class Point>
@@ -138,10 +139,11 @@ struct Membrane {
   /// Unit normal of the reference surface at the element centre (for material axes).
   static Vec3 centre_normal(const Nodes& X);
 
-  /// Fills the integration points. Q: sheet stiffness in the sector axes (m1, m2), which are
-  /// projected onto the tangent plane at each point. Returns the smallest dA/dξ found, so the
-  /// caller can reject degenerate or inverted elements (<= 0). Nodal integration needs
-  /// Shape::kNodalRule.
+  /// Fills the integration points. Q: the law's reference stiffness
+  /// (SheetLaw::reference_stiffness: the constant stiffness of an affine law) in the sector
+  /// axes (m1, m2), which are projected onto the tangent plane at each point. Returns the smallest
+  /// dA/dξ found, so the caller can reject degenerate or inverted elements (<= 0). Nodal
+  /// integration needs Shape::kNodalRule.
   static double setup(const Nodes& X, const Mat3& Q, const SheetAxes& axes, double t0, Points& pts,
                       shape::Integration integration = shape::Integration::kGauss);
 

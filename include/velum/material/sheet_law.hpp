@@ -1,87 +1,80 @@
-// The constitutive law of a membrane section as the elements see it: at a point, from the
-// Green-Lagrange strain in the sheet's principal axes, the 2nd Piola-Kirchhoff stress and its
-// tangent there (engineering Voigt: E = [E11, E22, 2 E12], S = [S11, S22, S12]). It wraps the
-// elastic law Q of plane_stress.hpp with what a fabric needs on top of it:
-//  - a prestress S0 (2nd PK, sheet axes) added to the elastic stress (the convention Kratos
-//    uses for PRESTRESS_VECTOR): S = Q E + S0;
-//  - a tension field (wrinkling): the sheet carries no compression; where the trial stress
-//    Q E + S0 has a negative principal value the sheet wrinkles (uniaxial tension along the
-//    wrinkles, solved with a wrinkling strain across them) or goes slack (no stress).
-// A law never sees shape functions or nodes. Units are the user's.
+// The constitutive law of a membrane section as sections, blocks and the kernels hold it: any
+// SheetLawBase (sheet_law_base.hpp) behind one copyable value (a copy clones the law). Built
+// from a plane-stress law it is the linear anisotropic law (linear_sheet_law.hpp), which also
+// takes a prestress and wrinkling. Strains and stresses in the sheet's principal axes,
+// engineering Voigt (E = [E11, E22, 2 E12], S = [S11, S22, S12]). Units are the user's.
 #pragma once
 
-#include <cstdint>
+#include <concepts>
+#include <memory>
 
-#include "velum/material/plane_stress.hpp"
+#include "velum/material/linear_sheet_law.hpp"
+#include "velum/material/sheet_law_base.hpp"
 
 namespace velum {
 
-enum class WrinkleState : std::uint8_t { kTaut = 0, kWrinkled = 1, kSlack = 2 };
-
-/// What a sheet law returns at one point, in the sheet axes.
-struct SheetResponse {
-  Vec3 S = Vec3::Zero();  ///< 2nd PK stress [S11, S22, S12]
-  Mat3 C = Mat3::Zero();  ///< dS/dE (engineering Voigt)
-  WrinkleState state = WrinkleState::kTaut;
-  double angle = 0;  ///< wrinkled: angle of the tension (wrinkle) direction from m1, radians
-};
-
-/// Result of the tension-field solve for a trial stress (tension_field below).
-struct TensionField {
-  Vec3 S = Vec3::Zero();  ///< tension-field stress (no residual stiffness)
-  Mat3 C = Mat3::Zero();  ///< its tangent dS/dE
-  WrinkleState state = WrinkleState::kTaut;
-  double angle = 0;  ///< wrinkled: tension direction n = (cos, sin) in the sheet axes
-  double beta = 0;   ///< wrinkled: wrinkling strain across the wrinkles (<= 0, a contraction)
-};
-
-/// Tension field of the elastic law Q at the trial stress S_trial = Q E + S0 (THEORY of
-/// docs/wrinkling.md): taut when S_trial has no negative principal value; otherwise the
-/// wrinkled state S = S_trial − β Q v(t) with uniaxial tension s > 0 along n = (cos θ, sin θ)
-/// and a contraction β < 0 across it (t ⟂ n), the admissible root of lowest elastic energy;
-/// slack (S = 0, C = 0) when no admissible root exists. A `fibers` law (no stiffness across
-/// its fibres) is treated by SheetLaw fibre by fibre instead: each family goes slack alone.
-TensionField tension_field(const Mat3& Q, const Vec3& S_trial);
-
 class SheetLaw {
  public:
-  /// Fraction of the elastic law kept where the sheet wrinkles or goes slack, so that a slack
-  /// region keeps a small stiffness and the Jacobian stays regular:
-  /// S = (1 − κ) S_tension_field + κ (Q E + S0). Zero effect on taut points.
-  static constexpr double kDefaultSlackStiffness = 1e-6;
+  static constexpr double kDefaultSlackStiffness = LinearSheetLaw::kDefaultSlackStiffness;
 
-  /// The elastic law alone (implicit: every plane-stress law is a sheet law).
-  SheetLaw(const PlaneStressLaw& elastic)
-      : elastic_(elastic) {}  // NOLINT(google-explicit-constructor)
+  /// The linear law of an elastic plane-stress law (implicit: every plane-stress law is a
+  /// sheet law).
+  SheetLaw(const PlaneStressLaw& elastic)  // NOLINT(google-explicit-constructor)
+      : law_(std::make_unique<LinearSheetLaw>(elastic)) {}
+  /// Any law, by value (implicit, as a law is a sheet law).
+  template <std::derived_from<SheetLawBase> Law>
+  SheetLaw(Law law)  // NOLINT(google-explicit-constructor)
+      : law_(std::make_unique<Law>(std::move(law))) {}
+  explicit SheetLaw(std::unique_ptr<SheetLawBase> law);
 
+  SheetLaw(const SheetLaw& o) : law_(o.law_->clone()) {}
+  SheetLaw& operator=(const SheetLaw& o) {
+    if (this != &o) law_ = o.law_->clone();
+    return *this;
+  }
+  SheetLaw(SheetLaw&&) noexcept = default;
+  SheetLaw& operator=(SheetLaw&&) noexcept = default;
+  ~SheetLaw() = default;
+
+  /// The law itself.
+  const SheetLawBase& base() const { return *law_; }
+  /// The linear law behind this one, or null when it is another law.
+  const LinearSheetLaw* linear() const { return dynamic_cast<const LinearSheetLaw*>(law_.get()); }
+
+  // The interface (SheetLawBase), for a point without history.
+  const std::string& name() const { return law_->name(); }
+  void evaluate(const Vec3& E, SheetResponse& out) const { law_->evaluate(E, {}, out); }
+  double energy(const Vec3& E) const { return law_->energy(E, {}); }
+  void evaluate(const Vec3& E, std::span<const double> h, SheetResponse& out) const {
+    law_->evaluate(E, h, out);
+  }
+  double energy(const Vec3& E, std::span<const double> h) const { return law_->energy(E, h); }
+  bool affine() const { return law_->affine(); }
+  const Mat3& reference_stiffness() const { return law_->reference_stiffness(); }
+  /// The reference stiffness (Q of the linear law).
+  const Mat3& Q() const { return law_->reference_stiffness(); }
+  Vec3 prestress() const { return law_->prestress(); }
+  bool has_prestress() const { return prestress().squaredNorm() > 0; }
+  bool wrinkling() const { return law_->wrinkling(); }
+  int state_size() const { return law_->state_size(); }
+
+  // The linear law's additions; a MaterialError for any other law.
   /// Prestress S0 = [S11, S22, S12] (2nd PK, sheet axes, force/area).
   SheetLaw& with_prestress(const Vec3& S0);
   /// Tension field with residual stiffness fraction kappa in [0, 1).
   SheetLaw& with_wrinkling(double kappa = kDefaultSlackStiffness);
-
-  const PlaneStressLaw& elastic() const { return elastic_; }
-  const Mat3& Q() const { return elastic_.Q(); }
-  const Vec3& prestress() const { return S0_; }
-  bool has_prestress() const { return S0_.squaredNorm() > 0; }
-  bool wrinkling() const { return wrinkling_; }
-  double slack_stiffness() const { return kappa_; }
-  /// S = Q E + S0 everywhere: a constant tangent that elements may precompute.
-  bool affine() const { return !wrinkling_; }
-
-  /// Stress and tangent at the Green-Lagrange strain E (sheet axes).
-  void evaluate(const Vec3& E, SheetResponse& out) const;
-  /// Strain energy density per unit reference volume, W with dW/dE = S. The prestress counts
-  /// as S0 · E (it is zero in the reference state).
-  double energy(const Vec3& E) const;
+  /// The linear law's residual stiffness fraction where it wrinkles (0 for other laws).
+  double slack_stiffness() const;
 
  private:
-  void fiber_tension_field(const Vec3& E, SheetResponse& out) const;
+  LinearSheetLaw& linear_or_throw(const char* what);
 
-  PlaneStressLaw elastic_;
-  Vec3 S0_ = Vec3::Zero();
-  bool wrinkling_ = false;
-  double kappa_ = 0;
-  double slack_energy_ = 0;  ///< W at a stress-free state: −½ S0ᵀ Q⁺ S0
+  std::unique_ptr<SheetLawBase> law_;  // never null
 };
+
+/// The law form finding gives a prestressed sheet: its prestress S0 on the elastic law of its
+/// reference stiffness, scaled so that the stiffness's largest diagonal entry is `stabilizer`
+/// times the largest |S0| component; no wrinkling. `law` has a prestress.
+SheetLaw form_finding_law(const SheetLaw& law, double stabilizer);
 
 }  // namespace velum

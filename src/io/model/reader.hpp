@@ -1,9 +1,9 @@
 // The model-file reader: one member per part of the file. Its definitions are split by what
 // they read: model_reader.cpp (the file as a whole and the final checks), read_mesh.cpp
-// (nodes, elements, node sets), read_materials.cpp (materials), read_sections.cpp (sections
-// and the element blocks they make), read_loads.cpp (time functions, masses, boundary
-// conditions, loads), read_gas.cpp (enclosed gas), read_analysis.cpp (analysis and output)
-// and read_steps.cpp (analysis steps).
+// (nodes, elements, node sets), read_materials.cpp (materials; the sheet laws by name through
+// sheet_law_table.cpp), read_sections.cpp (sections and the element blocks they make),
+// read_loads.cpp (time functions, masses, boundary conditions, loads), read_gas.cpp (enclosed
+// gas), read_analysis.cpp (analysis and output) and read_steps.cpp (analysis steps).
 #pragma once
 
 #include <map>
@@ -21,7 +21,7 @@ namespace velum::io::model_file {
 struct MaterialDef {
   std::string type;
   bool cable = false;
-  std::optional<PlaneStressLaw> law;
+  std::optional<SheetLaw> law;  ///< membranes: the material's law (sheet_law_table.hpp)
   CableLaw cable_law;
   double density = 0;
   bool ok = false;

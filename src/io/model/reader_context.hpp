@@ -39,7 +39,8 @@ class ReaderContext {
     in_.file = name_;
   }
 
- protected:
+  // What the readers of each part of the file (and the sheet-law parsers of
+  // sheet_law_table.cpp) use.
   // ---- diagnostics --------------------------------------------------------------------
   int line_of(const Node& n) const;
   void error_at(int line0, const std::string& key, const std::string& text);
@@ -71,6 +72,7 @@ class ReaderContext {
                            bool required);
   std::optional<int> component(const Node& map, const char* key, const std::string& path);
 
+ protected:
   std::filesystem::path base_dir_;  ///< relative mesh and output paths start here
   std::string name_;
   std::vector<std::string> errors_;
