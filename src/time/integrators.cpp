@@ -8,336 +8,11 @@
 #include <stdexcept>
 
 #include "velum/time/low_rank_solver.hpp"
+#include "velum/time/newton.hpp"
 #include "velum/time/secant_updates.hpp"
 
 namespace velum {
 namespace {
-
-std::string explain_singular(const SecondOrderSystem& sys, const SparseMatrix& J) {
-  std::string d = sys.diagnose_singular(J);
-  return d.empty() ? "the matrix is singular or not positive definite (a mechanism, a slack or "
-                     "buckled region); try a dynamic analysis, smaller steps or another "
-                     "linear_solver"
-                   : d;
-}
-
-// Newton on a matrix with unsupported DOFs (zero rows of stiffness and mass, made invertible
-// only by load-stiffness couplings) diverges: the failure names the DOFs found at the start.
-std::string with_diagnosis(std::string why, const std::string& diagnosis) {
-  return diagnosis.empty() ? why : why + "; " + diagnosis;
-}
-
-// Factorises J and solves J x = −r, to within ‖J x + r‖₂ <= enough where the solver can stop
-// early (0: as accurately as it solves); fills `why` on failure.
-bool newton_solve(SecondOrderSystem& sys, LinearSolver& solver, const SparseMatrix& J,
-                  const VecX& r, VecX& x, std::string& why, double enough = 0) {
-  if (!solver.refactorize(J)) {
-    const std::string status = solver.status();
-    why = fmt::format("the {} factorisation failed{}: {}", solver.name(),
-                      status.empty() ? "" : " (" + status + ")", explain_singular(sys, J));
-    return false;
-  }
-  if (!solver.solve_within(-r, x, enough)) {
-    why = fmt::format("the {} solve gave a non-finite result: {}", solver.name(),
-                      explain_singular(sys, J));
-    return false;
-  }
-  return true;
-}
-
-// Energy line search along the Newton correction du from u − du (where u now is): the slope
-// of the potential along du is s(α) = du · r(u − du + α du), s(0) = s0 < 0. A full step is
-// kept unless it overshoots the minimum (s(1) > η |s0|, η = 1/2, as in Crisfield's method);
-// then regula falsi (Illinois) finds α with |s(α)| ≤ η |s0| in a few residual evaluations
-// without tangents. Moves u to the accepted point (r is its residual) and returns α. A
-// stress-free membrane's first Newton step overshoots by orders of magnitude: this turns
-// those 16-iteration first increments into a few.
-//
-// `may_extend`: du's size is not Newton's (a correction with a borrowed tension,
-// SecondOrderSystem::stiffen_stress_free, which sets it) and may fall short by orders of
-// magnitude: while the slope at the end still falls by more than η |s0| the step is
-// lengthened kExtend-fold (at most kExtensions times), then searched as above between the
-// last two ends.
-template <class Evaluate>
-double line_search(const SecondOrderSystem& sys, VecX& u, VecX& r, const VecX& du, double s0,
-                   const Evaluate& evaluate, bool may_extend) {
-  constexpr double kEta = 0.5;
-  constexpr int kTrials = 8;
-  constexpr double kExtend = 4;
-  constexpr int kExtensions = 12;
-  double sb = sys.dot(du, r);
-  double a = 0, sa = s0, b = 1, alpha = 1;
-  for (int k = 0; may_extend && k < kExtensions && std::isfinite(sb) && sb < kEta * s0; ++k) {
-    a = b, sa = sb;
-    b *= kExtend;
-    u += (b - alpha) * du;
-    alpha = b;
-    evaluate(u, r, nullptr);
-    sb = sys.dot(du, r);
-  }
-  if (std::isfinite(sb) && sb <= kEta * -s0) return alpha;
-  int side = 1;  // which end moved last (Illinois: halve the other end's slope if it repeats)
-  for (int k = 0; k < kTrials; ++k) {
-    double next = std::isfinite(sb) ? b - sb * (b - a) / (sb - sa) : 0.5 * (a + b);
-    next = std::clamp(next, a + 0.02 * (b - a), b - 0.02 * (b - a));
-    u += (next - alpha) * du;
-    alpha = next;
-    evaluate(u, r, nullptr);
-    const double s = sys.dot(du, r);
-    if (std::isfinite(s) && std::abs(s) <= kEta * -s0) break;
-    if (!std::isfinite(s) || s > 0) {
-      b = alpha, sb = s;
-      if (side == 1 && std::isfinite(sa)) sa *= 0.5;
-      side = 1;
-    } else {
-      a = alpha, sa = s;
-      if (side == -1 && std::isfinite(sb)) sb *= 0.5;
-      side = -1;
-    }
-  }
-  return alpha;
-}
-
-// Newton-Raphson on the unknown u, starting from its predictor: `evaluate(u, r, J)` gives the
-// residual and the (shifted) Jacobian there; with ns.reuse_tangent, chord steps once the
-// residual falls fast (below). Converged when the residual is below the tolerance relative to
-// the largest force seen (or below its round-off level) and the estimated distance to the
-// solution is below the tolerance relative to the step's change u − u_start. Stops early on
-// a non-finite or diverging residual.
-//
-// `carried`: `solver` holds the factorisation of an earlier step's Jacobian with the same
-// shift coefficients (dynamics, same step size): the first correction is then a chord step
-// with it, and the chord steps go on under the same test as within a step; the first that
-// does not cut the residual tenfold is followed by a fresh tangent at once.
-//
-// `secant` (statics): on a factorisation known to be positive definite, the chord steps are
-// quasi-Newton ones, its inverse updated by the corrections taken since it was made (BFGS),
-// and go on while each cuts the residual to kSecantGain of the last.
-template <class Evaluate>
-StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver,
-                          const NewtonSettings& ns, bool search_by_default, bool carried,
-                          SecantUpdates* secant, const VecX& u_start, VecX& u, VecX& r, VecX& du,
-                          SparseMatrix& J, const Evaluate& evaluate) {
-  const bool search = ns.line_search.value_or(search_by_default);
-  StepReport rep;
-  double ref = 0, start = 0, dn = 0, dn_prev = 0, s0 = 0;
-  std::string diagnosis;
-  // The contraction θ = ‖du_k‖/‖du_k−1‖ of the last two corrections, and the distance to the
-  // solution a converged iterate may have left.
-  auto contraction = [&] { return dn_prev > 0 ? dn / dn_prev : 1.0; };
-  auto allowed = [&] {
-    return std::max(ns.tolerance * sys.norm(u - u_start), 1e-14 * (1 + sys.norm(u)));
-  };
-  // A chord step reuses the factorisation of an earlier iterate of this solve (one
-  // back-substitution instead of a tangent and a factorisation). It is taken when the last
-  // correction cut the residual by kChordGain or more: the iterates are then close enough
-  // that the tangent has changed little, and one that has changed more only makes the next
-  // correction a Newton one. With its residual evaluated first, such an iterate needs no
-  // tangent at all.
-  constexpr double kChordGain = 0.1;
-  // With secant updates the chord steps converge superlinearly (each pair corrects the old
-  // tangent along the direction just taken), so one that cuts the residual to 0.7 of the last
-  // is worth another: on the Hencky membrane (n = 130, static) a gain of 0.1 kept 22
-  // factorisations, 0.5 19 and 0.7 17; 0.9 accepted slow linear tails (the prestressed
-  // square's second step: 36 corrections against 8) (docs/performance.md, section 23).
-  constexpr double kSecantGain = 0.7;
-  // BFGS keeps a positive definite inverse positive definite; on an indefinite tangent (past a
-  // limit point: one negative pivot on the airbag) its pairs of small or negative curvature
-  // make the corrections hang on round-off (one and two processes parted within a step),
-  // and an inertia that is not known (LU, a low-rank gas term) is not taken as definite.
-  SecantUpdates* pairs = nullptr;  // `secant` while the factorisation at hand is definite
-  auto chord_solve = [&](const VecX& b, VecX& x, double residual) {
-    return pairs ? pairs->solve(sys, solver, b, x, residual) : solver.solve_within(b, x, residual);
-  };
-  // The linear solves' forcing term: their residual against the Newton residual's (below).
-  constexpr double kForcing = 1e-3;
-  // Far from the solution (the residual above ten targets) a correction takes the first step
-  // of a mixed-precision solver unchecked, its float factor's solution, when that was last
-  // measured within kPassAccuracy of the right-hand side (Kelley, "Newton's method in mixed
-  // precision", SIAM Review 64, 2022: corrections from a low-precision factorisation keep
-  // Newton converging, at the rate of their relative error, while the residual is evaluated in
-  // double). One so taken that does not halve the residual ends that for the step: the next
-  // corrections are checked (and measure the solver's step again). The corrections near the
-  // solution are checked whatever the solver's record.
-  constexpr double kPassAccuracy = 1e-2;
-  bool pass_trusted = true, last_unchecked = false;
-  // From the second quasi-Newton step since a factorisation on, each must also cut the
-  // residual to max(kSecantSlow, the first one's ratio): on a smooth problem the pairs make
-  // them faster as they accumulate (Hencky: 0.63, 0.54, 0.23, 0.17), where they stay slow
-  // they are not catching up with the tangent (a wrinkling sheet: 0.44, 0.57, 0.65, 0.67 ...),
-  // and a fresh one costs less than the tail (the wrinkling prestressed square, 118,803
-  // equations: 32 corrections without this test, 27 with it, 3.08-3.21 s against 3.28-3.38;
-  // 0.5 stopped Hencky n = 220's third increment at 0.54 after 0.53, one factorisation more).
-  constexpr double kSecantSlow = 0.6;
-  bool stiffened = false;  // du was solved with stiffen_stress_free's J
-  int quasi_steps = 0;     // taken since the last factorisation
-  double first_quasi_ratio = 0;
-  double gain = kChordGain;  // the cut the latest residual is held to
-  // Whether the latest residual fell by `gain` from the one before (where the tests below ask,
-  // the latest is always the one in question).
-  auto fell_fast = [&] {
-    const size_t k = rep.residuals.size() - 1;
-    return rep.residuals[k] <= gain * rep.residuals[k - 1];
-  };
-  // Stagnation: Newton that has not halved its best residual in kStagnationWindow iterations
-  // is wandering, not converging (quadratic or even linear convergence halves it in a few);
-  // with a large max_iterations it would otherwise run on for as long as it is allowed.
-  constexpr int kStagnationWindow = 40;
-  double best = std::numeric_limits<double>::infinity();
-  int best_it = 0;
-  carried = carried && ns.reuse_tangent;
-  for (int it = 0; it <= ns.max_iterations; ++it) {
-    // When the corrections contract fast enough that this iterate should be the last
-    // (quadratic model: next ≈ ‖du‖ θ²), its residual is evaluated alone first: a tangent
-    // assembled at the converged point is never used.
-    const double theta_now = contraction();
-    const bool likely_last = it >= 2 && theta_now < 0.5 && dn * theta_now * theta_now <= allowed();
-    const bool may_chord = ns.reuse_tangent && (rep.factorizations > 0 || carried) &&
-                           (it == 0 ? carried : it == 1 || fell_fast());
-    bool have_tangent = !likely_last && !may_chord;
-    evaluate(u, r, have_tangent ? &J : nullptr);
-    // A carried factorisation whose chord step raised the residual belongs to a state too
-    // far from this step's: the step starts again from its predictor, with a fresh tangent.
-    if (it == 1 && carried && rep.factorizations == 0 && !(sys.norm(r) <= rep.residuals[0])) {
-      u -= du;
-      evaluate(u, r, &J);
-      have_tangent = true;
-      dn_prev = 0;
-      if (pairs) pairs->cancel();
-    }
-    const double alpha =
-        it > 0 && search && s0 < 0 ? line_search(sys, u, r, du, s0, evaluate, stiffened) : 1.0;
-    // A cut step, or one solved with a stiffened factorisation (no tangent for chord steps,
-    // whatever the search did), goes on from the tangent at the point accepted; neither says
-    // anything about the contraction.
-    if (alpha != 1 || stiffened) {
-      if (alpha != 1 || !have_tangent) evaluate(u, r, &J);
-      have_tangent = true;
-      if (pairs) pairs->cancel();
-      dn *= alpha;
-      dn_prev = 0;
-    }
-    if (pairs) pairs->close(sys, du, r);  // the last correction, taken in full
-    const double rn = sys.norm(r);
-    rep.residuals.push_back(rn);
-    gain = pairs ? kSecantGain : kChordGain;
-    if (pairs && quasi_steps == 1) first_quasi_ratio = rn / rep.residuals[it - 1];
-    if (pairs && quasi_steps >= 2) gain = std::min(gain, std::max(kSecantSlow, first_quasi_ratio));
-    if (last_unchecked && !(rn <= 0.5 * rep.residuals[it - 1])) pass_trusted = false;
-    if (!std::isfinite(rn)) {
-      rep.reason = fmt::format("non-finite residual at Newton iteration {}", it);
-      return rep;
-    }
-    if (it == 0) {
-      start = std::max({rn, sys.force_scale(), ns.abs_residual});
-      diagnosis = sys.diagnose_singular(J);
-      if (rn <= ns.abs_residual) {  // already in equilibrium
-        rep.converged = true;
-        return rep;
-      }
-    }
-    // Newton from a nearly stress-free state may overshoot by many orders and recover; only a
-    // blow-up beyond any recovery is cut short.
-    if (it >= 3 && rn > 1e30 * start) {
-      rep.reason = with_diagnosis(
-          fmt::format("Newton diverged (residual {:.3e} from {:.3e})", rn, rep.residuals[0]),
-          diagnosis);
-      return rep;
-    }
-    if (rn < 0.5 * best) best = rn, best_it = it;
-    if (it - best_it >= kStagnationWindow) {
-      rep.reason = with_diagnosis(
-          fmt::format("Newton stagnated: the residual has not halved in {} iterations (residual "
-                      "{:.3e}, best {:.3e}); give a smaller step",
-                      kStagnationWindow, rn, best),
-          diagnosis);
-      return rep;
-    }
-    ref = std::max({ref, rn, sys.force_scale()});
-    // Round-off: a relative tolerance can ask for less than a ulp of the coordinates times
-    // the stiffness (1.5e-8 against 1.8e-9 on the Hencky membrane). The system's estimate
-    // of that level bounds the target from below; a residual that has stopped falling (less
-    // than halved) within 1000 times the target is taken as the floor when there is none.
-    const double target = std::max({ns.tolerance * ref, ns.abs_residual, sys.residual_noise()});
-    const bool at_floor = it > 1 && rn >= 0.5 * rep.residuals[it - 1] && rn <= 1e3 * target;
-    // Distance to the solution after the last correction: ‖du‖ θ/(1 − θ) with the observed
-    // contraction θ = ‖du_k‖/‖du_k−1‖ (conservative while convergence is quadratic), so a
-    // last, confirming solve is not needed once the corrections collapse.
-    const double theta = contraction();
-    // Slower, or not known, ‖du‖ itself; where quasi-Newton corrections may contract by as
-    // little as kSecantGain (more than ‖du‖ left) it is measured instead.
-    const double distance = theta < 0.5 ? dn * theta / (1 - theta)
-                            : pairs     ? std::numeric_limits<double>::infinity()
-                                        : dn;
-    bool chord_ready = false;  // du holds −J⁻¹ r (−H r) with the factorisation at hand
-    // (Not from a stiffened factorisation: the distance it measures is not J⁻¹ r.)
-    if (it > 0 && !stiffened && (rn <= target || at_floor)) {
-      const double limit = allowed();
-      // That bound is loose while convergence is quadratic (3.8e-8 against a next correction
-      // of 2.5e-11 on the Hencky membrane): before paying for a factorisation, measure the
-      // distance J⁻¹ r with the one already made (a back-substitution), as accurately as the
-      // corrections are computed (the forcing term below: the distance to within about that
-      // fraction, where a tolerance is asked of it; to round-off it took the float factor a
-      // second and third pass, each with a residual in double, 3 % of a Hencky run).
-      if (distance > limit) chord_ready = chord_solve(-r, du, kForcing * rn);
-      if (distance <= limit || (chord_ready && sys.norm(du) <= limit)) {
-        rep.converged = true;
-        return rep;
-      }
-    }
-    if (it == ns.max_iterations) break;
-    // An inexact Newton correction (Dembo, Eisenstat & Steihaug 1982): a linear residual of
-    // kForcing ‖r‖ keeps convergence at least that fast, and one below a tenth of the target
-    // cannot keep the next residual above it. Hencky quad4 n = 130 with float panels: the same
-    // 31 corrections and answer, 12% less CPU (docs/performance.md, section 21).
-    // Far from the solution, while the solver's first step has not been measured yet (the
-    // first solve with a float factor), the forcing term is Eisenstat & Walker's first one,
-    // 0.5 (SIAM J. Sci. Comput. 17, 1996): a stress-free sheet's first tangent is so badly
-    // conditioned that the float factor's first step misses 1e-3 and its refinement stalls,
-    // and the double factorisation it then falls back to (with the next one in double too)
-    // buys a first correction that the line search cuts to 1.4 % anyway. Hencky n = 220: the
-    // same answer, 7 → 6 factorisations in the first increment (none in double), 25.8-26.0 →
-    // 23.9-24.1 s; n = 130 (its first step met 1e-3 after three refinements): the same
-    // corrections (docs/performance.md, section 23).
-    const double pass_accuracy = solver.one_pass_accuracy();
-    const bool far = rn > 10 * target;
-    const bool unchecked = pass_trusted && far && pass_accuracy <= kPassAccuracy;
-    const double forcing = far && std::isnan(pass_accuracy) ? 0.5 : kForcing;
-    const double enough =
-        unchecked ? std::numeric_limits<double>::infinity() : std::max(forcing * rn, 0.1 * target);
-    const bool chord = may_chord && !have_tangent && (it == 0 || fell_fast()) &&
-                       (chord_ready || chord_solve(-r, du, enough)) && sys.all_finite(du);
-    stiffened = false;
-    if (!chord) {
-      if (!have_tangent) evaluate(u, r, &J);
-      // From a stress-free state whose tangent is soft (a flat or shallow sheet under its
-      // first load), the first correction borrows a small tension's stiffness; the line
-      // search sizes it. The Hencky membrane's stress-free dome: its first step took 6
-      // factorisations (the bare tangent's correction, cut to 2.5 % by the search, left a
-      // state the next two corrections overshot threefold and 1.5-fold), 3 with it
-      // (docs/performance.md, section 25).
-      stiffened = it == 0 && search && sys.stiffen_stress_free(J);
-      if (!newton_solve(sys, solver, J, r, du, rep.reason, enough)) return rep;
-      ++rep.factorizations;
-      quasi_steps = 0;
-      pairs = secant && solver.negative_pivots() == 0 ? secant : nullptr;
-      if (pairs) pairs->clear();
-    }
-    if (pairs) pairs->open(r);
-    if (chord && pairs) ++quasi_steps;
-    last_unchecked = unchecked && !chord_ready;
-    s0 = sys.dot(du, r);
-    u += du;
-    dn_prev = dn;
-    dn = sys.norm(du);
-    rep.iterations = it + 1;
-  }
-  rep.reason = with_diagnosis(
-      fmt::format("Newton did not converge in {} iterations (residual {:.3e}, reference {:.3e})",
-                  ns.max_iterations, rep.residuals.back(), ref),
-      diagnosis);
-  return rep;
-}
 
 // A converged static state that turned an element inside out since the step's start is no
 // solution: the step fails (and is retried from the last state, or shorter). Dynamic runs
@@ -359,7 +34,7 @@ StepReport TimeIntegrator::start(SecondOrderSystem& sys, LinearSolver& solver, d
   SparseMatrix J;
   VecX r, zero = VecX::Zero(sys.size()), da;
   sys.evaluate(t, s.u, s.v, zero, 0.0, 0.0, 1.0, r, &J);
-  if (!newton_solve(sys, solver, J, r, da, rep.reason)) {
+  if (!newton_correction(sys, solver, J, r, da, rep.reason)) {
     rep.reason = "initial acceleration: " + rep.reason;
     return rep;
   }
@@ -410,16 +85,18 @@ StepReport GeneralizedAlpha::step(SecondOrderSystem& sys, LinearSolver& solver, 
     carried_count_ = -1;
   }
   const bool carried = newton.reuse_across_steps && solver.factorizations() == carried_count_ &&
-                       carried_shift_ == Vec3(cu, cv, ca) && J_.rows() == un_.size() &&
+                       carried_shift_ == Vec3(cu, cv, ca) && work_.J.rows() == un_.size() &&
                        last_factorizations_ <= 1;
-  StepReport rep = newton_iterate(sys, *low_rank_, newton, false, carried, nullptr, un_, u, r_, du_,
-                                  J_, [&](const VecX& x, VecX& r, SparseMatrix* J) {
-                                    kinematics(x);
-                                    uf_ = (1 - alpha_f) * x + alpha_f * un_;
-                                    vf_ = (1 - alpha_f) * v + alpha_f * vn_;
-                                    am_ = (1 - alpha_m) * a + alpha_m * an_;
-                                    sys.evaluate(tf, uf_, vf_, am_, cu, cv, ca, r, J);
-                                  });
+  StepReport rep = NewtonSolver(sys, *low_rank_, newton)
+                       .solve(un_, u, work_,
+                              [&](const VecX& x, VecX& r, SparseMatrix* J) {
+                                kinematics(x);
+                                uf_ = (1 - alpha_f) * x + alpha_f * un_;
+                                vf_ = (1 - alpha_f) * v + alpha_f * vn_;
+                                am_ = (1 - alpha_m) * a + alpha_m * an_;
+                                sys.evaluate(tf, uf_, vf_, am_, cu, cv, ca, r, J);
+                              },
+                              {.line_search_by_default = false, .carried = carried});
   carried_count_ = solver.factorizations();
   carried_shift_ = Vec3(cu, cv, ca);
   last_factorizations_ = rep.factorizations;
@@ -503,9 +180,9 @@ void StaticNewton::record_inertia(SecondOrderSystem& sys, LinearSolver& solver, 
   // as it is where this step factorised nothing (it started in equilibrium).
   const bool changed = rep.negative_pivots >= 0 && rep.negative_pivots != negative_pivots_;
   if (rep.factorizations > 0 && !changed) return;
-  sys.evaluate(t, u, zero_, zero_, 1.0, 0.0, 0.0, r_, &J_);
+  sys.evaluate(t, u, zero_, zero_, 1.0, 0.0, 0.0, work_.r, &work_.J);
   ++rep.factorizations;
-  rep.negative_pivots = solver.refactorize(J_) ? solver.negative_pivots() : -1;
+  rep.negative_pivots = solver.refactorize(work_.J) ? solver.negative_pivots() : -1;
 }
 
 void StaticNewton::remember(const SecondOrderSystem& sys, double t, double h, const VecX& u_start,
@@ -517,19 +194,19 @@ void StaticNewton::remember(const SecondOrderSystem& sys, double t, double h, co
     // of Eigen's product.
     VecX& by_line = left_by_line_;
     VecX& by_parabola = left_by_parabola_;
-    by_line.setZero(J_.rows());
-    by_parabola.setZero(J_.rows());
-    const int* outer = J_.outerIndexPtr();
-    const int* inner = J_.innerIndexPtr();
-    const double* value = J_.valuePtr();
-    for (int j = 0; j < J_.outerSize(); ++j) {
+    by_line.setZero(work_.J.rows());
+    by_parabola.setZero(work_.J.rows());
+    const int* outer = work_.J.outerIndexPtr();
+    const int* inner = work_.J.innerIndexPtr();
+    const double* value = work_.J.valuePtr();
+    for (int j = 0; j < work_.J.outerSize(); ++j) {
       const double a = linear_[j], b = parabolic_[j];
       for (int k = outer[j]; k < outer[j + 1]; ++k) {
         by_line[inner[k]] += value[k] * a;
         by_parabola[inner[k]] += value[k] * b;
       }
     }
-    sys.complete(by_line);  // J_ may be this process's share
+    sys.complete(by_line);  // the tangent may be this process's share
     sys.complete(by_parabola);
     prefer_parabola_ = sys.squared_norm(by_parabola) < sys.squared_norm(by_line);
   } else {
@@ -554,11 +231,13 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
   auto solve_from = [&](VecX& u) {
     // Every solve, Newton or chord, with the system's low-rank Jacobian part (enclosed gas).
     LowRankCorrectedSolver low_rank(solver, sys);
-    StepReport rep = newton_iterate(sys, low_rank, newton, true, false,
-                                    newton.reuse_tangent ? &secant_ : nullptr, s.u, u, r_, du_, J_,
-                                    [&](const VecX& x, VecX& r, SparseMatrix* J) {
-                                      sys.evaluate(t + h, x, zero_, zero_, 1.0, 0.0, 0.0, r, J);
-                                    });
+    StepReport rep = NewtonSolver(sys, low_rank, newton)
+                         .solve(s.u, u, work_,
+                                [&](const VecX& x, VecX& r, SparseMatrix* J) {
+                                  sys.evaluate(t + h, x, zero_, zero_, 1.0, 0.0, 0.0, r, J);
+                                },
+                                {.line_search_by_default = true,
+                                 .secant = newton.reuse_tangent ? &secant_ : nullptr});
     reject_inversion(sys, t, s.u, t + h, u, rep);
     if (rep.converged) record_inertia(sys, solver, t + h, u, rep);
     return rep;

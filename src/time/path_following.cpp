@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "velum/time/low_rank_solver.hpp"
+#include "velum/time/newton.hpp"
+
 namespace velum {
 namespace {
 
@@ -18,7 +21,7 @@ class PathTracer {
  public:
   PathTracer(SecondOrderSystem& sys, LinearSolver& solver, const NewtonSettings& newton,
              const PathSettings& path, const State& s, double t0)
-      : sys_(sys), solver_(solver), newton_(newton), path_(path), u_(s.u), t_(t0) {
+      : sys_(sys), solver_(solver, sys), newton_(newton), path_(path), u_(s.u), t_(t0) {
     zero_.setZero(sys.size());
   }
 
@@ -50,7 +53,9 @@ class PathTracer {
                   const VecX& b, double& delta_t) const;
 
   SecondOrderSystem& sys_;
-  LinearSolver& solver_;
+  // Every solve with the system's low-rank Jacobian part (an enclosed gas's p(V) coupling),
+  // as the integrators' Newton solves.
+  LowRankCorrectedSolver solver_;
   const NewtonSettings& newton_;
   const PathSettings& path_;
   VecX u_;
@@ -144,7 +149,8 @@ StepReport PathTracer::step(Control control, double size) {
   VecX du = dt * v_;
   pred_u_ = du;
   pred_t_ = dt;
-  double ref = 0, dn = 0;
+  ConvergenceTest test(newton_);
+  double dn = 0;
   for (int it = 0;; ++it) {
     cand_u_ = u_ + du;
     cand_t_ = t_ + dt;
@@ -156,16 +162,16 @@ StepReport PathTracer::step(Control control, double size) {
       rep.reason = fmt::format("non-finite residual at iteration {}", it);
       return rep;
     }
-    ref = std::max({ref, rn, sys_.force_scale()});
-    const double target =
-        std::max({newton_.tolerance * ref, newton_.abs_residual, sys_.residual_noise()});
-    if (it > 0 && rn <= target &&
-        dn <= std::max(newton_.tolerance * sys_.norm(du), 1e-14 * (1 + sys_.norm(cand_u_))))
+    const double target = test.residual_target(rn, sys_.force_scale(), sys_.residual_noise());
+    // The distance left is taken as the last correction's size (no contraction estimate).
+    if (it > 0 &&
+        ConvergenceTest::met(rn, target, dn,
+                             test.distance_target(sys_.norm(du), sys_.norm(cand_u_))))
       break;
     if (it == newton_.max_iterations) {
       rep.reason =
           fmt::format("no convergence in {} iterations (residual {:.3e}, reference {:.3e})",
-                      newton_.max_iterations, rn, ref);
+                      newton_.max_iterations, rn, test.reference());
       return rep;
     }
     if (!factorise(J_, rep)) return rep;

@@ -5,12 +5,12 @@
 #pragma once
 
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "velum/solve/linear_solver.hpp"
 #include "velum/time/low_rank_solver.hpp"
+#include "velum/time/newton.hpp"
 #include "velum/time/secant_updates.hpp"
 #include "velum/time/second_order_system.hpp"
 
@@ -18,36 +18,6 @@ namespace velum {
 
 struct State {
   VecX u, v, a;  ///< over the system's equations
-};
-
-struct NewtonSettings {
-  double tolerance = 1e-8;      ///< relative, on the residual and on the increment
-  double abs_residual = 1e-12;  ///< absolute floor on the residual norm
-  int max_iterations = 25;
-  /// Cut back corrections that overshoot the potential's minimum. Unset: on for statics, off
-  /// for dynamics (the mass keeps steps short; under a follower load the slope test along
-  /// the correction is no potential's, and on the C9 canopy it doubled the iterations).
-  std::optional<bool> line_search;
-  /// Reuse the last factorisation for the next correction while the residual falls tenfold
-  /// per correction (a chord step); false: a fresh tangent at every iteration. Statics, on a
-  /// factorisation known to be positive definite: the chord steps are quasi-Newton ones (its
-  /// inverse with BFGS updates, SecantUpdates) and go on while each cuts the residual to 0.7
-  /// (from the second on, also to max(0.6, the first one's cut)).
-  bool reuse_tangent = true;
-  /// Dynamics (with reuse_tangent): a step of the same size as the last starts with chord
-  /// steps on the last step's factorisation, under the same tenfold test.
-  bool reuse_across_steps = true;
-};
-
-struct StepReport {
-  bool converged = false;
-  int iterations = 0;             ///< corrections (Newton and chord steps)
-  int factorizations = 0;         ///< of which with a fresh tangent
-  std::vector<double> residuals;  ///< residual norm at each iteration (before its solve)
-  std::string reason;             ///< why it failed
-  /// Static steps: negative eigenvalues of the tangent stiffness at the converged state (0: a
-  /// stable equilibrium); -1 when the factorisation does not tell (LU) or not static.
-  int negative_pivots = -1;
 };
 
 class TimeIntegrator {
@@ -96,8 +66,8 @@ class GeneralizedAlpha : public TimeIntegrator {
 
  private:
   std::string name_;
-  VecX un_, vn_, an_, r_, du_, uf_, vf_, am_;
-  SparseMatrix J_;  ///< kept between steps: its pattern is allocated once
+  VecX un_, vn_, an_, uf_, vf_, am_;
+  NewtonWork work_;  ///< kept between steps: the Jacobian's pattern is allocated once
   /// The solver (with the low-rank part of the factorisation it holds) kept between steps,
   /// the wrapped solver's factorisation count after the last step (-1: none) and the shift
   /// coefficients (cu, cv, ca) of the Jacobian it factorised last.
@@ -153,8 +123,8 @@ class StaticNewton : public TimeIntegrator {
 
   bool extrapolate_;
   SecantUpdates secant_;  ///< the chord steps' quasi-Newton pairs, their storage kept
-  VecX r_, du_, zero_;
-  SparseMatrix J_;                        ///< kept between steps: its pattern is allocated once
+  VecX zero_;
+  NewtonWork work_;  ///< kept between steps: the Jacobian's pattern is allocated once
   VecX u_prev_, u_prev2_;                 ///< converged states before the last two accepted steps
   double h_prev_ = 0, h_prev2_ = 0;       ///< their sizes (0: no such increment)
   double t_prev_ = -1;                    ///< the time the last accepted step ended at
