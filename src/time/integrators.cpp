@@ -137,9 +137,9 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
   constexpr double kChordGain = 0.1;
   // With secant updates the chord steps converge superlinearly (each pair corrects the old
   // tangent along the direction just taken), so one that cuts the residual to 0.7 of the last
-  // is worth another: on the Hencky membrane (n = 130, static) a gain of 0.1 kept 22
-  // factorisations, 0.5 19 and 0.7 17; 0.9 accepted slow linear tails (the prestressed
-  // square's second step: 36 corrections against 8) (docs/performance.md, section 23).
+  // is worth another: on a smooth static problem a stricter gain keeps more factorisations,
+  // and a looser one (0.9) accepts slow linear tails that take many more corrections than a
+  // fresh tangent would (docs/performance.md).
   constexpr double kSecantGain = 0.7;
   // BFGS keeps a positive definite inverse positive definite; on an indefinite tangent (past a
   // limit point: one negative pivot on the airbag) its pairs of small or negative curvature
@@ -165,9 +165,9 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
   // residual to max(kSecantSlow, the first one's ratio): on a smooth problem the pairs make
   // them faster as they accumulate (Hencky: 0.63, 0.54, 0.23, 0.17), where they stay slow
   // they are not catching up with the tangent (a wrinkling sheet: 0.44, 0.57, 0.65, 0.67 ...),
-  // and a fresh one costs less than the tail (the wrinkling prestressed square, 118,803
-  // equations: 32 corrections without this test, 27 with it, 3.08-3.21 s against 3.28-3.38;
-  // 0.5 stopped Hencky n = 220's third increment at 0.54 after 0.53, one factorisation more).
+  // and a fresh one costs less than the tail (on the wrinkling prestressed square, fewer
+  // corrections and less time than without this test; 0.5 stops smooth runs of ratios that
+  // hover just above it, for a factorisation more).
   constexpr double kSecantSlow = 0.6;
   bool stiffened = false;  // du was solved with stiffen_stress_free's J
   int quasi_steps = 0;     // taken since the last factorisation
@@ -278,7 +278,7 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
       // distance J⁻¹ r with the one already made (a back-substitution), as accurately as the
       // corrections are computed (the forcing term below: the distance to within about that
       // fraction, where a tolerance is asked of it; to round-off it took the float factor a
-      // second and third pass, each with a residual in double, 3 % of a Hencky run).
+      // second and third pass, each with a residual in double, which the test does not need).
       if (distance > limit) chord_ready = chord_solve(-r, du, kForcing * rn);
       if (distance <= limit || (chord_ready && sys.norm(du) <= limit)) {
         rep.converged = true;
@@ -288,17 +288,16 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
     if (it == ns.max_iterations) break;
     // An inexact Newton correction (Dembo, Eisenstat & Steihaug 1982): a linear residual of
     // kForcing ‖r‖ keeps convergence at least that fast, and one below a tenth of the target
-    // cannot keep the next residual above it. Hencky quad4 n = 130 with float panels: the same
-    // 31 corrections and answer, 12% less CPU (docs/performance.md, section 21).
+    // cannot keep the next residual above it. With float panels that saves refinement passes,
+    // for the same corrections and answer (docs/performance.md).
     // Far from the solution, while the solver's first step has not been measured yet (the
     // first solve with a float factor), the forcing term is Eisenstat & Walker's first one,
     // 0.5 (SIAM J. Sci. Comput. 17, 1996): a stress-free sheet's first tangent is so badly
     // conditioned that the float factor's first step misses 1e-3 and its refinement stalls,
     // and the double factorisation it then falls back to (with the next one in double too)
-    // buys a first correction that the line search cuts to 1.4 % anyway. Hencky n = 220: the
-    // same answer, 7 → 6 factorisations in the first increment (none in double), 25.8-26.0 →
-    // 23.9-24.1 s; n = 130 (its first step met 1e-3 after three refinements): the same
-    // corrections (docs/performance.md, section 23).
+    // buys a first correction that the line search cuts to 1.4 % anyway. On a large stress-free
+    // dome this keeps the first increment in float, a factorisation shorter, for the same answer
+    // (docs/performance.md).
     const double pass_accuracy = solver.one_pass_accuracy();
     const bool far = rn > 10 * target;
     const bool unchecked = pass_trusted && far && pass_accuracy <= kPassAccuracy;
@@ -312,10 +311,9 @@ StepReport newton_iterate(SecondOrderSystem& sys, LowRankCorrectedSolver& solver
       if (!have_tangent) evaluate(u, r, &J);
       // From a stress-free state whose tangent is soft (a flat or shallow sheet under its
       // first load), the first correction borrows a small tension's stiffness; the line
-      // search sizes it. The Hencky membrane's stress-free dome: its first step took 6
-      // factorisations (the bare tangent's correction, cut to 2.5 % by the search, left a
-      // state the next two corrections overshot threefold and 1.5-fold), 3 with it
-      // (docs/performance.md, section 25).
+      // search sizes it. From a stress-free dome the bare tangent's correction, cut short by the
+      // search, left a state the next corrections overshot; with the borrowed tension the first
+      // step takes about half the factorisations (docs/performance.md).
       stiffened = it == 0 && search && sys.stiffen_stress_free(J);
       if (!newton_solve(sys, solver, J, r, du, rep.reason, enough)) return rep;
       ++rep.factorizations;
