@@ -11,8 +11,9 @@ all: build
 deps:
 	@scripts/install-deps
 
-# Configured once (1.5 s, a tenth of `make demo`): the build re-runs CMake itself when a
-# CMakeLists.txt changes; flags given on the command line configure again.
+# Configured once (configuring again at every `make` was a visible part of `make demo`): the
+# build re-runs CMake itself when a CMakeLists.txt changes; flags given on the command line
+# configure again.
 configure: deps
 	@if [ ! -f $(BUILD)/build.ninja ] || [ -n "$(CMAKE_FLAGS)" ]; then \
 	  cmake --preset $(PRESET) $(CMAKE_FLAGS) > /dev/null; fi

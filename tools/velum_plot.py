@@ -15,7 +15,7 @@ import sys
 import xml.etree.ElementTree as ET
 
 # Plots compute on small arrays: numpy's OpenBLAS threads only spin (sched_yield) against the
-# other plots and runs of `make demo` (velum plot 1.80 -> 0.97 s CPU, plot-c9 4.84 -> 3.01 s).
+# other plots and runs of `make demo`, and cost the plots a large share of their CPU time.
 # A thread count the user set is kept; OPENBLAS_CORETYPE is never touched.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 

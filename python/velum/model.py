@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from . import _velum
+from ._run import run_model
 from .errors import InputError
 
 
@@ -64,11 +65,10 @@ class Model(MutableMapping):
         ``velum.InputError``."""
         return check(self)
 
-    def run(self, **kwargs):
-        """``velum.run(self, **kwargs)``."""
-        from .runner import run
-
-        return run(self, **kwargs)
+    def run(self, output=None, threads=0, quiet=False, progress=None):
+        """``velum.run(self, output, threads, quiet, progress)``."""
+        # stacklevel 3: a warning points at the caller of Model.run.
+        return run_model(self, output, threads, quiet, progress, stacklevel=3)
 
     def to_yaml(self, base_dir=None):
         """The model as YAML text. Relative paths are rewritten for a file in ``base_dir``

@@ -1,9 +1,5 @@
 """velum.run: a model solved in-process by the command line's own run function."""
-import os
-import warnings
-
-from . import _velum
-from .errors import InputError, OutputError, SolveError, VelumWarning
+from ._run import run_model
 from .model import as_model
 from .results import Results
 
@@ -27,22 +23,8 @@ def run(model, output=None, threads=0, quiet=False, progress=None):
     and velum.OutputError (the results cannot be written). Model warnings become Python
     warnings (velum.VelumWarning).
     """
-    model = as_model(model)
-    out = _velum.run(model._data, model.name, str(model.base_dir),
-                     None if output is None else os.fspath(output), int(threads), bool(quiet),
-                     progress)
-    for w in out["warnings"]:
-        warnings.warn(w, VelumWarning, stacklevel=2)
-    status = out["status"]
-    if status == _velum.EXIT_BAD_INPUT:
-        raise InputError(out["errors"])
-    if status == _velum.EXIT_IO:
-        raise OutputError("\n".join(out["errors"]))
-    results = Results(out["directory"], out["node_ids"], out["blocks"], out["stopped"],
-                      out["warnings"])
-    if status != _velum.EXIT_OK and not out["stopped"]:  # failed (or any status to come)
-        raise SolveError("\n".join(out["errors"]), results)
-    return results
+    # stacklevel 3: a warning points at the caller of run.
+    return run_model(as_model(model), output, threads, quiet, progress, stacklevel=3)
 
 
 def open_results(directory, model=None):

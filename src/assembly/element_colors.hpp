@@ -12,8 +12,8 @@ namespace velum {
 /// group (if any) at its end: slices of `group` entries of a colour's list are its groups.
 /// A group's elements, neighbours in a mesh's order, share nodes and matrix entries and run one
 /// after the other on one thread: their scatter finds the matrix's lines in cache (coloured
-/// element by element, each colour's pass went through the whole matrix: Hencky quad4 n = 130,
-/// 4% of the run on one thread, 3% on two).
+/// element by element, each colour's pass went through the whole matrix, a visible share of
+/// a large run).
 std::vector<std::vector<int>> color_element_groups(const ElementBlock& b,
                                                    const std::vector<int>& elems, int num_nodes,
                                                    int group);

@@ -119,7 +119,7 @@ template <class M, bool kPressure, class Law>
 
 template <class Shape>
 // flatten: without it GCC calls strain() and the small products out of line in these member
-// templates (the linear kernels ran 30-45% slower than before the policies came in).
+// templates, and the linear kernels lose much of their speed.
 template <class Law>
 [[gnu::flatten]] void Membrane<Shape>::force(const Points& pts, const Law& law, const Nodes& x,
                                              Vector& r) {

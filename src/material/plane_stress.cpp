@@ -13,7 +13,7 @@ void require(bool ok, const std::string& name, const std::string& what) {
   if (!ok) throw MaterialError(fmt::format("material '{}': {}", name, what));
 }
 
-// Tensor Q^{abcd} (a..d in {0,1}) from engineering Voigt and back (THEORY §2).
+// Tensor Q^{abcd} (a..d in {0,1}) from engineering Voigt and back (docs/theory.md).
 using Tensor2222 = double[2][2][2][2];
 constexpr int kVoigt[2][2] = {{0, 2}, {2, 1}};
 

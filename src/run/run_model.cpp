@@ -109,8 +109,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   if (!writes) opt.quiet = true;
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   // OpenBLAS (behind CHOLMOD and UMFPACK) keeps its own busy-waiting threads: with more threads
-  // than cores they spin against ours (a 2,000-DOF run spent 14 s in the kernel, 0.1 s with
-  // one BLAS thread). Give BLAS the same count as OpenMP.
+  // than cores they spin against ours (a small model's run spent most of its time in the
+  // kernel). Give BLAS the same count as OpenMP.
   if (openblas_set_num_threads) openblas_set_num_threads(omp_get_max_threads());
   if (opt.output) input.output.directory = *opt.output;
   out.directory = input.output.directory;

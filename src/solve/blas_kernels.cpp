@@ -42,9 +42,9 @@ std::string blas_coretype_to_request(const char* environment_value, std::string_
   if (environment_value != nullptr || active_core.empty()) return {};
   const std::string core = lower(active_core);
   // OpenBLAS's x86-64 cores whose double-precision kernels use 256-bit or 512-bit FMA. Once
-  // there, nothing is changed: with MUMPS's LDLᵀ at 152k DOFs on an AMD EPYC (Zen 5) the
-  // SkylakeX kernels gave no gain over Haswell's (dgemm 1.6x faster, its dtrsm 2.6x slower:
-  // docs/performance.md, section 10); the fallback to SSE3 kernels cost 1.4x the run.
+  // there, nothing is changed: with MUMPS's LDLᵀ on an AMD EPYC (Zen 5) the SkylakeX kernels
+  // gave no gain over Haswell's (a faster dgemm, a slower dtrsm: docs/performance.md); the
+  // fallback to SSE3 kernels is what costs a large share of the run.
   if (one_of(core, {"haswell", "zen", "skylakex", "cooperlake", "sapphirerapids"})) return {};
   if (cpu.avx512) return "SkylakeX";
   if (cpu.avx2_fma) return "Haswell";

@@ -31,7 +31,7 @@ static_assert(kColumns <= kDirectWidth, "solve_direct's padded rows hold kDirect
 constexpr int kEigenCholeskyWidth = 192;
 // Products without OpenBLAS: dense_products.cpp's for this many rows or more (twice as many
 // for the lower triangle's), Eigen's for fewer, where the packing costs more than it saves
-// (float, 128 columns: 50 rows 79 against 109 GFlop/s, 96 rows 143 against 126).
+// (bench BM_UpdateProduct).
 constexpr int kPackedMinRows = 64;
 
 // Rows [0, P · lanes) of X's columns [j0, j0 + C), its columns before j0 solved: for each row
@@ -96,8 +96,9 @@ void solve_direct(T* X, std::ptrdiff_t ldx, int m, const T* L, std::ptrdiff_t ld
   for (; i + S <= m; i += S) solve_rows<T, 1>(X + i, ldx, L, ldl, w);
   if (i == m) return;
   // The last rows (fewer than a packet) through a packet's rows padded with zeros: row by
-  // row, a 200 x 48 float panel (eight such rows) ran at 51 GFlop/s, padded at 138. Every
-  // row then takes the packets' operations, whichever rows the call holds.
+  // row, scalar code would run a few such rows at a fraction of the packets' speed and slow
+  // the whole panel. Every row then takes the packets' operations, whichever rows the call
+  // holds.
   T pad[S * kDirectWidth];  // solve_direct's widths: up to kDirectWidth, or kColumns
   const int r = m - i;
   for (int j = 0; j < w; ++j)

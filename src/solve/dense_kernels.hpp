@@ -1,7 +1,7 @@
 // The dense kernels of the supernodal Cholesky's panels that Eigen does slowly at the panels'
-// shapes (docs/performance.md, section 27): the triangular solve of the rows below a diagonal
-// block, and the Cholesky factorisation of a wide diagonal block. Column-major storage with a
-// column stride; float or double.
+// shapes (tall and narrow; bench/dense_kernels_bench.cpp): the triangular solve of the rows
+// below a diagonal block, and the Cholesky factorisation of a wide diagonal block.
+// Column-major storage with a column stride; float or double.
 #pragma once
 
 #include <cstddef>

@@ -1,9 +1,9 @@
 // The supernodal Cholesky's matrix products (C += alpha A Bᵀ and its lower-triangle form) by
 // packed blocks and a register-blocked kernel, for CPUs where no OpenBLAS with kernels of their
 // width is loaded: on an AMD EPYC (Zen 5) whose environment sets OPENBLAS_CORETYPE=Haswell,
-// Eigen's products ran the float updates at 120-137 GFlop/s and OpenBLAS's Haswell kernels at
-// 96-104, where a product with 512-bit kernels reaches 170-190 (docs/performance.md, section
-// 28). The layout is the usual one (Goto and van de Geijn, 2008): B's rows packed by slivers of
+// Eigen's products and OpenBLAS's Haswell kernels ran the float updates well below what
+// 512-bit kernels reach, and these come within a few per cent of those (docs/performance.md).
+// The layout is the usual one (Goto and van de Geijn, 2008): B's rows packed by slivers of
 // kColumns for a block of kDepth, A's rows by micro-panels of kRows, a micro-panel against a
 // sliver held in registers.
 #include <Eigen/Core>

@@ -25,12 +25,10 @@ class HugePageBuffer {
 
   /// n zeros (the old contents released): fresh anonymous pages, touched first where the
   /// caller first writes them (where each page is first touched decides where the host keeps
-  /// it: supernodal_cholesky.cpp's first_touch). With `huge` false no
-  /// huge pages are asked for: on this machine they made a one-thread run of Hencky n = 130
-  /// slower (median 12.9 against 10.0 s wall, the element kernels' memory traffic as well as
-  /// the factorisation's) while the split factorisation on two threads gained (7.1 against
-  /// 8.2 s): docs/performance.md section 15. Measured again with float panels (section 22):
-  /// one thread at n = 130 4 % less user time, at n = 220 1 s more system time; still off.
+  /// it: supernodal_cholesky.cpp's first_touch). With `huge` false no huge pages are asked
+  /// for: on one thread they made whole runs slower or no faster (the element kernels' memory
+  /// traffic as well as the factorisation's, and more system time on large models), while the
+  /// split factorisation on two threads gained (docs/performance.md).
   void assign(std::size_t n, bool huge = true) {
     release();
     size_ = n;

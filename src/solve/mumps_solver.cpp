@@ -71,8 +71,8 @@ class MumpsInstance {
   }
   // A symmetric matrix is first factorised without pivoting (CNTL(1) = 0) and with a plain
   // diagonal scaling: exact and stable when it is positive definite, and it skips the pivot
-  // search with its updates of whole fronts and the iterative scaling (together about 10 % of
-  // a static run at 152k DOFs). A negative or failed pivot means indefinite: the matrix is
+  // search with its updates of whole fronts and the iterative scaling (a noticeable share of a
+  // large static run). A negative or failed pivot means indefinite: the matrix is
   // factorised again with threshold pivoting, which is then kept for the next 1, 2, 4 ... 64
   // factorisations before no pivoting is tried again.
   bool factorize(const SparseMatrix& A) {

@@ -44,8 +44,8 @@ class SupernodalCholesky final : public LinearSolver {
   /// AVX-512 kernels run (blas_kernels.hpp), else to dense_products.cpp's packed products.
   static constexpr int kBlasWidth = 64;
   /// ... and dense_products.cpp's for this many rows below or more; fewer go to Eigen's
-  /// products, faster there (a 64-wide float panel: 8.7 against 12.5 µs with 100 rows below,
-  /// 52.8 against 54.9 µs with 300).
+  /// products, faster there: below this many rows the packing does not pay for itself
+  /// (bench BM_UpdateProduct).
   static constexpr int kPackedRows = 256;
   /// The panels' scalar: double, or float with iterative refinement in double (kMixed): each
   /// solve corrects x by the float factor's solution of the residual r = b − A x, computed in
@@ -58,7 +58,7 @@ class SupernodalCholesky final : public LinearSolver {
   /// beyond 6 a factor costs more than it saves), the next 1, 2, 4 ... 64 factorisations are
   /// in double (a float factor that serves resets the count). One precision's panels are in
   /// memory at a time. kAuto: kMixed for factorisations of at least kMixedFlops, kDouble below
-  /// (docs/performance.md, section 20).
+  /// (where the refinement's extra solves cost more than the float factor saves).
   enum class Precision { kDouble, kMixed, kAuto };
   static constexpr int kMostRefinements = 10;
   static constexpr int kSlowRefinements = 6;

@@ -84,9 +84,9 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
                                        bool by_nodes = true);
 
 // Eigen splits a matrix product over OpenMP threads when the program has several: on panels
-// this small (a few dozen rows) that costs more than it saves (on the C9 canopy's Jacobian,
-// with two threads allowed, 2.9 ms of CPU per factorisation against 1.0 with one, most of it
-// in libgomp's barriers). The supernodal factorisations and solves run on the calling thread
+// this small (a few dozen rows) that costs more than it saves (on a small model's Jacobian,
+// with two threads allowed, several times the CPU of one thread, most of it in libgomp's
+// barriers). The supernodal factorisations and solves run on the calling thread
 // while one of these lives; Eigen's default (follow OpenMP) is restored after it.
 class SerialEigen {
  public:

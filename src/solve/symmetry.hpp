@@ -73,8 +73,8 @@ class SymmetryCheck {
     return true;
   }
 
-  // Large matrices (Hencky n = 130: 4 M entries; the walk took about 10 ms a factorisation on
-  // one thread, and in cache misses): each lower entry's partner position, found once per
+  // Large matrices (millions of entries, where a search for each partner at every
+  // factorisation is a walk of cache misses): each lower entry's partner position, found once per
   // pattern (4 bytes an entry), then one pass on the threads there are. The maxima are exact:
   // the same answer on any number of threads.
   void map_partners(const SparseMatrix& A) {

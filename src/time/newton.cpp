@@ -288,7 +288,7 @@ bool NewtonSolver::Iteration::converged(int it, double rn, double target, bool& 
   // distance J⁻¹ r with the one already made (a back-substitution), as accurately as the
   // corrections are computed (the forcing term: the distance to within about that
   // fraction, where a tolerance is asked of it; to round-off it took the float factor a
-  // second and third pass, each with a residual in double, 3 % of a Hencky run).
+  // second and third pass, each with a residual in double, which the test does not need).
   if (distance > limit) chord_ready = chord_solve(-r_, du_, kForcing * rn);
   return distance <= limit || (chord_ready && sys_.norm(du_) <= limit);
 }
@@ -297,8 +297,8 @@ bool NewtonSolver::Iteration::correct(int it, double rn, double target, bool may
                                       bool have_tangent, bool chord_ready) {
   // An inexact Newton correction (Dembo, Eisenstat & Steihaug 1982): a linear residual of
   // kForcing ‖r‖ keeps convergence at least that fast, and one below a tenth of the target
-  // cannot keep the next residual above it. Hencky quad4 n = 130 with float panels: the same
-  // 31 corrections and answer, 12% less CPU.
+  // cannot keep the next residual above it. With float panels that saves refinement passes,
+  // for the same corrections and answer (docs/performance.md).
   // Far from the solution, while the solver's first step has not been measured yet (the
   // first solve with a float factor), the forcing term is Eisenstat & Walker's first one,
   // 0.5 (SIAM J. Sci. Comput. 17, 1996): a stress-free sheet's first tangent is so badly

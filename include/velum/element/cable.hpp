@@ -1,4 +1,4 @@
-// Cable and truss element kernels (THEORY §6) for 2- and 3-node lines: total Lagrangian
+// Cable and truss element kernels (docs/theory.md) for 2- and 3-node lines: total Lagrangian
 // Green strain along the axis, tension-only unless the law carries compression.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Membrane element kernels (THEORY §4-5, 7), templated on the surface shape: set-up of the
+// Membrane element kernels (docs/theory.md), templated on the surface shape: set-up of the
 // integration-point data (convected-frame stiffness computed once, total Lagrangian),
 // internal force, consistent tangent (material + geometric), mass, and follower pressure with
 // its load stiffness. Kernels see node positions and point data only, never global storage;
@@ -115,7 +115,7 @@ struct LawPoints {
 template <class Shape>
 struct MembranePoints {
   /// First: the kernels read it before the points, and a record read from its head on is one
-  /// the memory's prefetcher follows (at the tail it was 43 % of the force kernel's samples).
+  /// the memory's prefetcher follows (at the tail, the kernel waited on memory for it).
   const PointShapes<Shape>* shapes = nullptr;  ///< set by Membrane::setup
   std::array<MembranePoint<Shape>, Shape::kPoints> at;
   MembranePoint<Shape>& operator[](int q) { return at[q]; }

@@ -1,5 +1,5 @@
-// Output quantities of a membrane point (THEORY §9): true (Cauchy) stress σ = (1/J) F S Fᵀ with
-// the thickness held (t = t0, so J is the area stretch; t0 σ is then the force per current
+// Output quantities of a membrane point (docs/theory.md): true (Cauchy) stress σ = (1/J) F S Fᵀ
+// with the thickness held (t = t0, so J is the area stretch; t0 σ is then the force per current
 // length whatever the thickness does), its principal values and 3-D directions, its components
 // in the deformed sheet axes, the Green-Lagrange strain in the reference sheet axes and the
 // principal stretches, the deformed sheet axes and fibre directions, and the change of the

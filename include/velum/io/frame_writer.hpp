@@ -1,4 +1,4 @@
-// The frames of the ParaView series (MODEL_FORMAT.md, docs/model-format.md "Frames"). On one
+// The frames of the ParaView series (docs/model-format.md, "Frames"). On one
 // process a frame is the whole mesh in frames/frame_NNNNN.vtu. Under mpirun (docs/parallel.md)
 // each process writes the piece of its own elements, with the nodes they use, in
 // frames/frame_NNNNN/frame_NNNNN_K.vtu (K its rank; the first process's piece also holds the

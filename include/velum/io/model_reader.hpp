@@ -1,4 +1,4 @@
-// Reads a model file (YAML, /work/shared/MODEL_FORMAT.md) into a Model, its analysis
+// Reads a model file (YAML, docs/model-format.md) into a Model, its analysis
 // settings and its output settings. Every problem found is reported with the file, the
 // 1-based line and the key path; all problems of a file are collected into one InputError.
 // Node and element ids are the user's; units are the user's and never converted. A model may

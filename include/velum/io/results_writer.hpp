@@ -1,4 +1,4 @@
-// Writes the results of a run into a directory (MODEL_FORMAT.md): history.csv (one row per
+// Writes the results of a run into a directory (docs/model-format.md): history.csv (one row per
 // output time, flushed), steps.csv (one row per accepted step, flushed), results.pvd +
 // frames/frame_NNNNN.vtu (VTK XML, appended raw binary, each written to a temporary file and
 // renamed) and summary.json. Values are in the user's units; angles in the fields are in degrees.

@@ -1,4 +1,4 @@
-// Principal material axes of a sheet (THEORY §3): from three points P1, P2, P3, and their
+// Principal material axes of a sheet (docs/theory.md): from three points P1, P2, P3, and their
 // projection onto an element's reference tangent plane so that fibres lie in the surface.
 #pragma once
 

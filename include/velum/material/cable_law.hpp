@@ -1,4 +1,4 @@
-// Axial law of a cable or truss (THEORY §6): 2nd Piola-Kirchhoff force N = E A ε for the
+// Axial law of a cable or truss (docs/theory.md): 2nd Piola-Kirchhoff force N = E A ε for the
 // Green strain ε along the axis; a cable goes slack (N = 0) under compression unless it is a
 // truss (`compression`). A prestress S0 adds to the elastic stress (N = E A ε + N0). Units are
 // the user's.

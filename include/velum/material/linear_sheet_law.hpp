@@ -22,7 +22,7 @@ struct TensionField {
   double beta = 0;   ///< wrinkled: wrinkling strain across the wrinkles (<= 0, a contraction)
 };
 
-/// Tension field of the elastic law Q at the trial stress S_trial = Q E + S0 (THEORY of
+/// Tension field of the elastic law Q at the trial stress S_trial = Q E + S0 (the theory in
 /// docs/wrinkling.md): taut when S_trial has no negative principal value; otherwise the
 /// wrinkled state S = S_trial − β Q v(t) with uniaxial tension s > 0 along n = (cos θ, sin θ)
 /// and a contraction β < 0 across it (t ⟂ n), the admissible root of lowest elastic energy;

@@ -1,4 +1,4 @@
-// Linear-elastic plane-stress laws of a membrane sheet (THEORY §2), between the 2nd
+// Linear-elastic plane-stress laws of a membrane sheet (docs/theory.md), between the 2nd
 // Piola-Kirchhoff stress and the Green-Lagrange strain (St. Venant-Kirchhoff).
 // Every law reduces to Q, the 3x3 engineering-Voigt stiffness in the sheet's principal
 // axes (m1, m2): [S11, S22, S12] = Q [E11, E22, 2 E12]. Units are the user's.
@@ -72,7 +72,7 @@ class PlaneStressLaw {
 /// Transforms a 2-D fourth-order stiffness given in engineering Voigt form between frames:
 /// out^{αβγδ} = Q^{abcd} T(a,α) T(b,β) T(c,γ) T(d,δ), returned again as engineering Voigt
 /// (so that [S^11, S^22, S^12] = out [γ11, γ22, 2γ12]). T(a,α) = m_a · G^α for the convected
-/// frame (THEORY §4); a rotation matrix for a change of orthonormal axes.
+/// frame (docs/theory.md); a rotation matrix for a change of orthonormal axes.
 Mat3 transform_stiffness(const Mat3& Q, const Mat2& T);
 
 }  // namespace velum

@@ -1,8 +1,9 @@
-// The MPI processes of a run (docs/parallel.md). Every process holds the whole model and the
-// whole state and runs the same Newton loop, step control and integrator; what the processes
-// share is the distributed linear solve (PETSc) and the few decisions that must agree (stop
-// after this step). Without PETSc in the build, or when not launched by mpirun, there is one
-// process and every call here is trivial.
+// The MPI processes of a run (docs/parallel.md). Every process runs the same Newton loop, step
+// control and integrator on its piece of the model (its own elements and their nodes, its
+// equations and their ghosts); the processes meet in the distributed linear solve (PETSc), in
+// the sums and exchanges below, and in the few decisions that must agree (stop after this
+// step). Without PETSc in the build, or when not launched by mpirun, there is one process and
+// every call here is trivial.
 #pragma once
 
 #include <string>

@@ -32,7 +32,7 @@ std::string openblas_core();
 /// (gemm: C = alpha A Bᵀ + beta C) in double and float, with the calls that set its thread
 /// count, when the loaded OpenBLAS runs AVX-512 kernels (SkylakeX, Cooperlake, SapphireRapids)
 /// on a CPU that has AVX-512: there they are faster than Eigen's products for the supernodal
-/// Cholesky's larger updates (docs/performance.md, sections 16 and 26), and its Haswell kernels
+/// Cholesky's larger updates (docs/performance.md), and its Haswell kernels
 /// are slower. Null members otherwise (another BLAS, older kernels): all or none are found.
 struct OpenBlasKernels {
   template <class T>
