@@ -1,4 +1,4 @@
-#include "velum/model/gas_chamber.hpp"
+#include "velum/load/gas_chamber.hpp"
 
 #include <fmt/format.h>
 
