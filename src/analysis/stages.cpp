@@ -5,7 +5,6 @@
 #include <optional>
 #include <stdexcept>
 
-
 namespace velum {
 
 void shift_functions(Model& model, double t0) {

@@ -138,8 +138,7 @@ std::vector<int> share_model(Model& model, ElementPartition partition) {
 
   // The loads cut down to the piece while the mesh is whole (an edge load's boundary is the
   // whole mesh's); those with nothing here dropped.
-  model.loads.keep_if(
-      [&](Load& load) { return load.keep_piece(model, piece->own, local_of); });
+  model.loads.keep_if([&](Load& load) { return load.keep_piece(model, piece->own, local_of); });
 
   // The model cut down to the piece.
   const auto nl = static_cast<Eigen::Index>(piece->global_node.size());

@@ -67,6 +67,8 @@ std::unique_ptr<LoadTerm> Drag::bind(const LoadSite& site) const {
 
 }  // namespace
 
-std::unique_ptr<Load> make_load(DragLoad p) { return std::make_unique<Drag>(p); }
+std::unique_ptr<Load> make_load(DragLoad p) {
+  return std::make_unique<Drag>(p);
+}
 
 }  // namespace velum

@@ -130,6 +130,8 @@ std::unique_ptr<LoadTerm> EdgeForce::bind(const LoadSite& site) const {
 
 }  // namespace
 
-std::unique_ptr<Load> make_load(EdgeLoad p) { return std::make_unique<EdgeForce>(std::move(p)); }
+std::unique_ptr<Load> make_load(EdgeLoad p) {
+  return std::make_unique<EdgeForce>(std::move(p));
+}
 
 }  // namespace velum

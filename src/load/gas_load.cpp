@@ -112,8 +112,7 @@ class GasChamberTerm final : public LoadTerm {
     double V = 0;
     for (size_t k = 0; k < parts_.size(); ++k)
       V += parts_[k].kernel->volume(
-          parts_[k].own, site_.model.blocks[load_.parts[k].block]->connectivity(), x,
-          load_.origin);
+          parts_[k].own, site_.model.blocks[load_.parts[k].block]->connectivity(), x, load_.origin);
     if (site_.model.piece) processes::sum(&V, 1);  // even in a LocalShare
     return V;
   }
@@ -148,6 +147,8 @@ std::unique_ptr<LoadTerm> GasChamber::bind(const LoadSite& site) const {
 
 }  // namespace
 
-std::unique_ptr<Load> make_load(GasLoad p) { return std::make_unique<GasChamber>(std::move(p)); }
+std::unique_ptr<Load> make_load(GasLoad p) {
+  return std::make_unique<GasChamber>(std::move(p));
+}
 
 }  // namespace velum

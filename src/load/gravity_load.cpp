@@ -42,6 +42,8 @@ std::unique_ptr<LoadTerm> Gravity::bind(const LoadSite& site) const {
 
 }  // namespace
 
-std::unique_ptr<Load> make_load(GravityLoad p) { return std::make_unique<Gravity>(p); }
+std::unique_ptr<Load> make_load(GravityLoad p) {
+  return std::make_unique<Gravity>(p);
+}
 
 }  // namespace velum

@@ -21,8 +21,8 @@ LoadList::~LoadList() = default;
 
 Load& LoadList::add(std::unique_ptr<Load> load) {
   const LoadOrder order = load->order();
-  const auto at = std::find_if(items_.begin(), items_.end(),
-                               [&](const auto& l) { return l->order() > order; });
+  const auto at =
+      std::find_if(items_.begin(), items_.end(), [&](const auto& l) { return l->order() > order; });
   return **items_.insert(at, std::move(load));
 }
 
@@ -38,12 +38,14 @@ std::string load_counts(const LoadList& loads) {
   for (const auto& l : loads) {
     const std::string_view as = l->counted_as();
     if (as.empty()) continue;
-    auto it = std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == as; });
+    auto it =
+        std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == as; });
     if (it == counts.end()) it = counts.insert(counts.end(), {as, 0});
     ++it->second;
   }
   std::string out;
-  for (const auto& [kind, n] : counts) out += fmt::format("{}{} {}", out.empty() ? "" : ", ", n, kind);
+  for (const auto& [kind, n] : counts)
+    out += fmt::format("{}{} {}", out.empty() ? "" : ", ", n, kind);
   return out;
 }
 

@@ -49,6 +49,8 @@ std::unique_ptr<LoadTerm> PointForce::bind(const LoadSite& site) const {
 
 }  // namespace
 
-std::unique_ptr<Load> make_load(PointLoad p) { return std::make_unique<PointForce>(std::move(p)); }
+std::unique_ptr<Load> make_load(PointLoad p) {
+  return std::make_unique<PointForce>(std::move(p));
+}
 
 }  // namespace velum

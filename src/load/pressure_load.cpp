@@ -36,9 +36,7 @@ class FollowerPressure final : public Load, public PressureLoad {
   explicit FollowerPressure(PressureLoad p) : PressureLoad(std::move(p)) {}
   std::string_view kind() const override { return "pressure"; }
   LoadOrder order() const override { return LoadOrder::kSurface; }
-  std::unique_ptr<Load> clone() const override {
-    return std::make_unique<FollowerPressure>(*this);
-  }
+  std::unique_ptr<Load> clone() const override { return std::make_unique<FollowerPressure>(*this); }
   std::unique_ptr<Load> held(double t, const Model& owner, Model&) const override {
     return held_pressure(*this, t, owner);
   }
@@ -68,7 +66,9 @@ class FollowerPressureTerm final : public LoadTerm {
     const SurfaceBlock& b = *site_.model.blocks[static_cast<size_t>(load_.block)]->surface();
     add_pressure_pass(
         site_.assembler, load_.block, colors_,
-        [&](std::span<const int> elems, double* f, double* Ke) { b.pressure(elems, s.x, p, f, Ke); },
+        [&](std::span<const int> elems, double* f, double* Ke) {
+          b.pressure(elems, s.x, p, f, Ke);
+        },
         scratch_, out);
   }
 
@@ -89,9 +89,7 @@ class DirectedPressure final : public Load, public PressureLoad {
   explicit DirectedPressure(PressureLoad p) : PressureLoad(std::move(p)) {}
   std::string_view kind() const override { return "pressure"; }
   LoadOrder order() const override { return LoadOrder::kSurface; }
-  std::unique_ptr<Load> clone() const override {
-    return std::make_unique<DirectedPressure>(*this);
-  }
+  std::unique_ptr<Load> clone() const override { return std::make_unique<DirectedPressure>(*this); }
   std::unique_ptr<Load> held(double t, const Model& owner, Model&) const override {
     return held_pressure(*this, t, owner);
   }

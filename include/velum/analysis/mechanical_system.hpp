@@ -117,7 +117,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   mutable SparseMatrix T_;  ///< tension stiffness (stiffen_stress_free), built on first use
   SparseMatrix K_;
   VecX lumped_nodes_, lumped_eq_;
-  std::vector<int> equation_node_;  ///< node of each equation
+  std::vector<int> equation_node_;                ///< node of each equation
   std::vector<std::unique_ptr<LoadTerm>> terms_;  ///< the model's loads, bound
   int low_rank_columns_ = 0;                      ///< of all loads (a gas chamber: one)
   bool velocity_ = false;                         ///< some load uses the velocity

@@ -68,8 +68,8 @@ double load_matrix_error(MechanicalSystem& sys, size_t i, double t) {
   for (int k = 0; k < n; ++k) {
     VecX e = VecX::Zero(n);
     e[k] = h;
-    fd.col(k) = (load_forces(sys, i, t, u + e, nullptr) - load_forces(sys, i, t, u - e, nullptr)) /
-                (2 * h);
+    fd.col(k) =
+        (load_forces(sys, i, t, u + e, nullptr) - load_forces(sys, i, t, u - e, nullptr)) / (2 * h);
   }
   return (J + fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
 }
