@@ -82,9 +82,8 @@ class EdgeForce final : public Load, public EdgeLoad {
   LoadOrder order() const override { return LoadOrder::kEdge; }
   std::unique_ptr<Load> clone() const override { return std::make_unique<EdgeForce>(*this); }
   void set_up(const Model& model, const ElementNamer&) override {
-    // Cut to an MPI piece, the load was found on the whole mesh; a piece may hold none of its
-    // edges (and its forces do not depend on the reference's shape beyond what they are made
-    // from when bound).
+    // On an MPI piece its edges were found on the whole mesh when it was cut (and checked
+    // there): the piece may hold none of them.
     if (resolved) return;
     const NodePositions F = edge_load_forces(model, *this);
     if (F.cwiseAbs().maxCoeff() == 0 && force_per_length.norm() > 0)
