@@ -27,11 +27,7 @@ Model update_model(const Model& model, const NodePositions& x, double t, double 
     for (int n : p.nodes)
       w.prescribed.push_back({.nodes = {n}, .displacement = model.X.col(n) + d - x.col(n)});
   }
-  w.point_loads = model.point_loads;
-  w.edge_loads = model.edge_loads;
-  w.pressures = model.pressures;
-  w.gases = model.gases;
-  w.gravity = model.gravity;
+  w.loads = model.loads;
   w.functions = model.functions;
   w.rayleigh_mass = model.rayleigh_mass;
   w.rayleigh_stiffness = model.rayleigh_stiffness;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 
 #include "velum/parallel/processes.hpp"
 
@@ -31,20 +32,17 @@ MechanicalSystem::MechanicalSystem(const Model& model)
         lumped_eq_[eq] = lumped_nodes_[n];
         equation_node_[eq] = n;
       }
-  for (const auto& e : model.edge_loads) {
-    // On a piece: its own elements' edges, completed where processes share nodes.
-    assembler_.sum_at_shared_nodes(edge_forces_.emplace_back(edge_load_forces(model, e)));
+  // Every load bound to this assembler, in the model's order (the order of the sum).
+  const LoadSite site{model, assembler_, dofs_};
+  for (const auto& load : model.loads) {
+    terms_.push_back(load->bind(site));
+    low_rank_columns_ += terms_.back()->low_rank_columns();
+    velocity_ = velocity_ || terms_.back()->uses_velocity();
   }
-  for (const auto& g : model.gravity)
-    gravity_forces_.push_back(assembler_.gravity_forces(g.acceleration));
-  drag_ = has_drag();
-  gas_volume_.resize(model.gases.size());
-  gas_pressure_.resize(model.gases.size());
-  for (size_t i = 0; i < model.gases.size(); ++i) {
-    gas_volume_[i] = model.gases[i].V0;
-    gas_pressure_[i] = model.gases[i].pressure(model.gases[i].V0,
-                                               model.function_value(model.gases[i].amount, 0.0));
-  }
+  for (const PointMass& m : model.masses)
+    if (m.drag_rho != 0 || m.drag_cd_area != 0)
+      throw std::invalid_argument(
+          "a point mass's drag is a load: give it as a DragLoad (Model::drag), not in PointMass");
   U_.setZero(3, model.num_nodes());
 }
 
@@ -136,71 +134,54 @@ void MechanicalSystem::set_positions(double t, const VecX& u) {
   x_ = model_.X + U_;
 }
 
-bool MechanicalSystem::has_drag() const {
-  for (const auto& m : model_.masses)
-    if (m.drag_cd_area > 0 && m.drag_rho > 0) return true;
-  return false;
+std::optional<double> MechanicalSystem::load_quantity(std::string_view name, int i) const {
+  for (const auto& term : terms_)
+    if (auto q = term->quantity(name); q && i-- == 0) return q;
+  return {};
+}
+
+std::optional<double> MechanicalSystem::load_quantity_at(std::string_view name, int i, double t,
+                                                         const NodePositions& x) const {
+  for (const auto& term : terms_)
+    if (term->quantity(name) && i-- == 0) return term->quantity_at(name, t, x);
+  return {};
+}
+
+std::vector<double> MechanicalSystem::load_cell_field(std::string_view name, double t,
+                                                      const NodePositions& x) const {
+  std::vector<double> per_cell;
+  std::vector<int> first(model_.blocks.size(), 0);
+  for (size_t b = 1; b < model_.blocks.size(); ++b)
+    first[b] = first[b - 1] + model_.blocks[b - 1]->size();
+  for (const auto& term : terms_) {
+    if (!term->quantity(name)) continue;
+    if (per_cell.empty()) per_cell.assign(static_cast<size_t>(model_.num_elements()), 0.0);
+    term->cell_field(name, t, x, first, per_cell);
+  }
+  return per_cell;
 }
 
 void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* Kload, bool fused) {
   Fext_.setZero(3, model_.num_nodes());
-  // A process's share (Assembler::LocalShare): the nodal terms of the nodes it keeps only.
-  const bool share = assembler_.local_share();
-  for (const auto& pl : model_.point_loads) {
-    const Vec3 f = pl.force * model_.function_value(pl.function, t);
-    for (int n : pl.nodes)
-      if (!share || assembler_.keeps_node(n)) Fext_.col(n) += f;
-  }
-  auto add_whole = [&](double c, const NodePositions& F) {
-    if (!share) {
-      Fext_ += c * F;
-      return;
-    }
-    for (int n = 0; n < model_.num_nodes(); ++n)
-      if (assembler_.keeps_node(n)) Fext_.col(n) += c * F.col(n);
-  };
-  for (size_t i = 0; i < edge_forces_.size(); ++i)
-    add_whole(model_.function_value(model_.edge_loads[i].function, t), edge_forces_[i]);
-  for (size_t i = 0; i < gravity_forces_.size(); ++i)
-    add_whole(model_.function_value(model_.gravity[i].function, t), gravity_forces_[i]);
-  for (size_t i = 0; i < model_.pressures.size(); ++i) {
-    const auto& pl = model_.pressures[i];
-    if (fused && assembler_.covers_block(static_cast<int>(i))) continue;
-    const double p = pl.value * model_.function_value(pl.function, t);
-    if (p != 0) assembler_.pressure(static_cast<int>(i), p, x_, Fext_, Kload);
-  }
-  if (fused) Fext_ += Fp_;
-  // Enclosed gas: the sheet carries p(V) − ambient as a follower pressure, f = (p − p_a) ∂V/∂x,
-  // so ∂r/∂x = −(p − p_a) ∂²V/∂x² − (dp/dV) a aᵀ with dp/dV = −γ p / V: the first term into the
-  // sparse matrix, the second (dense over the chamber) kept as a rank-one column.
   if (Kload) {
-    low_rank_.U.resize(size(), static_cast<Eigen::Index>(model_.gases.size()));
-    low_rank_.W.resize(size(), static_cast<Eigen::Index>(model_.gases.size()));
+    low_rank_.U.resize(size(), low_rank_columns_);
+    low_rank_.W.resize(size(), low_rank_columns_);
   }
-  for (size_t i = 0; i < model_.gases.size(); ++i) {
-    const auto& gas = model_.gases[i];
-    const int gi = static_cast<int>(i);
-    const double V = assembler_.gas_volume(gi, x_);
-    const double p = gas.pressure(V, model_.function_value(gas.amount, t));
-    gas_volume_[i] = V;
-    gas_pressure_[i] = p;
-    assembler_.gas_derivatives(gi, x_, p - gas.ambient, gas_gradient_, Kload);
-    Fext_ += (p - gas.ambient) * gas_gradient_;
-    if (!Kload) continue;
-    dofs_.gather(gas_gradient_, gas_gradient_eq_);
-    complete(gas_gradient_eq_);  // this process's share, on several
-    low_rank_.W.col(gi) = gas_gradient_eq_;
-    low_rank_.U.col(gi) = (gas.gamma * p / V) * gas_gradient_eq_;
-  }
-  // Payload drag f = −½ ρ C_D A |v| v on the node velocity.
-  if (drag_) {
-    V_ = velocities(v);
-    for (const auto& m : model_.masses) {
-      const double c = 0.5 * m.drag_rho * m.drag_cd_area;
-      if (c > 0 && (!share || assembler_.keeps_node(m.node)))
-        Fext_.col(m.node) -= c * V_.col(m.node).norm() * V_.col(m.node);
+  if (velocity_) V_ = velocities(v);
+  const LoadState s{.t = t, .x = x_, .V = V_, .fused = fused};
+  LoadOutput out{.F = Fext_, .K = Kload, .low_rank = &low_rank_, .column = 0};
+  // The loads in their order; the follower pressures of the blocks' internal pass (Fp_)
+  // join the sum after the other surface loads.
+  bool surface_done = !fused;
+  for (size_t i = 0; i < terms_.size(); ++i) {
+    if (!surface_done && model_.loads[i].order() > LoadOrder::kSurface) {
+      Fext_ += Fp_;
+      surface_done = true;
     }
+    terms_[i]->add(s, out);
+    out.column += terms_[i]->low_rank_columns();
   }
+  if (!surface_done) Fext_ += Fp_;
 }
 
 void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu,
@@ -225,11 +206,10 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     // Pressures on whole blocks go through the blocks' internal pass: one scatter of
     // K − Kp instead of two (the matrix is the largest thing a Newton iteration walks).
     block_pressure_.assign(model_.blocks.size(), 0.0);
-    for (size_t i = 0; i < model_.pressures.size(); ++i) {
-      const auto& pl = model_.pressures[i];
-      if (assembler_.covers_block(static_cast<int>(i)))
-        block_pressure_[pl.block] += pl.value * model_.function_value(pl.function, t);
-    }
+    int block = 0;
+    double p = 0;
+    for (const auto& term : terms_)
+      if (term->whole_block_pressure(t, block, p)) block_pressure_[block] += p;
     assembler_.internal(x_, Fint_, J && cu != 0 ? J : nullptr, block_pressure_, Fp_);
     if (J && cu == 0) combine_values(*J, 0.0, nullptr, 0.0);
     assemble_external(t, v, J && cu != 0 ? J : nullptr, true);
@@ -315,26 +295,9 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
   } else if (cm != 0) {
     combine_values(*J, 1.0, &mass_matrix(), cm);
   }
-  // Payload drag: added once, by the first process (its share holds every point mass's node
-  // block).
-  if (drag_ && cv != 0 && processes::rank() == 0) {
-    for (const auto& m : model_.masses) {
-      const double c = 0.5 * m.drag_rho * m.drag_cd_area;
-      if (c <= 0) continue;
-      const Vec3 vn = V_.col(m.node);
-      const double s = vn.norm();
-      Mat3 D = c * s * Mat3::Identity();
-      if (s > 0) D += (c / s) * vn * vn.transpose();
-      // Rotate into the node frame if it has one, then add to the equations.
-      const int f = dofs_.frame(m.node);
-      if (f >= 0) D = dofs_.rotation(f) * D * dofs_.rotation(f).transpose();
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          const int a1 = dofs_.equation(m.node, i), a2 = dofs_.equation(m.node, j);
-          if (a1 >= 0 && a2 >= 0) J->coeffRef(a1, a2) += cv * D(i, j);
-        }
-    }
-  }
+  // Velocity-dependent loads (payload drag): cv ∂(−f)/∂v.
+  if (velocity_ && cv != 0)
+    for (const auto& term : terms_) term->add_velocity_jacobian(V_, cv, *J);
 }
 
 const NodePositions& MechanicalSystem::external_forces(double t, const VecX& u, const VecX& v) {

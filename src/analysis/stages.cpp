@@ -5,8 +5,6 @@
 #include <optional>
 #include <stdexcept>
 
-#include "velum/model/gas_chamber.hpp"
-
 namespace velum {
 
 void shift_functions(Model& model, double t0) {
@@ -35,38 +33,18 @@ void same_list(const std::vector<T>& a, const std::vector<T>& b, const char* wha
 }  // namespace
 
 void hold_loads(Model& step, const Model& before, double t) {
-  same_list(step.point_loads, before.point_loads, "point loads");
-  same_list(step.edge_loads, before.edge_loads, "edge loads");
-  same_list(step.pressures, before.pressures, "pressures");
-  same_list(step.gravity, before.gravity, "gravity loads");
-  same_list(step.gases, before.gases, "gas loads");
-  for (size_t i = 0; i < step.point_loads.size(); ++i) {
-    const PointLoad& b = before.point_loads[i];
-    step.point_loads[i].force = b.force * before.function_value(b.function, t);
-    step.point_loads[i].function = -1;
-  }
-  for (size_t i = 0; i < step.edge_loads.size(); ++i) {
-    const EdgeLoad& b = before.edge_loads[i];
-    step.edge_loads[i].force_per_length = b.force_per_length * before.function_value(b.function, t);
-    step.edge_loads[i].function = -1;
-  }
-  for (size_t i = 0; i < step.pressures.size(); ++i) {
-    const PressureLoad& b = before.pressures[i];
-    step.pressures[i].value = b.value * before.function_value(b.function, t);
-    step.pressures[i].function = -1;
-  }
-  for (size_t i = 0; i < step.gravity.size(); ++i) {
-    const GravityLoad& b = before.gravity[i];
-    step.gravity[i].acceleration = b.acceleration * before.function_value(b.function, t);
-    step.gravity[i].function = -1;
-  }
-  // The gas amount is a time function: held by a constant function of its value.
-  for (size_t i = 0; i < step.gases.size(); ++i) {
-    TimeFunction held;
-    held.value = before.function_value(before.gases[i].amount, t);
-    held.name = "held";
-    step.functions.push_back(held);
-    step.gases[i].amount = static_cast<int>(step.functions.size()) - 1;
+  if (step.loads.size() != before.loads.size())
+    throw std::logic_error(
+        fmt::format("a step goes on with the loads before it, but they differ in number ({} and "
+                    "{})",
+                    step.loads.size(), before.loads.size()));
+  for (size_t i = 0; i < step.loads.size(); ++i) {
+    if (step.loads[i].kind() != before.loads[i].kind())
+      throw std::logic_error(fmt::format(
+          "a step goes on with the loads before it, but load {} is a {} load there and a {} "
+          "load here",
+          i, before.loads[i].kind(), step.loads[i].kind()));
+    step.loads.replace(i, before.loads[i].held(t, before, step));
   }
 }
 
@@ -82,7 +60,7 @@ void hold_boundary(Model& step, const Model& before, double t) {
 void move_reference(Model& model, const NodePositions& x) {
   model.X = x;
   for (auto& b : model.blocks) b = b->on_reference(x, 0.0);
-  for (GasLoad& g : model.gases) set_up_gas_chamber(model, g);
+  for (auto& load : model.loads) load->set_up(model);
 }
 
 namespace {

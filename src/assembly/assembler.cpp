@@ -149,33 +149,6 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
     scatter_.emplace_back(b, own_[bi], dofs, first_matrix_);
   }
   for (const auto& b : model.blocks) max_dofs_ = std::max(max_dofs_, b->dofs_per_element());
-  auto mine = [&](int block, const std::vector<int>& elems) {
-    std::vector<int> kept;
-    for (int e : elems)
-      if (local_[block][e] >= 0) kept.push_back(e);
-    return kept;
-  };
-  for (const auto& p : model.pressures) {
-    const auto& b = *model.blocks[p.block];
-    pressure_colors_.push_back(
-        color_element_groups(b, mine(p.block, p.elements), model.num_nodes(), kChunk));
-    std::vector<char> seen(b.size(), 0);
-    int distinct = 0;
-    for (int e : p.elements) distinct += seen[e] ? 0 : (seen[e] = 1);
-    // Only follower pressures go through the blocks' internal pass.
-    covers_block_.push_back(distinct == b.size() && !p.fixed_direction);
-  }
-  for (const auto& g : model.gases) {
-    auto& parts = gas_parts_.emplace_back();
-    for (const auto& part : g.parts) {
-      const auto& b = *model.blocks[part.block];
-      GasPart gp;
-      gp.own = mine(part.block, part.elements);
-      gp.colors = color_element_groups(b, gp.own, model.num_nodes(), kChunk);
-      gp.kernel = make_surface_volume_kernel(b.type_name());
-      parts.push_back(std::move(gp));
-    }
-  }
 }
 
 long Assembler::own_elements() const {
@@ -393,56 +366,39 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
 
 void Assembler::pressure(int i, double p, const NodePositions& x, NodePositions& Fext,
                          SparseMatrix* K) const {
-  const auto& load = model_.pressures[i];
-  const auto& b = *model_.blocks[load.block]->surface();
-  // On several processes this process's share is summed apart, then added.
-  NodePositions& F = shared() ? scratch_ : Fext;
-  if (shared()) scratch_.setZero(3, model_.num_nodes());
-  // Forces add to Fext; the load stiffness enters the residual r = f_int − f_ext negated.
+  // The load at a constant p: its parameters with the value p, bound to this assembler.
+  for (const auto& load : model_.loads)
+    if (dynamic_cast<const PressureLoad*>(load.get()) && i-- == 0) {
+      std::unique_ptr<Load> at_p = load->clone();
+      auto& params = dynamic_cast<PressureLoad&>(*at_p);
+      params.value = p;
+      params.function = -1;
+      const NodePositions none;
+      const LoadState s{.t = 0, .x = x, .V = none};
+      LoadOutput out{.F = Fext, .K = K};
+      at_p->bind({model_, *this, dofs_})->add(s, out);
+      return;
+    }
+}
+
+Assembler::ElementColors Assembler::own_colors(int block, const std::vector<int>& elements) const {
+  std::vector<int> kept;
+  for (int e : elements)
+    if (local_[block][e] >= 0) kept.push_back(e);
+  return color_element_groups(*model_.blocks[block], kept, model_.num_nodes(), kChunk);
+}
+
+void Assembler::add_element_loads(int block, const ElementColors& colors,
+                                  const ElementLoadKernel& kernel, NodePositions& F,
+                                  SparseMatrix* K) const {
+  // The loads enter the residual r = f_int − f_ext negated: run subtracts their matrices.
   run(
-      load.block, pressure_colors_[i],
-      [&](std::span<const int> elems, double* r, double* Ke, double*, double*) {
-        if (load.fixed_direction)
-          b.directed_pressure(elems, x, p, load.direction, load.projected, r, Ke);
-        else
-          b.pressure(elems, x, p, r, Ke);
+      block, colors,
+      [&](std::span<const int> elems, double* f, double* Ke, double*, double*) {
+        kernel(elems, f, Ke);
         return false;
       },
       K != nullptr, F, nullptr, K, -1.0);
-  if (shared()) {
-    reduce(scratch_);
-    Fext += scratch_;
-  }
-}
-
-double Assembler::gas_volume(int i, const NodePositions& x) const {
-  const auto& gas = model_.gases[i];
-  double V = 0;
-  for (size_t k = 0; k < gas.parts.size(); ++k)
-    V += gas_parts_[i][k].kernel->volume(
-        gas_parts_[i][k].own, model_.blocks[gas.parts[k].block]->connectivity(), x, gas.origin);
-  if (piece_) processes::sum(&V, 1);  // summed even in a LocalShare (p(V) is not linear)
-  return V;
-}
-
-void Assembler::gas_derivatives(int i, const NodePositions& x, double scale, NodePositions& A,
-                                SparseMatrix* K) const {
-  const auto& gas = model_.gases[i];
-  A.setZero(3, model_.num_nodes());
-  for (size_t k = 0; k < gas.parts.size(); ++k) {
-    const int block = gas.parts[k].block;
-    const auto& conn = model_.blocks[block]->connectivity();
-    const auto& part = gas_parts_[i][k];
-    // The residual r = f_int − f_ext holds −scale ∂²V/∂x²: the kernel scales, run negates.
-    run(
-        block, part.colors,
-        [&](std::span<const int> elems, double* a, double* H, double*, double*) {
-          part.kernel->derivatives(elems, conn, x, gas.origin, scale, a, H);
-          return false;
-        },
-        K != nullptr, A, nullptr, K, -1.0);
-  }
-  reduce(A);
 }
 
 void Assembler::mass(SparseMatrix* M, VecX* lumped) const {

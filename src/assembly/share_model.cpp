@@ -36,14 +36,6 @@ void element_graph(const Model& model, std::vector<long>& offsets, std::vector<l
     }
 }
 
-// The list's nodes held here, renumbered (their order kept).
-void restrict_nodes(std::vector<int>& nodes, const std::vector<int>& local_of) {
-  std::vector<int> kept;
-  for (int n : nodes)
-    if (const int l = local_of[static_cast<size_t>(n)]; l >= 0) kept.push_back(l);
-  nodes = std::move(kept);
-}
-
 }  // namespace
 
 std::vector<int> share_model(Model& model, ElementPartition partition) {
@@ -144,15 +136,9 @@ std::vector<int> share_model(Model& model, ElementPartition partition) {
       piece->lone.push_back(local_of[static_cast<size_t>(pm.node)]);
   }
 
-  // Edge loads on the mesh's boundary, found while the mesh is whole: this process's share.
-  for (EdgeLoad& load : model.edge_loads) {
-    load.edges.clear();
-    for (const auto& ed : boundary_edges(model, load))
-      if (std::binary_search(piece->own[static_cast<size_t>(ed.block)].begin(),
-                             piece->own[static_cast<size_t>(ed.block)].end(), ed.element))
-        load.edges.push_back(ed);
-    load.resolved = true;
-  }
+  // The loads cut down to the piece while the mesh is whole (an edge load's boundary is the
+  // whole mesh's); those with nothing here dropped.
+  model.loads.keep_if([&](Load& load) { return load.keep_piece(model, piece->own, local_of); });
 
   // The model cut down to the piece.
   const auto nl = static_cast<Eigen::Index>(piece->global_node.size());
@@ -180,8 +166,6 @@ std::vector<int> share_model(Model& model, ElementPartition partition) {
   for (auto& f : model.fixed) restrict_nodes(f.nodes, local_of);
   for (auto& s : model.symmetry) restrict_nodes(s.nodes, local_of);
   for (auto& p : model.prescribed) restrict_nodes(p.nodes, local_of);
-  for (auto& p : model.point_loads) restrict_nodes(p.nodes, local_of);
-  for (auto& e : model.edge_loads) restrict_nodes(e.nodes, local_of);
   model.piece = std::move(piece);
   return local_of;
 }

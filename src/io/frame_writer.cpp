@@ -195,8 +195,7 @@ void FrameWriter::write(int index, const FrameValues& v) const {
   xml += app.add("type=\"Int32\" Name=\"material\"", material_index_);
   xml += app.add("type=\"Int64\" Name=\"element_id\"", element_id_);
   if (piece) xml += app.add("type=\"Int64\" Name=\"cell_index\"", cells_);
-  if (!model.gases.empty())
-    xml += app.add("type=\"Float64\" Name=\"gas_pressure\"", at_cells(v.gas, 1));
+  if (!v.gas.empty()) xml += app.add("type=\"Float64\" Name=\"gas_pressure\"", at_cells(v.gas, 1));
   const std::string cell_arrays = app.declared();
   xml += "</CellData>\n<Points>\n";
   xml += app.add("type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"", points(model.X));

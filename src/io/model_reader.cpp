@@ -178,13 +178,7 @@ void Reader::final_checks(const Node& root) {
     error(root, "mesh", "the model has no elements");
     return;
   }
-  for (size_t i = 0; i < in_.model.edge_loads.size(); ++i) {
-    const NodePositions F = edge_load_forces(in_.model, in_.model.edge_loads[i]);
-    if (F.cwiseAbs().maxCoeff() == 0 && in_.model.edge_loads[i].force_per_length.norm() > 0)
-      error(edge_load_nodes_[i].first, edge_load_nodes_[i].second,
-            "no membrane boundary edge has all its nodes in this node set");
-  }
-  set_up_gas_chambers();
+  set_up_loads();  // edge loads' boundary, gas chambers' closure and volume
   std::vector<char> used(static_cast<size_t>(in_.model.num_nodes()), 0);
   for (const auto& b : in_.model.blocks)
     for (int n : b->connectivity()) used[static_cast<size_t>(n)] = 1;

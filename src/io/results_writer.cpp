@@ -176,7 +176,7 @@ void ResultsWriter::write(const StepSnapshot& snap) {
   std::vector<double> gas;
   if (input_.output.fields) {
     averaged = frames_->average_to_nodes(f, assembler);
-    gas = gas_per_cell(t, x);
+    gas = system_->load_cell_field("gas_pressure", t, x);  // collective
   }
   if (records_) write_history_row(snap, row);
   if (input_.output.fields) write_frame(t, U, V, R, f, averaged, gas);
@@ -340,38 +340,15 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
     case Q::kExternalWork:
       return first ? snap.energy.external_work : 0.0;
     case Q::kGasVolume: {
-      const double volume = a.gas_volume(h.load, x);  // collective: every process
+      const double volume = *system_->load_quantity_at("gas_volume", h.load, snap.step.t, x);
       return first ? volume : 0.0;
     }
     case Q::kGasPressure: {
-      const double p = gas_pressure(h.load, snap.step.t, x);  // collective
+      const double p = *system_->load_quantity_at("gas_pressure", h.load, snap.step.t, x);
       return first ? p : 0.0;
     }
   }
   return 0;
-}
-
-double ResultsWriter::gas_pressure(int i, double t, const NodePositions& x) const {
-  const GasLoad& gas = input_.model.gases[i];
-  return gas.pressure(system_->assembler().gas_volume(i, x),
-                      input_.model.function_value(gas.amount, t));
-}
-
-std::vector<double> ResultsWriter::gas_per_cell(double t, const NodePositions& x) const {
-  // The absolute pressure of the gas each element encloses (0: none).
-  const Model& model = input_.model;
-  std::vector<double> gas;
-  if (model.gases.empty()) return gas;
-  gas.assign(static_cast<size_t>(model.num_elements()), 0.0);
-  std::vector<int> first(model.blocks.size(), 0);
-  for (size_t b = 1; b < model.blocks.size(); ++b)
-    first[b] = first[b - 1] + model.blocks[b - 1]->size();
-  for (size_t i = 0; i < model.gases.size(); ++i) {
-    const double p = gas_pressure(static_cast<int>(i), t, x);
-    for (const auto& part : model.gases[i].parts)
-      for (int e : part.elements) gas[static_cast<size_t>(first[part.block] + e)] = p;
-  }
-  return gas;
 }
 
 void ResultsWriter::write_history(const StepSnapshot& snap) {

@@ -64,14 +64,8 @@ int check_command(const std::filesystem::path& file) {
   for (const auto& mt : in->materials)
     mats += fmt::format("{}{} ({})", mats.empty() ? "" : ", ", mt.name, mt.type);
   say(stdout, "materials:  {}\n", mats);
-  say(stdout, "loads:      {} point, {} edge, {} pressure, {} gravity; {} point masses\n",
-      m.point_loads.size(), m.edge_loads.size(), m.pressures.size(), m.gravity.size(),
-      m.masses.size());
-  for (size_t i = 0; i < m.gases.size(); ++i)
-    say(stdout,
-        "gas {}:      reference volume {:.6g}, initial pressure {:.6g}, ambient {:.6g}, "
-        "gamma {:.6g}\n",
-        i, m.gases[i].V0, m.gases[i].initial_pressure, m.gases[i].ambient, m.gases[i].gamma);
+  say(stdout, "loads:      {}; {} point masses\n", load_counts(m.loads), m.masses.size());
+  for (const std::string& line : load_summaries(m.loads)) say(stdout, "{}\n", line);
   say(stdout, "boundary:   {} fixed, {} prescribed, {} symmetry\n", m.fixed.size(),
       m.prescribed.size(), m.symmetry.size());
   const auto& a = in->analysis;

@@ -6,8 +6,12 @@
 #pragma once
 
 #include <memory>
+#include <optional>
+#include <string_view>
+#include <vector>
 
 #include "velum/assembly/assembler.hpp"
+#include "velum/load/load.hpp"
 #include "velum/time/second_order_system.hpp"
 
 namespace velum {
@@ -71,9 +75,21 @@ class MechanicalSystem final : public SecondOrderSystem {
   /// constrained nodes is not included. Overwrites last_internal() and last_external().
   NodePositions reactions(double t, const VecX& u, const VecX& v);
 
+  /// The loads bound to this system (load/load.hpp), in the model's order.
+  const std::vector<std::unique_ptr<LoadTerm>>& loads() const { return terms_; }
+  /// A history quantity (gas_volume, gas_pressure) of the i-th load that has it, at the last
+  /// evaluation of the loads; none when fewer loads have it.
+  std::optional<double> load_quantity(std::string_view name, int i) const;
+  /// The same at (t, x) (a collective call on several processes).
+  std::optional<double> load_quantity_at(std::string_view name, int i, double t,
+                                         const NodePositions& x) const;
+  /// A per-element field of the loads that have the quantity `name` (cells through the
+  /// blocks; 0 where none): empty when no load has it. A collective call.
+  std::vector<double> load_cell_field(std::string_view name, double t,
+                                      const NodePositions& x) const;
   /// Volume and absolute pressure of gas chamber i at the last evaluation of the loads.
-  double gas_volume(int i) const { return gas_volume_[i]; }
-  double gas_pressure(int i) const { return gas_pressure_[i]; }
+  double gas_volume(int i) const { return *load_quantity("gas_volume", i); }
+  double gas_pressure(int i) const { return *load_quantity("gas_pressure", i); }
 
   double kinetic_energy(const VecX& v) const {
     return squared_norm(v) == 0 ? 0.0 : 0.5 * dot(v, mass_times(v));
@@ -83,11 +99,9 @@ class MechanicalSystem final : public SecondOrderSystem {
  private:
   void apply_prescribed(double t, NodePositions& U) const;
   void set_positions(double t, const VecX& u);
-  // Loads at t; the follower-pressure load stiffness is subtracted from *Kload. With
-  // `fused`, the pressures that cover a whole block were computed in the internal pass
-  // (their forces are in Fp_).
+  // Loads at t; their load stiffness is subtracted from *Kload. With `fused`, the pressures
+  // that cover a whole block were computed in the internal pass (their forces are in Fp_).
   void assemble_external(double t, const VecX& v, SparseMatrix* Kload, bool fused = false);
-  bool has_drag() const;
   // |diagonal| of a matrix on the assembler's pattern (J, T_), whole (the shares summed).
   VecX abs_diagonal(const SparseMatrix& J) const;
   double distributed_force_scale();
@@ -103,20 +117,15 @@ class MechanicalSystem final : public SecondOrderSystem {
   mutable SparseMatrix T_;  ///< tension stiffness (stiffen_stress_free), built on first use
   SparseMatrix K_;
   VecX lumped_nodes_, lumped_eq_;
-  std::vector<int> equation_node_;  ///< node of each equation
-  std::vector<NodePositions> edge_forces_;
-  std::vector<NodePositions> gravity_forces_;
+  std::vector<int> equation_node_;                ///< node of each equation
+  std::vector<std::unique_ptr<LoadTerm>> terms_;  ///< the model's loads, bound
+  int low_rank_columns_ = 0;                      ///< of all loads (a gas chamber: one)
+  bool velocity_ = false;                         ///< some load uses the velocity
   NodePositions U_, V_, x_, Fint_, Fext_, Fp_;
-  // Enclosed gas: volume and pressure per chamber, the volume gradient, and the rank-one
-  // coupling (γ p / V) a aᵀ of each chamber as the Jacobian's low-rank part.
-  std::vector<double> gas_volume_, gas_pressure_;
-  NodePositions gas_gradient_;
-  VecX gas_gradient_eq_;
   LowRankJacobian low_rank_;
   std::vector<double> block_pressure_;      ///< whole-block pressures at the evaluated time
   VecX fred_, mv_, mvv_, x_eq_, noise_eq_;  ///< mv_ = M a, mvv_ = M v (evaluate)
   double force_scale_ = 0, residual_noise_ = 0;
-  bool drag_ = false;
 };
 
 }  // namespace velum

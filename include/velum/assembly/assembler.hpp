@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <span>
 #include <utility>
@@ -19,7 +20,6 @@
 
 #include "velum/assembly/dof_map.hpp"
 #include "velum/assembly/element_scatter.hpp"
-#include "velum/element/enclosed_volume.hpp"
 #include "velum/math/sparse.hpp"
 #include "velum/parallel/element_partition.hpp"
 #include "velum/parallel/model_piece.hpp"
@@ -61,27 +61,40 @@ class Assembler {
   /// of two).
   void internal(const NodePositions& x, NodePositions& F, SparseMatrix* K,
                 std::span<const double> block_pressure, NodePositions& Fp) const;
-  /// Whether pressure load i acts on every element of its block (and so can go through the
-  /// block's internal pass).
-  bool covers_block(int i) const { return covers_block_[i]; }
-  /// Follower pressure load i of the model at pressure p: forces added to Fext; the load
-  /// stiffness subtracted from K when K != null (K then becomes unsymmetric).
+  /// Follower pressure load i of the model (Model::pressures) at pressure p: forces added to
+  /// Fext; the load stiffness subtracted from K when K != null. A convenience over the
+  /// load's own term (load/pressure_load.hpp), which binds it anew at every call.
   void pressure(int i, double p, const NodePositions& x, NodePositions& Fext,
                 SparseMatrix* K) const;
-  /// Volume of gas chamber i (Model::gases) at x.
-  double gas_volume(int i, const NodePositions& x) const;
-  /// Gradient ∂V/∂x of gas chamber i's volume at x (full, global; overwrites A) and, when
-  /// K != null, `scale` ∂²V/∂x² subtracted from K: the load stiffness of a follower pressure
-  /// `scale` on the chamber's sheet (its forces are scale · A).
-  void gas_derivatives(int i, const NodePositions& x, double scale, NodePositions& A,
-                       SparseMatrix* K) const;
+
+  /// Element loads (pressures, gas) go through the same coloured passes as the internal
+  /// forces. Per colour, element lists of chunks no two of which share a node.
+  using ElementColors = std::vector<std::vector<int>>;
+  /// The colouring of the listed elements of block `block` this process computes.
+  ElementColors own_colors(int block, const std::vector<int>& elements) const;
+  /// Fills the element load vectors f (and, when K != null, matrices Ke) of a chunk of
+  /// elements: each element's values one after the other, dofs_per_element() each.
+  using ElementLoadKernel =
+      std::function<void(std::span<const int> elements, double* f, double* Ke)>;
+  /// Adds the element loads of `colors` in block `block` to F and, when K != null,
+  /// subtracts their matrices from K (r = f_int − f_ext). F is this process's share: see
+  /// sum_shares.
+  void add_element_loads(int block, const ElementColors& colors, const ElementLoadKernel& kernel,
+                         NodePositions& F, SparseMatrix* K) const;
+  /// Whether per-node vectors of element loads must be summed at the shared nodes
+  /// (several processes, no LocalShare alive).
+  bool sums_shares() const { return shared(); }
+  /// Sums a per-node vector at the shared nodes when sums_shares().
+  void sum_shares(NodePositions& F) const { reduce(F); }
+
   /// Consistent mass (values overwritten) and lumped nodal masses (row sum; HRZ for tri6 and
   /// quad8, whose row sums are not all positive), point masses included in both.
   void mass(SparseMatrix* M, VecX* lumped) const;  ///< either may be null
   /// Geometric stiffness of a uniform unit tension in every membrane and cable
   /// (ElementBlock::tension_stiffness), values overwritten: symmetric, constant.
   void tension_stiffness(SparseMatrix& K) const;
-  /// Nodal forces of gravity g: consistent mass times g (point masses included).
+  /// Nodal forces of gravity g: consistent mass times g (point masses included), summed at
+  /// the shared nodes.
   NodePositions gravity_forces(const Vec3& g) const;
 
   int num_colors(int block) const { return static_cast<int>(colors_[block].size()); }
@@ -140,10 +153,10 @@ class Assembler {
     sum_at_shared_nodes(parts);
   }
 
-  /// While alive, the vector results of internal, pressure and gas_derivatives are this
+  /// While alive, the vector results of internal and of the element loads are this
   /// process's share (its own elements; the nodal terms a caller adds belong to the nodes it
   /// keeps_node), not summed over the processes: what the output completes itself at the
-  /// shared nodes only. gas_volume stays summed (collective). No matrix then.
+  /// shared nodes only. A gas volume stays summed (collective). No matrix then.
   class LocalShare {
    public:
     explicit LocalShare(const Assembler& a) : a_(a), was_(a.share_only_) { a.share_only_ = true; }
@@ -200,15 +213,6 @@ class Assembler {
   std::vector<ElementScatter> scatter_;  // per block: its own elements' positions
   mutable SparseMatrix first_matrix_;    // the pattern built for scatter_, given to the first
                                          // make_matrix (later ones build it again)
-  std::vector<Colors> pressure_colors_;  // per pressure load
-  std::vector<char> covers_block_;       // per pressure load
-  struct GasPart {
-    Colors colors;
-    std::vector<int> own;  // its elements this process computes
-    std::unique_ptr<SurfaceVolumeKernel> kernel;
-  };
-  mutable NodePositions scratch_;                // a process's share of a load, before the sum
-  std::vector<std::vector<GasPart>> gas_parts_;  // per gas load, per part
   int max_dofs_ = 0;
   mutable std::vector<ElementBuffers> buffers_;  // one per thread, reused across calls
 };

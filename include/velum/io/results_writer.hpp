@@ -111,10 +111,6 @@ class ResultsWriter {
   int frames() const { return static_cast<int>(frame_times_.size()); }
 
  private:
-  /// Absolute pressure of gas chamber i at time t and positions x (collective).
-  double gas_pressure(int i, double t, const NodePositions& x) const;
-  /// Per cell, the absolute pressure of the gas it encloses (empty: no gas; collective).
-  std::vector<double> gas_per_cell(double t, const NodePositions& x) const;
   /// This process's part of history entry h (history_row sums the parts; collective for gas).
   double history_value(const HistoryEntry& h, const StepSnapshot& snap, const NodePositions& U,
                        const NodePositions& V, const NodePositions& x, const NodePositions& R);

@@ -1,6 +1,7 @@
-// Set-up and volume of enclosed-gas chambers (GasLoad): the checks that the listed membrane
-// elements with the symmetry planes through the origin close a volume with normals pointing
-// out of the gas, and the chamber volume at any configuration. Units the user's.
+// Set-up and volume of enclosed-gas chambers (the gas load's set-up, implemented with it in
+// src/load/): the checks that the listed membrane elements with the symmetry planes through the
+// origin close a volume with normals pointing out of the gas, and the chamber volume at any
+// configuration. Units the user's.
 #pragma once
 
 #include <functional>

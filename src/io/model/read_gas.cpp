@@ -1,11 +1,10 @@
 // Enclosed-gas loads (`type: gas`, docs/inflatables.md) and their `gas_volume` /
-// `gas_pressure` history entries: the keys, and the chamber checks once the model is built.
+// `gas_pressure` history entries: the keys (the chamber is checked by its set-up, Load::set_up).
 #include <fmt/format.h>
 
 #include <stdexcept>
 
 #include "reader.hpp"
-#include "velum/model/gas_chamber.hpp"
 
 namespace velum::io::model_file {
 
@@ -73,23 +72,7 @@ void Reader::parse_gas_load(const Node& l, const std::string& p) {
   gas.initial_pressure = *p0;
   gas.ambient = pa.value_or(0.0);
   gas.gamma = gamma.value_or(1.0);
-  in_.model.gases.push_back(std::move(gas));
-  gas_load_nodes_.push_back({l, p});
-}
-
-void Reader::set_up_gas_chambers() {
-  for (size_t i = 0; i < in_.model.gases.size(); ++i) {
-    try {
-      set_up_gas_chamber(in_.model, in_.model.gases[i], [&](int block, int element) {
-        const auto& ids = in_.element_ids[static_cast<size_t>(block)];
-        return static_cast<size_t>(element) < ids.size() ? ids[static_cast<size_t>(element)]
-                                                         : static_cast<long>(element) + 1;
-      });
-    } catch (const std::invalid_argument& e) {
-      error(gas_load_nodes_[i].first["elements"], sub(gas_load_nodes_[i].second, "elements"),
-            e.what());
-    }
-  }
+  add_load(make_load(std::move(gas)), l["elements"], sub(p, "elements"));
 }
 
 bool Reader::parse_gas_history(const Node& e, const std::string& p, HistoryEntry& he) {

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <set>
+#include <stdexcept>
 
 #include "reader.hpp"
 
@@ -110,7 +111,10 @@ void Reader::parse_masses(const Node& ms) {
       }
     }
     if (!nodes || !mass) continue;
-    for (int n : *nodes) in_.model.masses.push_back({n, *mass, rho, cda});
+    for (int n : *nodes) {
+      in_.model.masses.push_back({n, *mass});
+      if (rho != 0 || cda != 0) in_.model.drag.push_back({n, rho, cda});
+    }
   }
 }
 
@@ -253,7 +257,41 @@ void Reader::parse_boundary(const Node& bs) {
   }
 }
 
+const std::vector<std::pair<std::string, Reader::LoadParser>>& Reader::load_parsers() {
+  // A new load: its class (src/load/), its parser here, its test.
+  static const std::vector<std::pair<std::string, LoadParser>> table = {
+      {"point", &Reader::parse_point_load},       {"edge", &Reader::parse_edge_load},
+      {"pressure", &Reader::parse_pressure_load}, {"gas", &Reader::parse_gas_load},
+      {"gravity", &Reader::parse_gravity_load},
+  };
+  return table;
+}
+
+void Reader::add_load(std::unique_ptr<Load> load, const Node& at, const std::string& path) {
+  load_sites_.push_back({&in_.model.loads.add(std::move(load)), at, path});
+}
+
+void Reader::set_up_loads() {
+  const ElementNamer name = [&](int block, int element) {
+    const auto& ids = in_.element_ids[static_cast<size_t>(block)];
+    return static_cast<size_t>(element) < ids.size() ? ids[static_cast<size_t>(element)]
+                                                     : static_cast<long>(element) + 1;
+  };
+  for (auto& load : in_.model.loads) {
+    const auto site = std::find_if(load_sites_.begin(), load_sites_.end(),
+                                   [&](const LoadAt& s) { return s.load == load.get(); });
+    try {
+      load->set_up(in_.model, name);
+    } catch (const std::invalid_argument& e) {
+      if (site != load_sites_.end()) error(site->at, site->path, e.what());
+    }
+  }
+}
+
 void Reader::parse_loads(const Node& ls) {
+  const auto& parsers = load_parsers();
+  std::vector<std::string> kinds;
+  for (const auto& [kind, parser] : parsers) kinds.push_back(kind);
   if (!ls.IsSequence()) {
     error(ls, "loads", "expected a list of {type: point | edge | pressure | gas | gravity, ...}");
     return;
@@ -267,98 +305,106 @@ void Reader::parse_loads(const Node& ls) {
     }
     auto type = text(l, "type", p, true);
     if (!type) continue;
-    if (*type == "point") {
-      check_map(l, p, {"type", "nodes", "force", "function"});
-      auto nodes = nodes_of(l, "nodes", p);
-      auto f = vec3(l, "force", p, true);
-      const int fn = function_ref(l, p);
-      if (nodes && f) in_.model.point_loads.push_back({std::move(*nodes), *f, fn});
-    } else if (*type == "edge") {
-      check_map(l, p, {"type", "nodes", "force_per_length", "function"});
-      auto nodes = nodes_of(l, "nodes", p);
-      auto f = vec3(l, "force_per_length", p, true);
-      const int fn = function_ref(l, p);
-      if (nodes && f) {
-        EdgeLoad& load = in_.model.edge_loads.emplace_back();
-        load.nodes = std::move(*nodes);
-        load.force_per_length = *f;
-        load.function = fn;
-        edge_load_nodes_.push_back({l["nodes"], sub(p, "nodes")});
-      }
-    } else if (*type == "pressure") {
-      check_map(l, p, {"type", "elements", "value", "function", "direction", "per"});
-      auto set = text(l, "elements", p, true);
-      auto v = number(l, "value", p, true);
-      const int fn = function_ref(l, p);
-      // A fixed direction (snow, dead weight of ponding): per area projected normal to it
-      // (`per: projected`, the default) or per current area (`per: area`).
-      std::optional<Vec3> direction;
-      bool projected = true;
-      if (has(l, "direction")) {
-        direction = vec3(l, "direction", p, true);
-        if (direction && !(direction->norm() > 0)) {
-          error(l["direction"], sub(p, "direction"), "the direction must be a non-zero vector");
-          direction.reset();
-        }
-        if (!direction) continue;
-        direction->normalize();
-      }
-      if (has(l, "per")) {
-        auto per = text(l, "per", p, true);
-        if (!per) continue;
-        if (!direction) {
-          error(l["per"], sub(p, "per"),
-                "'per' needs a 'direction': a follower pressure acts on the current area");
-          continue;
-        }
-        if (*per != "projected" && *per != "area") {
-          error(l["per"], sub(p, "per"),
-                fmt::format("expected projected or area, not '{}'{}", *per,
-                            suggestion(*per, {"projected", "area"})));
-          continue;
-        }
-        projected = *per == "projected";
-      }
-      if (!set || !v) continue;
-      auto sit = element_sets_.find(*set);
-      if (sit == element_sets_.end()) {
-        if (mesh_ok_)
-          error(l["elements"], sub(p, "elements"),
-                fmt::format("undefined element set '{}'{}", *set,
-                            suggestion(*set, keys_of(element_sets_))));
-        continue;
-      }
-      if (sit->second.dimension != 2) {
-        error(l["elements"], sub(p, "elements"),
-              fmt::format("pressure acts on membranes; set '{}' holds cables", *set));
-        continue;
-      }
-      for (int b : set_blocks_[*set]) {
-        PressureLoad pl;
-        pl.block = b;
-        pl.value = *v;
-        pl.function = fn;
-        if (direction) {
-          pl.fixed_direction = true;
-          pl.direction = *direction;
-          pl.projected = projected;
-        }
-        pl.elements.resize(static_cast<size_t>(in_.model.blocks[b]->size()));
-        for (size_t e = 0; e < pl.elements.size(); ++e) pl.elements[e] = static_cast<int>(e);
-        in_.model.pressures.push_back(std::move(pl));
-      }
-    } else if (*type == "gas") {
-      parse_gas_load(l, p);
-    } else if (*type == "gravity") {
-      check_map(l, p, {"type", "acceleration", "function"});
-      auto g = vec3(l, "acceleration", p, true);
-      const int fn = function_ref(l, p);
-      if (g) in_.model.gravity.push_back({*g, fn});
-    } else {
+    const auto it = std::find_if(parsers.begin(), parsers.end(),
+                                 [&](const auto& kp) { return kp.first == *type; });
+    if (it != parsers.end())
+      (this->*(it->second))(l, p);
+    else
       error(l["type"], sub(p, "type"),
-            fmt::format("unknown load type '{}'{}", *type,
-                        suggestion(*type, {"point", "edge", "pressure", "gas", "gravity"})));
+            fmt::format("unknown load type '{}'{}", *type, suggestion(*type, kinds)));
+  }
+}
+
+void Reader::parse_point_load(const Node& l, const std::string& p) {
+  check_map(l, p, {"type", "nodes", "force", "function"});
+  auto nodes = nodes_of(l, "nodes", p);
+  auto f = vec3(l, "force", p, true);
+  const int fn = function_ref(l, p);
+  if (nodes && f) add_load(make_load(PointLoad{std::move(*nodes), *f, fn}), l, p);
+}
+
+void Reader::parse_edge_load(const Node& l, const std::string& p) {
+  check_map(l, p, {"type", "nodes", "force_per_length", "function"});
+  auto nodes = nodes_of(l, "nodes", p);
+  auto f = vec3(l, "force_per_length", p, true);
+  const int fn = function_ref(l, p);
+  if (nodes && f) {
+    EdgeLoad load;
+    load.nodes = std::move(*nodes);
+    load.force_per_length = *f;
+    load.function = fn;
+    add_load(make_load(std::move(load)), l["nodes"], sub(p, "nodes"));
+  }
+}
+
+void Reader::parse_gravity_load(const Node& l, const std::string& p) {
+  check_map(l, p, {"type", "acceleration", "function"});
+  auto g = vec3(l, "acceleration", p, true);
+  const int fn = function_ref(l, p);
+  if (g) add_load(make_load(GravityLoad{*g, fn}), l, p);
+}
+
+void Reader::parse_pressure_load(const Node& l, const std::string& p) {
+  check_map(l, p, {"type", "elements", "value", "function", "direction", "per"});
+  auto set = text(l, "elements", p, true);
+  auto v = number(l, "value", p, true);
+  const int fn = function_ref(l, p);
+  // A fixed direction (snow, dead weight of ponding): per area projected normal to it
+  // (`per: projected`, the default) or per current area (`per: area`).
+  std::optional<Vec3> direction;
+  bool projected = true;
+  if (has(l, "direction")) {
+    direction = vec3(l, "direction", p, true);
+    if (direction && !(direction->norm() > 0)) {
+      error(l["direction"], sub(p, "direction"), "the direction must be a non-zero vector");
+      direction.reset();
     }
+    if (!direction) return;
+    direction->normalize();
+  }
+  if (has(l, "per")) {
+    auto per = text(l, "per", p, true);
+    if (!per) return;
+    if (!direction) {
+      error(l["per"], sub(p, "per"),
+            "'per' needs a 'direction': a follower pressure acts on the current area");
+      return;
+    }
+    if (*per != "projected" && *per != "area") {
+      error(l["per"], sub(p, "per"),
+            fmt::format("expected projected or area, not '{}'{}", *per,
+                        suggestion(*per, {"projected", "area"})));
+      return;
+    }
+    projected = *per == "projected";
+  }
+  if (!set || !v) return;
+  auto sit = element_sets_.find(*set);
+  if (sit == element_sets_.end()) {
+    if (mesh_ok_)
+      error(l["elements"], sub(p, "elements"),
+            fmt::format("undefined element set '{}'{}", *set,
+                        suggestion(*set, keys_of(element_sets_))));
+    return;
+  }
+  if (sit->second.dimension != 2) {
+    error(l["elements"], sub(p, "elements"),
+          fmt::format("pressure acts on membranes; set '{}' holds cables", *set));
+    return;
+  }
+  for (int b : set_blocks_[*set]) {
+    PressureLoad pl;
+    pl.block = b;
+    pl.value = *v;
+    pl.function = fn;
+    if (direction) {
+      pl.fixed_direction = true;
+      pl.direction = *direction;
+      pl.projected = projected;
+    }
+    pl.elements.resize(static_cast<size_t>(in_.model.blocks[b]->size()));
+    for (size_t e = 0; e < pl.elements.size(); ++e) pl.elements[e] = static_cast<int>(e);
+    add_load(make_load(std::move(pl)), l, p);
   }
 }
 

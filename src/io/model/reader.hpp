@@ -7,6 +7,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -91,11 +92,20 @@ class Reader : public ReaderContext {
   void parse_masses(const Node& ms);
   void parse_boundary(const Node& bs);
   void parse_loads(const Node& ls);
+  /// The load types' parsers by the name under `type:`, each adding its loads (add_load).
+  using LoadParser = void (Reader::*)(const Node& load, const std::string& path);
+  static const std::vector<std::pair<std::string, LoadParser>>& load_parsers();
+  void parse_point_load(const Node& l, const std::string& path);
+  void parse_edge_load(const Node& l, const std::string& path);
+  void parse_pressure_load(const Node& l, const std::string& path);
+  void parse_gravity_load(const Node& l, const std::string& path);
+  /// Adds a load to the model; its set-up's errors point at `at` (`path`).
+  void add_load(std::unique_ptr<Load> load, const Node& at, const std::string& path);
+  /// Every load's set-up once the whole model is read (Load::set_up).
+  void set_up_loads();
 
   // read_gas.cpp
   void parse_gas_load(const Node& l, const std::string& path);
-  /// Closure, orientation and reference volume of every gas chamber (after the whole file).
-  void set_up_gas_chambers();
   /// The `load:` of a gas_volume or gas_pressure history entry; false when invalid.
   bool parse_gas_history(const Node& e, const std::string& path, HistoryEntry& he);
 
@@ -112,8 +122,12 @@ class Reader : public ReaderContext {
   std::map<std::string, std::vector<long>> file_node_sets_;
   std::map<std::string, std::vector<int>> node_sets_;
   std::map<std::string, std::vector<int>> set_blocks_;
-  std::vector<std::pair<Node, std::string>> edge_load_nodes_;
-  std::vector<std::pair<Node, std::string>> gas_load_nodes_;
+  struct LoadAt {
+    const Load* load;
+    Node at;
+    std::string path;
+  };
+  std::vector<LoadAt> load_sites_;
   std::set<long> element_ids_;
 };
 
