@@ -157,9 +157,7 @@ class NewtonSolver::Iteration {
   // The contraction θ = ‖du_k‖/‖du_k−1‖ of the last two corrections.
   double contraction() const { return dn_prev_ > 0 ? dn_ / dn_prev_ : 1.0; }
   // The distance to the solution a converged iterate may have left.
-  double allowed() const {
-    return test_.distance_target(sys_.norm(u_ - u_start_), sys_.norm(u_));
-  }
+  double allowed() const { return test_.distance_target(sys_.norm(u_ - u_start_), sys_.norm(u_)); }
   // Whether the latest residual fell by `gain_` from the one before (where the tests ask,
   // the latest is always the one in question).
   bool fell_fast() const {
@@ -347,8 +345,7 @@ StepReport NewtonSolver::Iteration::run() {
     // (quadratic model: next ≈ ‖du‖ θ²), its residual is evaluated alone first: a tangent
     // assembled at the converged point is never used.
     const double theta_now = contraction();
-    const bool likely_last =
-        it >= 2 && theta_now < 0.5 && dn_ * theta_now * theta_now <= allowed();
+    const bool likely_last = it >= 2 && theta_now < 0.5 && dn_ * theta_now * theta_now <= allowed();
     const bool may_chord = ns_.reuse_tangent && (rep_.factorizations > 0 || carried_) &&
                            (it == 0 ? carried_ : it == 1 || fell_fast());
     bool have_tangent = !likely_last && !may_chord;

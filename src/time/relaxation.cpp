@@ -53,8 +53,8 @@ bool DynamicRelaxation::relax(SecondOrderSystem& sys, double t, VecX& u, double 
     if (ref_ == 0) ref_ = std::max(rn, sys.force_scale());
     if (it == 0) r_peak = rn;
     const double scale = std::max(ref_, sys.force_scale());
-    const double target =
-        ConvergenceTest(rel_target, newton.abs_residual).target_against(scale, sys.residual_noise());
+    const double target = ConvergenceTest(rel_target, newton.abs_residual)
+                              .target_against(scale, sys.residual_noise());
     if (rn <= target) return true;
     // A residual far above the one at the last peak: the masses are too light for the
     // stiffness reached (it grows as the sheet tightens). Back to the peak, heavier masses.

@@ -14,10 +14,10 @@ namespace velum {
 /// when asked for and available, else the row rule) and cuts `model` down to this process's
 /// piece: its nodes renumbered, its own elements' connectivity and section data kept (other
 /// elements keep their index but no data: ElementBlock::keep_piece), node sets, point masses
-/// and loads (Load::keep_piece) restricted to the piece, and model.piece set. Returns, per node of the
-/// whole model, its local index (-1: not held here), for references the caller keeps
-/// (history nodes). A collective call; on one process it does nothing and returns {}.
-/// Throws std::invalid_argument when the model cannot be numbered.
+/// and loads (Load::keep_piece) restricted to the piece, and model.piece set. Returns, per node of
+/// the whole model, its local index (-1: not held here), for references the caller keeps (history
+/// nodes). A collective call; on one process it does nothing and returns {}. Throws
+/// std::invalid_argument when the model cannot be numbered.
 std::vector<int> share_model(Model& model, ElementPartition partition);
 
 }  // namespace velum

@@ -52,7 +52,6 @@ struct PrescribedMotion {
   int function = -1;  ///< index into Model::functions, -1: constant 1
 };
 
-
 /// The model's loads (load/load.hpp): one list, and views of it by kind for code that reads
 /// or adds loads by their parameters. Copies and moves keep the views on their own list.
 struct ModelLoads {

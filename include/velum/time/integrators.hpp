@@ -124,8 +124,8 @@ class StaticNewton : public TimeIntegrator {
   bool extrapolate_;
   SecantUpdates secant_;  ///< the chord steps' quasi-Newton pairs, their storage kept
   VecX zero_;
-  NewtonWork work_;  ///< kept between steps: the Jacobian's pattern is allocated once
-  VecX u_prev_, u_prev2_;                 ///< converged states before the last two accepted steps
+  NewtonWork work_;        ///< kept between steps: the Jacobian's pattern is allocated once
+  VecX u_prev_, u_prev2_;  ///< converged states before the last two accepted steps
   double h_prev_ = 0, h_prev2_ = 0;       ///< their sizes (0: no such increment)
   double t_prev_ = -1;                    ///< the time the last accepted step ended at
   VecX linear_, parabolic_;               ///< this step's two predictors

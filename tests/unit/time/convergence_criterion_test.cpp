@@ -16,7 +16,7 @@ TEST(ConvergenceTest, JudgesTheResidualAgainstTheLargestForceSeen) {
   EXPECT_DOUBLE_EQ(test.residual_target(1e3, 10.0, 0.0), 1e-5);  // the residual itself
   EXPECT_DOUBLE_EQ(test.residual_target(1.0, 10.0, 0.0), 1e-5);  // the reference is kept
   EXPECT_DOUBLE_EQ(test.reference(), 1e3);
-  EXPECT_DOUBLE_EQ(test.residual_target(1.0, 1e4, 0.0), 1e-4);  // a larger force scale
+  EXPECT_DOUBLE_EQ(test.residual_target(1.0, 1e4, 0.0), 1e-4);   // a larger force scale
   EXPECT_DOUBLE_EQ(test.residual_target(1.0, 1e4, 1e-3), 1e-3);  // the round-off level
   test.restart();
   EXPECT_DOUBLE_EQ(test.residual_target(0.0, 0.0, 0.0), 1e-12);  // the absolute floor
@@ -35,7 +35,7 @@ TEST(ConvergenceTest, AsksForBothTheResidualAndTheDistance) {
   EXPECT_FALSE(ConvergenceTest::met(1e-6, 1e-5, 1e-7, 2e-8));  // the distance too large
   // A residual that stopped falling within 1000 targets is at its round-off floor.
   EXPECT_TRUE(ConvergenceTest::at_floor(1e-3, 1.5e-3, 1e-5));
-  EXPECT_FALSE(ConvergenceTest::at_floor(1e-3, 3e-3, 1e-5));   // still halving
+  EXPECT_FALSE(ConvergenceTest::at_floor(1e-3, 3e-3, 1e-5));    // still halving
   EXPECT_FALSE(ConvergenceTest::at_floor(1e-1, 1.5e-1, 1e-5));  // far above the target
 }
 
@@ -44,8 +44,8 @@ class Springs final : public SecondOrderSystem {
  public:
   bool singular = false;
   int size() const override { return 2; }
-  void evaluate(double, const VecX& u, const VecX&, const VecX&, double cu, double, double,
-                VecX& r, SparseMatrix* J) override {
+  void evaluate(double, const VecX& u, const VecX&, const VecX&, double cu, double, double, VecX& r,
+                SparseMatrix* J) override {
     r.resize(2);
     for (int i = 0; i < 2; ++i)
       r[i] = singular ? u[0] + u[1] - 1 : u[i] * u[i] * u[i] + u[i] - (i + 1.0);
@@ -54,8 +54,7 @@ class Springs final : public SecondOrderSystem {
     J->setZero();
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j)
-        if (singular || i == j)
-          J->insert(i, j) = cu * (singular ? 1.0 : 3 * u[i] * u[i] + 1);
+        if (singular || i == j) J->insert(i, j) = cu * (singular ? 1.0 : 3 * u[i] * u[i] + 1);
     J->makeCompressed();
   }
   const VecX& lumped_mass() const override { return mass_; }
@@ -81,10 +80,11 @@ StepReport solve(Springs& sys, VecX& u, NewtonSettings ns = {}) {
   NewtonWork work;
   const VecX start = VecX::Zero(2);
   u = start;
-  return NewtonSolver(sys, solver, ns).solve(
-      start, u, work,
-      [&](const VecX& x, VecX& r, SparseMatrix* J) { sys.evaluate(0, x, x, x, 1, 0, 0, r, J); },
-      {.line_search_by_default = true});
+  return NewtonSolver(sys, solver, ns)
+      .solve(
+          start, u, work,
+          [&](const VecX& x, VecX& r, SparseMatrix* J) { sys.evaluate(0, x, x, x, 1, 0, 0, r, J); },
+          {.line_search_by_default = true});
 }
 
 TEST(NewtonSolver, ConvergesUnderTheTest) {
