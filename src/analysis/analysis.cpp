@@ -189,7 +189,7 @@ class EnergyAccount {
 AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
                      const std::function<bool(const StepSnapshot&)>& observer,
                      const std::function<void(const std::string&)>& on_warning, const State* start,
-                     const Checkpoint* resume) {
+                     const Checkpoint* resume, const std::vector<double>* loads = nullptr) {
   AnalysisResult result;
   auto warn = [&](std::string w) {
     if (on_warning) on_warning(w);
@@ -221,6 +221,15 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     loop.step = std::min(loop.step, 0.9 * result.stable_step);
     loop.adaptive = false;
   }
+
+  // The loads' state integrated in time (a gas chamber's): from the checkpoint, from the step
+  // before, or afresh at the start.
+  if (resume && !resume->loads.empty())
+    sys.restore_load_state(resume->loads);
+  else if (loads)
+    sys.restore_load_state(*loads);
+  else
+    sys.start_loads(loop.t0, s.u, s.v);
 
   Energies& E = result.energy;
   EnergyAccount energy(sys, settings.type == AnalysisSettings::Type::kDynamic, loop.t0, s, E);
@@ -268,10 +277,12 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     c.integrator = integrator->save(sys);
     c.analysis = {static_cast<double>(stability.last()), warned_fold ? 1.0 : 0.0, t_last};
     energy.save(c.analysis);
+    c.loads = sys.save_load_state();
     c.warnings = result.warnings;
     return c;
   };
   auto on_step = [&](const AcceptedStep& st, const State& cur) {
+    sys.accept(st.t, cur.u, cur.v);  // before anything reads the loads at the new state
     stability.observe(st);
     if (dynamic && !warned_fold) {  // static steps never accept one (integrators.cpp)
       if (std::string inv = sys.inverted_element(t_last, u_last, st.t, cur.u); !inv.empty()) {
@@ -332,7 +343,8 @@ AnalysisResult run_analysis(Model& model, MechanicalSystem& system,
     case AnalysisSettings::Type::kRelaxation:
       break;
   }
-  return march(system, settings, observers.step, observers.warning, from.state, from.resume);
+  return march(system, settings, observers.step, observers.warning, from.state, from.resume,
+               from.loads);
 }
 
 AnalysisResult run_analysis(MechanicalSystem& system, const AnalysisSettings& settings,

@@ -39,6 +39,9 @@ MechanicalSystem::MechanicalSystem(const Model& model)
     low_rank_columns_ += terms_.back()->low_rank_columns();
     velocity_ = velocity_ || terms_.back()->uses_velocity();
   }
+  std::vector<LoadTerm*> all;
+  for (const auto& term : terms_) all.push_back(term.get());
+  for (size_t i = 0; i < terms_.size(); ++i) terms_[i]->connect(all, static_cast<int>(i));
   for (const PointMass& m : model.masses)
     if (m.drag_rho != 0 || m.drag_cd_area != 0)
       throw std::invalid_argument(
@@ -132,6 +135,48 @@ void MechanicalSystem::set_positions(double t, const VecX& u) {
   apply_prescribed(t, U_);
   dofs_.scatter(u, U_);
   x_ = model_.X + U_;
+}
+
+void MechanicalSystem::start_loads(double t, const VecX& u, const VecX& v) {
+  std::optional<Assembler::LocalShare> share;
+  if (distributed()) share.emplace(assembler_);
+  set_positions(t, u);
+  if (velocity_) V_ = velocities(v);
+  const LoadState s{.t = t, .x = x_, .V = V_};
+  for (const auto& term : terms_) term->start(s);
+}
+
+void MechanicalSystem::accept(double t, const VecX& u, const VecX& v) {
+  std::optional<Assembler::LocalShare> share;
+  if (distributed()) share.emplace(assembler_);
+  set_positions(t, u);
+  if (velocity_) V_ = velocities(v);
+  const LoadState s{.t = t, .x = x_, .V = V_};
+  for (const auto& term : terms_) term->commit(s);
+}
+
+std::vector<double> MechanicalSystem::save_load_state() const {
+  std::vector<double> out{static_cast<double>(terms_.size())};
+  for (const auto& term : terms_) {
+    const size_t at = out.size();
+    out.push_back(0);
+    term->save_state(out);
+    out[at] = static_cast<double>(out.size() - at - 1);
+  }
+  return out;
+}
+
+void MechanicalSystem::restore_load_state(const std::vector<double>& in) {
+  if (in.empty() || in[0] != static_cast<double>(terms_.size()))
+    throw std::invalid_argument("the loads' saved state does not fit this model's loads");
+  size_t at = 1;
+  for (const auto& term : terms_) {
+    if (at >= in.size()) throw std::invalid_argument("the loads' saved state is cut short");
+    const auto n = static_cast<size_t>(in[at++]);
+    if (term->restore_state(in, at) != at + n)
+      throw std::invalid_argument("the loads' saved state does not fit this model's loads");
+    at += n;
+  }
 }
 
 std::optional<double> MechanicalSystem::load_quantity(std::string_view name, int i) const {

@@ -162,6 +162,9 @@ class StageRunner {
     }
     if (obs_.begin) obs_.begin(static_cast<int>(k), sys);
     State last = start;
+    // The loads' state integrated in time (a gas chamber's) goes on when the step holds the
+    // loads before it; loads of its own start afresh.
+    const bool carry_loads = have_state_ && !step.loads_given && !carried_loads_.empty();
     const auto observe = [&](const StepSnapshot& snap) {
       last = snap.state;
       if (k > 0 && snap.step.step == 0) return true;  // the end of the step before
@@ -174,7 +177,8 @@ class StageRunner {
     };
     o.result =
         run_analysis(slot_, sys, settings, {.step = observe, .warning = obs_.warn, .form = &o.form},
-                     {.state = have_state_ ? &start : nullptr});
+                     {.state = have_state_ ? &start : nullptr,
+                      .loads = carry_loads ? &carried_loads_ : nullptr});
     const TimeLoopResult& loop = o.result.loop;
     o.t_end = loop.completed ? settings.time.t_end : loop.t;
     out_.energy = o.result.energy;
@@ -197,6 +201,7 @@ class StageRunner {
     before_.external_work = out_.energy.external_work;
     before_.damping = out_.energy.damping;
     carried_ = nodal(sys, t_, last);
+    carried_loads_ = sys.save_load_state();
     if (settings.equilibrium()) {  // an equilibrium is at rest, whatever came before it
       carried_.V.setZero();
       carried_.A.setZero();
@@ -213,7 +218,8 @@ class StageRunner {
   double t_ = 0;
   Energies before_;  ///< work and damping of the steps done (since the last form finding)
   NodalState carried_;
-  bool have_state_ = false;  ///< false: the step starts at rest on its reference
+  std::vector<double> carried_loads_;  ///< MechanicalSystem::save_load_state at the end
+  bool have_state_ = false;            ///< false: the step starts at rest on its reference
   std::optional<NodePositions> found_;
 };
 

@@ -99,6 +99,27 @@ double EnclosedVolume<Shape>::hessian(const Nodes& x, const Vec3& o, double scal
   return V;
 }
 
+template <class Shape>
+double EnclosedVolume<Shape>::area(const Nodes& x, Vector* b) {
+  // ∂|n|/∂x_N = N,1 (g2 x n̂) + N,2 (n̂ x g1), n = g1 x g2.
+  const auto& pts = VolumePoints<Shape>::get();
+  Eigen::Matrix<double, 3, kN> bn = Eigen::Matrix<double, 3, kN>::Zero();
+  double A = 0;
+  for (int q = 0; q < Shape::kPoints; ++q) {
+    const Eigen::Matrix<double, 3, 2> g = x * pts.dN[q];
+    const Vec3 n = g.col(0).cross(g.col(1));
+    const double len = n.norm(), w = 3 * pts.w[q];  // the table's weights carry the volume's ⅓
+    A += w * len;
+    if (b && len > 0) {
+      const Vec3 u = n / len;
+      bn.noalias() += w * (g.col(1).cross(u) * pts.dN[q].col(0).transpose() +
+                           u.cross(g.col(0)) * pts.dN[q].col(1).transpose());
+    }
+  }
+  if (b) *b = Eigen::Map<const Vector>(bn.data());
+  return A;
+}
+
 namespace {
 
 template <class Shape>
@@ -114,6 +135,22 @@ class ShapeVolumeKernel final : public SurfaceVolumeKernel {
     double V = 0;
     for (int e : elements) V += K::volume(nodes_of(e, conn, x), o);
     return V;
+  }
+
+  double area(std::span<const int> elements, std::span<const int> conn,
+              const Eigen::Matrix<double, 3, Eigen::Dynamic>& x) const override {
+    double A = 0;
+    for (int e : elements) A += K::area(nodes_of(e, conn, x), nullptr);
+    return A;
+  }
+
+  void area_gradient(std::span<const int> elements, std::span<const int> conn,
+                     const Eigen::Matrix<double, 3, Eigen::Dynamic>& x, double* b) const override {
+    typename K::Vector be;
+    for (size_t k = 0; k < elements.size(); ++k) {
+      K::area(nodes_of(elements[k], conn, x), &be);
+      Eigen::Map<typename K::Vector>(b + k * K::kDofs) = be;
+    }
   }
 
   void derivatives(std::span<const int> elements, std::span<const int> conn,

@@ -99,6 +99,7 @@ void write_checkpoint(const std::filesystem::path& path, const CheckpointFile& c
   for (const auto& w : c.run.warnings) o.text(w);
   o.pod(c.history_bytes), o.pod(c.steps_bytes);
   o.vec(c.frame_times);
+  o.vec(c.run.loads);
   write_file_atomically(path, o.buf_);
 }
 
@@ -132,6 +133,7 @@ CheckpointFile read_checkpoint(const std::filesystem::path& path) {
   for (long i = 0; i < nw; ++i) c.run.warnings.push_back(in.text());
   c.history_bytes = in.pod<long>(), c.steps_bytes = in.pod<long>();
   c.frame_times = in.doubles();
+  if (!in.done()) c.run.loads = in.doubles();  // absent from the checkpoints before it
   if (!in.done()) in.bad();
   return c;
 }

@@ -161,6 +161,7 @@ void Reader::parse(const Node& root) {
   if (has(root, "loads")) parse_loads(root["loads"]);
   if (require(root, "analysis", "")) parse_analysis(root["analysis"]);
   parse_output(root["output"], root);
+  check_gas_flow();
   final_checks(root);
 }
 
@@ -198,7 +199,10 @@ void Reader::final_checks(const Node& root) {
       if (!used[n]) f.nodes.push_back(static_cast<int>(n));
     in_.model.fixed.push_back(std::move(f));
   }
-  if (DofMap(in_.model).num_equations() == 0)
+  // A rigid vessel (every wall held) still has its gas state to march in time.
+  const bool gas_flow = std::any_of(in_.model.gases.begin(), in_.model.gases.end(),
+                                    [](const GasLoad& g) { return g.flows(); });
+  if (!gas_flow && DofMap(in_.model).num_equations() == 0)
     error(root["boundary"] ? root["boundary"] : root, "boundary",
           "every degree of freedom is fixed or prescribed: there is nothing to solve (0 "
           "equations)");

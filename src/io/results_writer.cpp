@@ -167,6 +167,11 @@ void ResultsWriter::write(const StepSnapshot& snap) {
   const NodePositions x = input_.model.X + U;
   NodePositions R;
   if (input_.output.fields || needs_reactions()) R = reactions(snap, x);
+  // The accounts of loads that keep one (a gas chamber's first law), as of this output.
+  accounts_.clear();
+  for (const auto& term : system_->loads())
+    if (std::string a = term->account_json(); !a.empty())
+      accounts_ += (accounts_.empty() ? "    " : ",\n    ") + a;
   const std::vector<double> row = history_row(snap, U, V, x, R);
   const std::vector<std::vector<int>>& own = assembler.own_by_block();
   const FrameFields f = evaluate_cells(input_.model, x, own);
@@ -347,6 +352,15 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
       const double p = *system_->load_quantity_at("gas_pressure", h.load, snap.step.t, x);
       return first ? p : 0.0;
     }
+    case Q::kGasTemperature:
+    case Q::kGasMass:
+    case Q::kGasMassFlow: {
+      const std::string name = h.quantity == Q::kGasTemperature ? std::string("gas_temperature")
+                               : h.quantity == Q::kGasMass      ? std::string("gas_mass")
+                                                                : "gas_mass_flow:" + h.flow;
+      const double q = system_->load_quantity_at(name, h.load, snap.step.t, x).value_or(0.0);
+      return first ? q : 0.0;
+    }
   }
   return 0;
 }
@@ -359,6 +373,11 @@ void ResultsWriter::write_history(const StepSnapshot& snap) {
     x = input_.model.X + U;
     if (needs_reactions()) R = reactions(snap, x);
   }
+  // The accounts of loads that keep one (a gas chamber's first law), as of this output.
+  accounts_.clear();
+  for (const auto& term : system_->loads())
+    if (std::string a = term->account_json(); !a.empty())
+      accounts_ += (accounts_.empty() ? "    " : ",\n    ") + a;
   const std::vector<double> row = history_row(snap, U, V, x, R);
   if (records_) write_history_row(snap, row);
 }
@@ -467,6 +486,7 @@ void ResultsWriter::write_summary(const RunSummary& r) {
   std::string warnings;
   for (const auto& w : r.warnings) warnings += (warnings.empty() ? "" : ", ") + json_string(w);
   s += fmt::format("  \"warnings\": [{}],\n", warnings);
+  if (!accounts_.empty()) s += "  \"gas\": [\n" + accounts_ + "\n  ],\n";
   s += fmt::format(
       "  \"energy\": {{\"kinetic\": {}, \"strain\": {}, \"external_work\": {}, \"damping\": {}}}\n",
       json_number(r.energy.kinetic), json_number(r.energy.strain),

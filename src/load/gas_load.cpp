@@ -2,6 +2,8 @@
 // p(V) − ambient with the load stiffness, and the rank-one term of p(V) in the Jacobian.
 #include "velum/load/gas_load.hpp"
 
+#include "gas_flow_term.hpp"
+
 #include <fmt/format.h>
 
 #include "velum/assembly/assembler.hpp"
@@ -31,10 +33,24 @@ class GasChamber final : public Load, public GasLoad {
     step.functions.push_back(f);
     auto h = std::make_unique<GasChamber>(*this);
     h->amount = static_cast<int>(step.functions.size()) - 1;
+    // Gas flow goes on as it was: the inflators' curves (in the run's time) come along.
+    auto carry = [&](int& f) {
+      if (f < 0) return;
+      step.functions.push_back(owner.functions[static_cast<size_t>(f)]);
+      f = static_cast<int>(step.functions.size()) - 1;
+    };
+    for (auto& in : h->inflators) carry(in.mass_flow), carry(in.temperature_function);
     return h;
   }
   std::string_view counted_as() const override { return {}; }  // a line of its own
   std::string summary(int index) const override {
+    if (flows())
+      return fmt::format(
+          "gas {}:      reference volume {:.6g}, initial pressure {:.6g}, ambient {:.6g}, "
+          "gamma {:.6g}, temperature {:.6g}, gas constant {:.6g}; {} inflator(s), {} vent(s), "
+          "{} leaking set(s), {} orifice(s)",
+          index, V0, initial_pressure, ambient, gamma, temperature, gas_constant, inflators.size(),
+          vents.size(), leaks.size(), orifices.size());
     return fmt::format(
         "gas {}:      reference volume {:.6g}, initial pressure {:.6g}, ambient {:.6g}, "
         "gamma {:.6g}",
@@ -142,6 +158,7 @@ class GasChamberTerm final : public LoadTerm {
 };
 
 std::unique_ptr<LoadTerm> GasChamber::bind(const LoadSite& site) const {
+  if (flows()) return make_gas_flow_term(*this, site);
   return std::make_unique<GasChamberTerm>(*this, site);
 }
 

@@ -31,6 +31,11 @@ void reject_inversion(const SecondOrderSystem& sys, double t0, const VecX& u0, d
 StepReport TimeIntegrator::start(SecondOrderSystem& sys, LinearSolver& solver, double t, State& s) {
   // M a0 = f_ext − f_int − C v0: one linear solve with the Jacobian shifted to M alone.
   StepReport rep;
+  if (sys.global_size() == 0) {  // every motion prescribed: nothing to accelerate
+    s.a = VecX::Zero(sys.size());
+    rep.converged = true;
+    return rep;
+  }
   SparseMatrix J;
   VecX r, zero = VecX::Zero(sys.size()), da;
   sys.evaluate(t, s.u, s.v, zero, 0.0, 0.0, 1.0, r, &J);

@@ -109,6 +109,7 @@ struct Checkpoint {
   Energies energy;
   std::vector<double> integrator;  ///< TimeIntegrator::save
   std::vector<double> analysis;    ///< the energy account and the watches
+  std::vector<double> loads;       ///< MechanicalSystem::save_load_state (empty: none saved)
   std::vector<std::string> warnings;
 };
 
@@ -147,6 +148,9 @@ std::unique_ptr<LinearSolver> make_solver(const MechanicalSystem& system,
 struct AnalysisStart {
   const State* state = nullptr;
   const Checkpoint* resume = nullptr;
+  /// The loads' state the analysis goes on from (the step before, in a staged run;
+  /// MechanicalSystem::save_load_state): null, the loads start afresh at t0.
+  const std::vector<double>* loads = nullptr;
 };
 
 /// Who hears a run: `step` after each accepted step (and once at t0 with step 0; false stops

@@ -77,6 +77,15 @@ class MechanicalSystem final : public SecondOrderSystem {
 
   /// The loads bound to this system (load/load.hpp), in the model's order.
   const std::vector<std::unique_ptr<LoadTerm>>& loads() const { return terms_; }
+  /// Loads with a state integrated in time (LoadTerm::start, commit): their state at the start
+  /// (t, u), and a step ending at (t, u, v) accepted. The same bits on every process.
+  void start_loads(double t, const VecX& u, const VecX& v);
+  void accept(double t, const VecX& u, const VecX& v);
+  /// Their committed state as numbers (checkpoints, staged runs), and back (throws
+  /// std::invalid_argument when it does not fit these loads).
+  std::vector<double> save_load_state() const;
+  void restore_load_state(const std::vector<double>& state);
+
   /// A history quantity (gas_volume, gas_pressure) of the i-th load that has it, at the last
   /// evaluation of the loads; none when fewer loads have it.
   std::optional<double> load_quantity(std::string_view name, int i) const;

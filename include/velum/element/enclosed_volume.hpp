@@ -28,6 +28,9 @@ struct EnclosedVolume {
   static double gradient(const Nodes& x, const Vec3& o, Vector& a);
   /// The volume, its gradient and `scale` times its Hessian ∂²V/∂x².
   static double hessian(const Nodes& x, const Vec3& o, double scale, Vector& a, Matrix& H);
+  /// The current area ∫ |g1 x g2| dξ (the shape's Gauss rule) and its gradient ∂A/∂x
+  /// (leakage through the fabric follows the stretched area).
+  static double area(const Nodes& x, Vector* b);
 };
 
 /// The kernels of one shape behind a virtual interface (dispatch once per list of elements):
@@ -45,6 +48,13 @@ class SurfaceVolumeKernel {
   virtual void derivatives(std::span<const int> elements, std::span<const int> connectivity,
                            const Eigen::Matrix<double, 3, Eigen::Dynamic>& x, const Vec3& o,
                            double scale, double* a, double* H) const = 0;
+  /// Sum of the current areas of the listed elements.
+  virtual double area(std::span<const int> elements, std::span<const int> connectivity,
+                      const Eigen::Matrix<double, 3, Eigen::Dynamic>& x) const = 0;
+  /// Per listed element k: its area's gradient at b + k·dofs.
+  virtual void area_gradient(std::span<const int> elements, std::span<const int> connectivity,
+                             const Eigen::Matrix<double, 3, Eigen::Dynamic>& x,
+                             double* b) const = 0;
 };
 
 /// The kernel of a surface shape (shape_info.hpp) by its name; null for a line or an unknown name.

@@ -32,7 +32,10 @@ struct HistoryEntry {
     kStrainEnergy,
     kExternalWork,
     kGasVolume,
-    kGasPressure
+    kGasPressure,
+    kGasTemperature,
+    kGasMass,
+    kGasMassFlow
   };
   std::string name;
   Quantity quantity = Quantity::kDisplacement;
@@ -43,7 +46,8 @@ struct HistoryEntry {
   int block = -1, element = -1;    ///< where the point lies
   std::array<double, 2> xi{0, 0};  ///< natural coordinates of the point there
   bool degrees = true;             ///< fiber_angle_change unit
-  int load = -1;                   ///< gas_volume, gas_pressure: index into Model::gases
+  int load = -1;                   ///< gas_*: index into Model::gases
+  std::string flow;                ///< gas_mass_flow: "vent:0" (inflator, vent, leakage, orifice)
 };
 
 /// Components of the `stress` history quantity, in order.

@@ -111,6 +111,7 @@ class ResultsWriter {
   int frames() const { return static_cast<int>(frame_times_.size()); }
 
  private:
+  std::string accounts_;  ///< the loads' accounts (LoadTerm::account_json) at the last output
   /// This process's part of history entry h (history_row sums the parts; collective for gas).
   double history_value(const HistoryEntry& h, const StepSnapshot& snap, const NodePositions& U,
                        const NodePositions& V, const NodePositions& x, const NodePositions& R);

@@ -76,6 +76,28 @@ class LoadTerm {
   /// Adds cv ∂(−f)/∂v to J (a velocity-dependent load; the first process only on several).
   virtual void add_velocity_jacobian(const NodePositions& /*V*/, double /*cv*/,
                                      SparseMatrix& /*J*/) const {}
+  // Loads whose state is integrated in time (the gas of a chamber with inflow and outflow;
+  // contact friction will be one): add() evaluates from the state committed last, so a step
+  // that fails leaves it as it was. The system calls these where the analysis starts, accepts
+  // a step and writes or reads a checkpoint (MechanicalSystem::accept); nothing for the others.
+
+  /// The state at the start of the analysis, the loads at `s`.
+  virtual void start(const LoadState& /*s*/) {}
+  /// A step ending at `s` is accepted: the state moves on to it.
+  virtual void commit(const LoadState& /*s*/) {}
+  /// The committed state as numbers (a checkpoint, the next step of a staged run), and back:
+  /// restore_state reads from `in` at `at`, returns the position after what it read and
+  /// throws std::invalid_argument when it does not fit.
+  virtual void save_state(std::vector<double>& /*out*/) const {}
+  virtual size_t restore_state(const std::vector<double>& /*in*/, size_t at) { return at; }
+  /// Once every load of the system is bound: the system's terms in the model's order, this
+  /// one at `self` (gas chambers joined by orifices find each other).
+  virtual void connect(std::span<LoadTerm* const> /*all*/, int /*self*/) {}
+
+  /// Its account for summary.json, a JSON object (a gas chamber's mass and energy balance
+  /// since the start); empty when it keeps none.
+  virtual std::string account_json() const { return {}; }
+
   /// A quantity of the output's history (gas_volume, gas_pressure) at the last add(); none
   /// when the load has no such quantity.
   virtual std::optional<double> quantity(std::string_view /*name*/) const { return {}; }

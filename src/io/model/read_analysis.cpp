@@ -386,15 +386,16 @@ void Reader::parse_output(const Node& o, const Node& root) {
     return;
   }
   const std::vector<std::string> quantities = {
-      "displacement",       "velocity",   "position",       "reaction",
-      "fiber_angle_change", "stress",     "kinetic_energy", "strain_energy",
-      "external_work",      "gas_volume", "gas_pressure"};
+      "displacement", "velocity",        "position",      "reaction",      "fiber_angle_change",
+      "stress",       "kinetic_energy",  "strain_energy", "external_work", "gas_volume",
+      "gas_pressure", "gas_temperature", "gas_mass",      "gas_mass_flow"};
   std::set<std::string> names;
   for (size_t i = 0; i < h.size(); ++i) {
     const Node e = h[i];
     const std::string p = item("output.history", i);
     if (!check_map(e, p,
-                   {"name", "quantity", "node", "nodes", "component", "point", "unit", "load"}))
+                   {"name", "quantity", "node", "nodes", "component", "point", "unit", "load",
+                    "inflator", "vent", "leakage", "orifice"}))
       continue;
     auto name = text(e, "name", p, true);
     auto q = text(e, "quantity", p, true);
@@ -486,6 +487,9 @@ void Reader::parse_output(const Node& o, const Node& root) {
       }
       case Q::kGasVolume:
       case Q::kGasPressure:
+      case Q::kGasTemperature:
+      case Q::kGasMass:
+      case Q::kGasMassFlow:
         ok = parse_gas_history(e, p, he);
         break;
       default:

@@ -106,6 +106,27 @@ class Reader : public ReaderContext {
 
   // read_gas.cpp
   void parse_gas_load(const Node& l, const std::string& path);
+  /// The membrane element sets of `elements` (one name or a list); nullopt when invalid.
+  std::optional<std::vector<GasLoad::Part>> gas_parts(const Node& l, const std::string& path);
+  /// The gas-flow keys (temperature, gas_constant, inflator, vents, leakage, orifices).
+  bool parse_gas_flow(const Node& l, const std::string& path, GasLoad& gas);
+  /// A time function by name (-1: step; -2: invalid, reported); inflator curves are kept for
+  /// check_gas_flow.
+  int gas_function(const Node& map, const char* key, const std::string& path, bool required);
+  /// Once the analysis is read: orifices between known chambers, tables covering the run.
+  void check_gas_flow();
+  struct GasOrifice {
+    Node at;
+    std::string path;
+    int self, other;
+  };
+  struct GasCurve {
+    Node at;
+    std::string path;
+    int function;
+  };
+  std::vector<GasOrifice> gas_orifices_;
+  std::vector<GasCurve> gas_curves_;
   /// The `load:` of a gas_volume or gas_pressure history entry; false when invalid.
   bool parse_gas_history(const Node& e, const std::string& path, HistoryEntry& he);
 
