@@ -211,6 +211,15 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     s = resume->state;
     s.u = sys.to_local(s.u), s.v = sys.to_local(s.v), s.a = sys.to_local(s.a);
   }
+  // The loads' state integrated in time (a gas chamber's): from the checkpoint, from the step
+  // before, or afresh at the start.
+  if (resume && !resume->loads.empty())
+    sys.restore_load_state(resume->loads);
+  else if (loads)
+    sys.restore_load_state(*loads);
+  else
+    sys.start_loads(settings.time.t0, s.u, s.v);
+
   TimeLoopSettings loop = settings.time;
   if (resume) {
     loop.step = resume->loop.step;
@@ -221,15 +230,6 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     loop.step = std::min(loop.step, 0.9 * result.stable_step);
     loop.adaptive = false;
   }
-
-  // The loads' state integrated in time (a gas chamber's): from the checkpoint, from the step
-  // before, or afresh at the start.
-  if (resume && !resume->loads.empty())
-    sys.restore_load_state(resume->loads);
-  else if (loads)
-    sys.restore_load_state(*loads);
-  else
-    sys.start_loads(loop.t0, s.u, s.v);
 
   Energies& E = result.energy;
   EnergyAccount energy(sys, settings.type == AnalysisSettings::Type::kDynamic, loop.t0, s, E);

@@ -219,6 +219,7 @@ void Network::solve(double t, const Inputs& in, bool derivatives, Solution& out)
   const int nz = 2 * n, nv = 3 * n + leaks_;
   out.ok = false;
   out.iterations = 0;
+  if (now_.m.size() != chambers_.size()) return;  // not started
   for (int c = 0; c < n; ++c)
     if (!(in.V[c] > 0)) return;
   const double h = t - t_;
