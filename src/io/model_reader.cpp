@@ -198,10 +198,15 @@ void Reader::final_checks(const Node& root) {
       if (!used[n]) f.nodes.push_back(static_cast<int>(n));
     in_.model.fixed.push_back(std::move(f));
   }
-  if (DofMap(in_.model).num_equations() == 0)
+  // Every component held: a model whose motion is all prescribed still has its answer (the
+  // reactions along the motion: Kratos' displacement-controlled truss); one that nothing moves
+  // has none.
+  const bool moves = std::any_of(in_.model.prescribed.begin(), in_.model.prescribed.end(),
+                                 [](const PrescribedMotion& p) { return !p.displacement.isZero(); });
+  if (DofMap(in_.model).num_equations() == 0 && !moves)
     error(root["boundary"] ? root["boundary"] : root, "boundary",
-          "every degree of freedom is fixed or prescribed: there is nothing to solve (0 "
-          "equations)");
+          "every degree of freedom is fixed: there is nothing to solve (0 equations, no "
+          "prescribed motion)");
 }
 
 }  // namespace model_file
