@@ -215,7 +215,7 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     result.warnings.push_back(std::move(w));
   };
   StabilityWatch stability(warn, settings.type == AnalysisSettings::Type::kStatic &&
-                                      settings.path.method != PathSettings::Method::kLoadControl);
+                                     settings.path.method != PathSettings::Method::kLoadControl);
   auto integrator = make_integrator(settings);
   auto solver = make_solver(sys, settings);
   result.integrator = integrator->name();
@@ -400,7 +400,8 @@ std::string AnalysisSettings::method() const {
 
 std::string AnalysisSettings::run_name() const {
   if (type == Type::kStatic && path.method != PathSettings::Method::kLoadControl)
-    return path.method == PathSettings::Method::kDisplacement ? "path following (displacement control)"
+    return path.method == PathSettings::Method::kDisplacement
+               ? "path following (displacement control)"
            : path.constraint == PathSettings::Constraint::kRiks
                ? "path following (arc length, Riks)"
                : "path following (arc length, cylindrical)";

@@ -93,14 +93,14 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
     const auto level_start = std::chrono::steady_clock::now();
     auto end_level = [&](int update) {
       out.stopped = !out_of_time(level_start, ff.max_seconds);
-      out.reason =
-          out.stopped
-              ? fmt::format("form finding interrupted at t = {:.6g} after {} updates", t_next,
-                            update)
-              : fmt::format("form finding at t = {:.6g}: no equilibrium shape within "
-                            "analysis.form_finding.max_seconds = {:g} s ({} updates; residual "
-                            "{:.3g} of the force scale, tolerance {:.3g})",
-                            t_next, ff.max_seconds, update, rep_out.residual, ff.tolerance);
+      out.reason = out.stopped
+                       ? fmt::format("form finding interrupted at t = {:.6g} after {} updates",
+                                     t_next, update)
+                       : fmt::format(
+                             "form finding at t = {:.6g}: no equilibrium shape within "
+                             "analysis.form_finding.max_seconds = {:g} s ({} updates; residual "
+                             "{:.3g} of the force scale, tolerance {:.3g})",
+                             t_next, ff.max_seconds, update, rep_out.residual, ff.tolerance);
       rep_out.shape = x;
       if (report) *report = rep_out;
       return result;

@@ -102,8 +102,7 @@ std::string PlausibilityCheck::final_balance(double t, const EnergyBalance& b,
         "energy spike at t = {:.6g}: the model held {:.4g} more energy than all the work done "
         "on it by then ({:.0f}% of the most work done, {:.4g}; more than {:g}%): a collapsed "
         "(folded) element or a blow-up that died down; results near it are not physical",
-        b.peak_t, b.peak_created, 100 * b.peak_created / scale, scale,
-        100 * limits_.energy_warn));
+        b.peak_t, b.peak_created, 100 * b.peak_created / scale, scale, 100 * limits_.energy_warn));
   return {};
 }
 

@@ -201,8 +201,9 @@ void Reader::final_checks(const Node& root) {
   // Every component held: a model whose motion is all prescribed still has its answer (the
   // reactions along the motion: Kratos' displacement-controlled truss); one that nothing moves
   // has none.
-  const bool moves = std::any_of(in_.model.prescribed.begin(), in_.model.prescribed.end(),
-                                 [](const PrescribedMotion& p) { return !p.displacement.isZero(); });
+  const bool moves =
+      std::any_of(in_.model.prescribed.begin(), in_.model.prescribed.end(),
+                  [](const PrescribedMotion& p) { return !p.displacement.isZero(); });
   if (DofMap(in_.model).num_equations() == 0 && !moves)
     error(root["boundary"] ? root["boundary"] : root, "boundary",
           "every degree of freedom is fixed: there is nothing to solve (0 equations, no "

@@ -41,8 +41,7 @@ class PathTracer {
   bool in_equilibrium() {
     sys_.evaluate(t_, u_, zero_, zero_, 1.0, 0.0, 0.0, r_, nullptr);
     const double rn = sys_.norm(r_);
-    return rn <= ConvergenceTest(newton_).target_against(sys_.force_scale(),
-                                                         sys_.residual_noise());
+    return rn <= ConvergenceTest(newton_).target_against(sys_.force_scale(), sys_.residual_noise());
   }
   const VecX& candidate_u() const { return cand_u_; }
   double candidate_t() const { return cand_t_; }
@@ -352,9 +351,8 @@ TimeLoopResult run_path_following(
     res.factorizations += rep.factorizations;
     res.t = tracer.t();
     travelled += by_displacement ? h_tau : std::abs(h);
-    const bool output = cfg.output_interval <= 0 ||
-                        travelled >= cfg.output_interval * (1 - 1e-9) || reached_end() ||
-                        (by_arc && res.steps >= path.max_steps);
+    const bool output = cfg.output_interval <= 0 || travelled >= cfg.output_interval * (1 - 1e-9) ||
+                        reached_end() || (by_arc && res.steps >= path.max_steps);
     if (output) travelled = 0;
     AcceptedStep info{.t = tracer.t(),
                       .h = h,

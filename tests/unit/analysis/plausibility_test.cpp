@@ -89,13 +89,9 @@ TEST(Plausibility, EndBalanceAgainstNetWork) {
   EXPECT_TRUE(warnings.empty());
   // Balanced at the end, but the energy held rose to three times all the work done (a folded
   // element whose energy spiked): a warning naming the time of the spike.
-  EXPECT_EQ(check.final_balance(9,
-                                {.held = 1.0,
-                                 .work = 1.0,
-                                 .peak_work = 1.0,
-                                 .peak_created = 2.0,
-                                 .peak_t = 4.5},
-                                warn),
+  EXPECT_EQ(check.final_balance(
+                9, {.held = 1.0, .work = 1.0, .peak_work = 1.0, .peak_created = 2.0, .peak_t = 4.5},
+                warn),
             "");
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("energy spike at t = 4.5"), std::string::npos) << warnings[0];

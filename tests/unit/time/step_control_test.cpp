@@ -146,11 +146,11 @@ TEST(StepControl, MergesASliverIntoTheStepBefore) {
   State s;
   s.u = s.v = s.a = VecX::Zero(1);
   std::vector<double> h;
-  TimeLoopResult r = run_time_loop(sys, never_hard, *solver, cfg, s,
-                                   [&](const AcceptedStep& st, const State&) {
-                                     h.push_back(st.h);
-                                     return true;
-                                   });
+  TimeLoopResult r =
+      run_time_loop(sys, never_hard, *solver, cfg, s, [&](const AcceptedStep& st, const State&) {
+        h.push_back(st.h);
+        return true;
+      });
   ASSERT_TRUE(r.completed) << r.reason;
   EXPECT_EQ(h.size(), 10u);  // not 10 steps and a sliver of 1e-9
   EXPECT_GE(*std::min_element(h.begin(), h.end()), cfg.min_step);
