@@ -91,8 +91,13 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
     StepReport last;
     bool found = false;
     const auto level_start = std::chrono::steady_clock::now();
-    auto end_level = [&](int update) {
-      out.stopped = !out_of_time(level_start, ff.max_seconds);
+    // Several processes: each one's clock, the decision together (any one spent ends it).
+    auto spent = [&] {
+      return ff.max_seconds > 0 &&
+             view.sum_over_processes(out_of_time(level_start, ff.max_seconds) ? 1.0 : 0.0) > 0;
+    };
+    auto end_level = [&](int update, bool over_time) {
+      out.stopped = !over_time;
       out.reason = out.stopped
                        ? fmt::format("form finding interrupted at t = {:.6g} after {} updates",
                                      t_next, update)
@@ -108,8 +113,8 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
     for (int update = 0; update <= ff.max_updates; ++update) {
       // A signal, or the level's time spent: the level fails here (a stiffer stabilizer or
       // a shorter level would spend it again).
-      if (settings.newton.interrupt_requested() || out_of_time(level_start, ff.max_seconds))
-        return end_level(update);
+      if (settings.newton.interrupt_requested()) return end_level(update, false);
+      if (spent()) return end_level(update, true);
       Model work = update_model(model, x, t_next, stabilizer);
       MechanicalSystem sys(work);
       const VecX zero = VecX::Zero(sys.size());
@@ -145,7 +150,7 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
       result.solver = std::string(solver->name());
       result.factorizations += solver->factorizations();
       result.analyses += solver->analyses();
-      if (last.interrupted) return end_level(update);
+      if (last.interrupted) return end_level(update, false);
       if (!last.converged) {
         // Homotopy towards shorter strides: a stiffer stabilizer.
         if (stabilizer >= 1e4 * ff.stiffness) {

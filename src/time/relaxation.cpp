@@ -15,13 +15,16 @@ double seconds_now() {
 
 }  // namespace
 
-bool DynamicRelaxation::out_of_time(double rn, std::string& why) {
+bool DynamicRelaxation::out_of_time(const SecondOrderSystem& sys, double rn, std::string& why) {
   if (newton.interrupt_requested()) {
     interrupted_ = true;
     why = "interrupted";
     return true;
   }
-  if (relaxation.max_seconds > 0 && seconds_now() - level_start_ > relaxation.max_seconds) {
+  // Several processes: each one's clock, the decision together (any one spent ends it).
+  if (relaxation.max_seconds > 0 &&
+      sys.sum_over_processes(seconds_now() - level_start_ > relaxation.max_seconds ? 1.0 : 0.0) >
+          0) {
     spent_ = true;
     why = fmt::format(
         "dynamic relaxation: the load level was not relaxed within analysis.relaxation."
@@ -81,7 +84,7 @@ bool DynamicRelaxation::relax(SecondOrderSystem& sys, double t, VecX& u, double 
     const double target = ConvergenceTest(rel_target, newton.abs_residual)
                               .target_against(scale, sys.residual_noise());
     if (rn <= target) return true;
-    if (out_of_time(rn, why)) return false;
+    if (out_of_time(sys, rn, why)) return false;
     // A residual far above the one at the last peak: the masses are too light for the
     // stiffness reached (it grows as the sheet tightens). Back to the peak, heavier masses.
     if (r_peak > 0 && rn > 1e3 * r_peak) {

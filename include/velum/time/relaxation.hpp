@@ -44,7 +44,7 @@ class DynamicRelaxation : public TimeIntegrator {
   bool relax(SecondOrderSystem& sys, double t, VecX& u, double target, long budget,
              std::string& why);
   /// Whether the level must end now (a signal, or max_seconds spent): `why` says which.
-  bool out_of_time(double rn, std::string& why);
+  bool out_of_time(const SecondOrderSystem& sys, double rn, std::string& why);
   /// Fictitious masses from the tangent at u: m = ½ max over the node's equations of the row
   /// sums of |K| (so Δτ = 1 is stable by Gershgorin with a margin of 2).
   void update_masses(SecondOrderSystem& sys, double t, const VecX& u);
