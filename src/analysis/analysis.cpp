@@ -41,16 +41,19 @@ namespace {
 // stretch (a negative eigenvalue of the tangent stiffness), one when it leaves it.
 class StabilityWatch {
  public:
-  explicit StabilityWatch(const std::function<void(std::string)>& warn) : warn_(warn) {}
+  StabilityWatch(const std::function<void(std::string)>& warn, bool following)
+      : warn_(warn), following_(following) {}
   void observe(const AcceptedStep& st) {
     const int neg = st.report ? st.report->negative_pivots : -1;
     if (neg < 0 || neg == last_) return;
     if (neg > 0 && last_ <= 0)
       warn_(fmt::format(
           "unstable equilibrium from t = {:.6g} (step {}): the tangent stiffness has {} negative "
-          "eigenvalue{} (past a limit or bifurcation point); a load step may jump to another "
-          "branch. Follow the path with analysis.path (arc_length or displacement)",
-          st.t, st.step, neg, neg == 1 ? "" : "s"));
+          "eigenvalue{} (past a limit or bifurcation point){}",
+          st.t, st.step, neg, neg == 1 ? "" : "s",
+          following_ ? ""
+                     : "; a load step may jump to another branch. Follow the path with "
+                       "analysis.path (arc_length or displacement)"));
     else if (neg == 0 && last_ > 0)
       warn_(fmt::format("stable again from t = {:.6g} (step {})", st.t, st.step));
     last_ = neg;
@@ -60,6 +63,7 @@ class StabilityWatch {
 
  private:
   std::function<void(std::string)> warn_;
+  bool following_;  ///< path following: the path is followed already
   int last_ = 0;
 };
 
@@ -93,6 +97,7 @@ class EnergyAccount {
     dW = sys_.sum_over_processes(dW);
     E.external_work += dW;
     work_scale_ += std::abs(dW);
+    peak_work_ = std::max(peak_work_, std::abs(E.external_work));
     // v·Mv once per step, kept for the next step's damping work (was three products).
     const double alpha = sys_.model().rayleigh_mass;
     const bool need = alpha != 0 || dynamic_;
@@ -105,7 +110,18 @@ class EnergyAccount {
     E.strain = sys_.strain_energy(st.t, cur.u);
     U_prev_ = U, F_prev_ = F, v_prev_ = cur.v;
     vmv_prev_ = need ? vmv : kUnknown;
+    if (const double created = held(E) - E.external_work; created > peak_created_)
+      peak_created_ = created, peak_t_ = st.t;
     return U;
+  }
+  /// The balance at the end, measured against the net work and the most work ever done.
+  EnergyBalance balance(const Energies& E) const {
+    return {.held = held(E),
+            .work = E.external_work,
+            .peak_work = peak_work_,
+            .peak_created = peak_created_,
+            .peak_t = peak_t_,
+            .held_start = held0_};
   }
   /// Kinetic + strain + damping energy, changes since the start.
   double held(const Energies& E) const { return E.kinetic + E.strain + E.damping - held0_; }
@@ -120,8 +136,7 @@ class EnergyAccount {
   // process keeps them: each node's displacement and forces from the process keeping it (the
   // forces' shares completed at the shared nodes first).
   void save(std::vector<double>& m) const {
-    m.push_back(held0_);
-    m.push_back(work_scale_);
+    m.insert(m.end(), {held0_, work_scale_, peak_work_, peak_created_, peak_t_});
     if (!sys_.distributed()) {
       for (const NodePositions* P : {&U_prev_, &F_prev_, &R_prev_}) put(m, P->data(), P->size());
       put(m, v_prev_.data(), v_prev_.size());
@@ -144,7 +159,8 @@ class EnergyAccount {
   // Reads what save() wrote from m[at]; returns the position after it.
   size_t restore(const std::vector<double>& m, size_t at) {
     held0_ = m.at(at), work_scale_ = m.at(at + 1);
-    at += 2;
+    peak_work_ = m.at(at + 2), peak_created_ = m.at(at + 3), peak_t_ = m.at(at + 4);
+    at += 5;
     for (NodePositions* P : {&U_prev_, &F_prev_, &R_prev_}) {
       const auto n = static_cast<Eigen::Index>(m.at(at));
       P->resize(3, n / 3);
@@ -182,6 +198,9 @@ class EnergyAccount {
   static constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
   double vmv_prev_ = kUnknown;  ///< v_prev_ · M v_prev_, once known
   double held0_ = 0, work_scale_ = 0;
+  double peak_work_ = 0;     ///< the largest |work done| reached
+  double peak_created_ = 0;  ///< the largest energy created (held − work) and when
+  double peak_t_ = 0;
 };
 
 // Load stepping, relaxation, dynamics (the time loop) and path following: the analyses that
@@ -195,7 +214,8 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     if (on_warning) on_warning(w);
     result.warnings.push_back(std::move(w));
   };
-  StabilityWatch stability(warn);
+  StabilityWatch stability(warn, settings.type == AnalysisSettings::Type::kStatic &&
+                                     settings.path.method != PathSettings::Method::kLoadControl);
   auto integrator = make_integrator(settings);
   auto solver = make_solver(sys, settings);
   result.integrator = integrator->name();
@@ -320,9 +340,13 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     result.loop.stopped = false;
     result.loop.reason = implausible;
   }
-  if (result.loop.completed && energy.balanced())
-    plausible.final_balance(result.loop.t, energy.held(E), E.external_work, energy.work_scale(),
-                            warn, energy.held_start());
+  if (result.loop.completed && energy.balanced()) {
+    if (std::string off = plausible.final_balance(result.loop.t, energy.balance(E), warn);
+        !off.empty()) {
+      result.loop.completed = false;
+      result.loop.reason = std::move(off);
+    }
+  }
   result.solver = std::string(solver->name());  // what `auto` settled on
   result.factorizations = solver->factorizations();
   result.analyses = solver->analyses();
@@ -387,6 +411,12 @@ std::string AnalysisSettings::method() const {
 }
 
 std::string AnalysisSettings::run_name() const {
+  if (type == Type::kStatic && path.method != PathSettings::Method::kLoadControl)
+    return path.method == PathSettings::Method::kDisplacement
+               ? "path following (displacement control)"
+           : path.constraint == PathSettings::Constraint::kRiks
+               ? "path following (arc length, Riks)"
+               : "path following (arc length, cylindrical)";
   const AnalysisTypeInfo& i = info_of(type);
   return *i.run ? std::string(i.run) : "dynamic run (" + scheme + ")";
 }

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
@@ -33,6 +34,13 @@ Model update_model(const Model& model, const NodePositions& x, double t, double 
   w.rayleigh_stiffness = model.rayleigh_stiffness;
   w.piece = model.piece;  // under mpirun: the same piece, its nodes and partition
   return w;
+}
+
+// Whether a level begun at `start` has spent its max_seconds (0: no limit).
+bool out_of_time(std::chrono::steady_clock::time_point start, double max_seconds) {
+  return max_seconds > 0 &&
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
+             max_seconds;
 }
 
 }  // namespace
@@ -82,7 +90,31 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
     int level_iterations = 0, level_factorizations = 0;
     StepReport last;
     bool found = false;
+    const auto level_start = std::chrono::steady_clock::now();
+    // Several processes: each one's clock, the decision together (any one spent ends it).
+    auto spent = [&] {
+      return ff.max_seconds > 0 &&
+             view.sum_over_processes(out_of_time(level_start, ff.max_seconds) ? 1.0 : 0.0) > 0;
+    };
+    auto end_level = [&](int update, bool over_time) {
+      out.stopped = !over_time;
+      out.reason = out.stopped
+                       ? fmt::format("form finding interrupted at t = {:.6g} after {} updates",
+                                     t_next, update)
+                       : fmt::format(
+                             "form finding at t = {:.6g}: no equilibrium shape within "
+                             "analysis.form_finding.max_seconds = {:g} s ({} updates; residual "
+                             "{:.3g} of the force scale, tolerance {:.3g})",
+                             t_next, ff.max_seconds, update, rep_out.residual, ff.tolerance);
+      rep_out.shape = x;
+      if (report) *report = rep_out;
+      return result;
+    };
     for (int update = 0; update <= ff.max_updates; ++update) {
+      // A signal, or the level's time spent: the level fails here (a stiffer stabilizer or
+      // a shorter level would spend it again).
+      if (settings.newton.interrupt_requested()) return end_level(update, false);
+      if (spent()) return end_level(update, true);
       Model work = update_model(model, x, t_next, stabilizer);
       MechanicalSystem sys(work);
       const VecX zero = VecX::Zero(sys.size());
@@ -118,6 +150,7 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
       result.solver = std::string(solver->name());
       result.factorizations += solver->factorizations();
       result.analyses += solver->analyses();
+      if (last.interrupted) return end_level(update, false);
       if (!last.converged) {
         // Homotopy towards shorter strides: a stiffer stabilizer.
         if (stabilizer >= 1e4 * ff.stiffness) {

@@ -78,16 +78,32 @@ std::string PlausibilityCheck::check(double t, const NodePositions& U, const Sta
   return {};
 }
 
-void PlausibilityCheck::final_balance(double t, double held, double work, double work_scale,
-                                      const std::function<void(std::string)>& warn,
-                                      double held_start) const {
-  const double created = held - work;
-  if (created > limits_.energy_warn * work_scale + energy_floor(held, work_scale, held_start))
+std::string PlausibilityCheck::final_balance(double t, const EnergyBalance& b,
+                                             const std::function<void(std::string)>& warn) const {
+  const double scale = std::max(std::abs(b.work), b.peak_work);
+  const double created = b.held - b.work;
+  const double floor = energy_floor(b.held, scale, b.held_start);
+  if (created > limits_.energy_fail_end * scale + floor)
+    return fmt::format(
+        "implausible: the energy balance fails at the end (t = {:.6g}): kinetic + strain + "
+        "damping energy {:.4g} against {:.4g} of work done (at most {:.4g} during the run): "
+        "{:.3g} created by the solution, {:.0f}% of the work (the limit is {:g}%); a blow-up "
+        "or a collapsed element: try smaller steps or another integrator",
+        t, b.held, b.work, b.peak_work, created, 100 * created / scale,
+        100 * limits_.energy_fail_end);
+  if (created > limits_.energy_warn * scale + floor)
     warn(fmt::format(
         "energy balance off at the end (t = {:.6g}): kinetic + strain + damping energy {:.4g} "
-        "against {:.4g} of work done, {:.0f}% of the work created by the solution (more than "
-        "{:g}%)",
-        t, held, work, 100 * created / work_scale, 100 * limits_.energy_warn));
+        "against {:.4g} of work done (at most {:.4g} during the run), {:.0f}% of the work "
+        "created by the solution (more than {:g}%)",
+        t, b.held, b.work, b.peak_work, 100 * created / scale, 100 * limits_.energy_warn));
+  else if (b.peak_created > limits_.energy_warn * scale + floor)
+    warn(fmt::format(
+        "energy spike at t = {:.6g}: the model held {:.4g} more energy than all the work done "
+        "on it by then ({:.0f}% of the most work done, {:.4g}; more than {:g}%): a collapsed "
+        "(folded) element or a blow-up that died down; results near it are not physical",
+        b.peak_t, b.peak_created, 100 * b.peak_created / scale, scale, 100 * limits_.energy_warn));
+  return {};
 }
 
 }  // namespace velum

@@ -199,13 +199,18 @@ void Reader::final_checks(const Node& root) {
       if (!used[n]) f.nodes.push_back(static_cast<int>(n));
     in_.model.fixed.push_back(std::move(f));
   }
-  // A rigid vessel (every wall held) still has its gas state to march in time.
+  // Every component held: a model whose motion is all prescribed still has its answer (the
+  // reactions along the motion: Kratos' displacement-controlled truss), and a rigid vessel
+  // (every wall held) still has its gas state to march in time; one that nothing moves has none.
+  const bool moves =
+      std::any_of(in_.model.prescribed.begin(), in_.model.prescribed.end(),
+                  [](const PrescribedMotion& p) { return !p.displacement.isZero(); });
   const bool gas_flow = std::any_of(in_.model.gases.begin(), in_.model.gases.end(),
                                     [](const GasLoad& g) { return g.flows(); });
-  if (!gas_flow && DofMap(in_.model).num_equations() == 0)
+  if (DofMap(in_.model).num_equations() == 0 && !moves && !gas_flow)
     error(root["boundary"] ? root["boundary"] : root, "boundary",
-          "every degree of freedom is fixed or prescribed: there is nothing to solve (0 "
-          "equations)");
+          "every degree of freedom is fixed: there is nothing to solve (0 equations, no "
+          "prescribed motion)");
 }
 
 }  // namespace model_file

@@ -179,6 +179,12 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   CheckpointSchedule checkpoints(input.output, input.analysis.time);
   AnalysisSettings settings = input.analysis;
   settings.time.output_interval = input.output.interval;
+  // SIGINT, SIGTERM inside the loops that may run long (Newton, relaxation, path steps, form
+  // finding): under mpirun every process asks at the same points, and all stop together.
+  settings.newton.interrupted = [several] {
+    const bool mine = InterruptGuard::signal_received() != 0;
+    return several ? !processes::all(!mine) : mine;
+  };
   if (!opt.quiet)
     say(stderr, "velum: {} nodes, {} elements, {} equations; results in {}\n", all_nodes,
         input.model.num_elements(), system->global_size(), input.output.directory.string());
@@ -303,6 +309,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
                     summary.reason.empty() ? "unknown reason" : summary.reason));
     return out;
   }
+  if (out.status == kExitInterrupted || out.status == kExitTerminated) return out;
   if (!opt.quiet && !summary.warnings.empty())
     fmt::print(stderr, "velum: {} warning{} (in summary.json)\n", summary.warnings.size(),
                summary.warnings.size() == 1 ? "" : "s");

@@ -43,6 +43,9 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
         input.model.num_nodes(), input.model.num_elements(), n, out.directory.string());
   RunSummary& summary = out.summary;
   summary.elements = input.model.num_elements();
+  // SIGINT, SIGTERM inside the loops that may run long (one process: run_staged refuses more).
+  for (AnalysisStep& s : input.steps)
+    s.analysis.newton.interrupted = [] { return InterruptGuard::signal_received() != 0; };
   StageObserver obs;
   obs.begin = [&](int k, MechanicalSystem& sys) {
     writer->begin_analysis_step(k + 1, sys);
@@ -115,6 +118,7 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
                                      summary.final_time, out.directory.string(), r.reason));
     return out;
   }
+  if (out.status == kExitInterrupted || out.status == kExitTerminated) return out;
   if (!opt.quiet)
     say(stderr,
         "velum: converged ({} steps); energy: kinetic {:.6g}, strain {:.6g}, external work "

@@ -179,6 +179,10 @@ bool StaticNewton::predict(const SecondOrderSystem& sys, double t, double h, con
 
 void StaticNewton::record_inertia(SecondOrderSystem& sys, LinearSolver& solver, double t,
                                   const VecX& u, StepReport& rep) {
+  if (sys.global_size() == 0) {  // every motion prescribed: no stiffness to be indefinite
+    rep.negative_pivots = 0;
+    return;
+  }
   rep.negative_pivots = solver.negative_pivots();
   // The count is that of the last tangent factorised, at an iterate near u; where it differs
   // from the last step's (a critical point may lie between), it is made exact at u itself,
@@ -255,7 +259,8 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
   // branch), is retried from the last state, which keeps the branch the path is on.
   const bool less_stable =
       rep.converged && negative_pivots_ >= 0 && rep.negative_pivots > negative_pivots_;
-  if (extrapolated && (!rep.converged || less_stable)) {
+  if (extrapolated && !rep.interrupted && (!rep.converged || less_stable)) {
+    const int seen = rep.negative_pivots_seen;
     VecX u_plain = s.u;
     StepReport plain = solve_from(u_plain);
     const int iterations = rep.iterations + plain.iterations,
@@ -269,10 +274,21 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
     }
     rep.iterations = iterations;
     rep.factorizations = factorizations;
+    rep.negative_pivots_seen = std::max(rep.negative_pivots_seen, seen);
   }
   if (rep.converged) {
     remember(sys, t, h, s.u, u, rep);
     s.u = u;
+  } else if (!rep.interrupted && negative_pivots_ == 0 && rep.negative_pivots_seen > 0) {
+    // From a stable state the iterations wandered onto an indefinite tangent and found no
+    // equilibrium: the load has passed its limit on this branch, where a smaller step only
+    // comes closer to the limit point and load control cannot go on.
+    rep.reason = fmt::format(
+        "the load passes a limit point near t = {:.6g}: beyond it there is no equilibrium near "
+        "this branch (the tangent stiffness turned indefinite in the iterations, {} negative "
+        "eigenvalue{}), and a smaller step cannot help; follow the path with analysis.path "
+        "(arc_length) or run a dynamic analysis ({})",
+        t, rep.negative_pivots_seen, rep.negative_pivots_seen == 1 ? "" : "s", rep.reason);
   }
   return rep;
 }

@@ -324,6 +324,7 @@ bool NewtonSolver::Iteration::correct(int it, double rn, double target, bool may
     stiffened_ = it == 0 && search_ && sys_.stiffen_stress_free(J_);
     if (!newton_correction(sys_, solver_, J_, r_, du_, rep_.reason, enough)) return false;
     ++rep_.factorizations;
+    rep_.negative_pivots_seen = std::max(rep_.negative_pivots_seen, solver_.negative_pivots());
     quasi_steps_ = 0;
     pairs_ = secant_ && solver_.negative_pivots() == 0 ? secant_ : nullptr;
     if (pairs_) pairs_->clear();
@@ -341,6 +342,11 @@ bool NewtonSolver::Iteration::correct(int it, double rn, double target, bool may
 
 StepReport NewtonSolver::Iteration::run() {
   for (int it = 0; it <= ns_.max_iterations; ++it) {
+    if (ns_.interrupt_requested()) {
+      rep_.interrupted = true;
+      rep_.reason = "interrupted";
+      return rep_;
+    }
     // When the corrections contract fast enough that this iterate should be the last
     // (quadratic model: next ≈ ‖du‖ θ²), its residual is evaluated alone first: a tangent
     // assembled at the converged point is never used.

@@ -37,6 +37,12 @@ class PathTracer {
   }
   const VecX& u() const { return u_; }
   double t() const { return t_; }
+  // Whether the accepted point is an equilibrium within the Newton tolerance.
+  bool in_equilibrium() {
+    sys_.evaluate(t_, u_, zero_, zero_, 1.0, 0.0, 0.0, r_, nullptr);
+    const double rn = sys_.norm(r_);
+    return rn <= ConvergenceTest(newton_).target_against(sys_.force_scale(), sys_.residual_noise());
+  }
   const VecX& candidate_u() const { return cand_u_; }
   double candidate_t() const { return cand_t_; }
 
@@ -152,6 +158,11 @@ StepReport PathTracer::step(Control control, double size) {
   ConvergenceTest test(newton_);
   double dn = 0;
   for (int it = 0;; ++it) {
+    if (newton_.interrupt_requested()) {
+      rep.interrupted = true;
+      rep.reason = "interrupted";
+      return rep;
+    }
     cand_u_ = u_ + du;
     cand_t_ = t_ + dt;
     load_rate(cand_u_, cand_t_, q_);
@@ -261,12 +272,38 @@ TimeLoopResult run_path_following(
   ctl.largest = ctl.size;
   ctl.smallest = ctl.size * cfg.min_step / cfg.step;
   bool measuring = measure_first;
-  auto done = [&] {
+  auto reached_end = [&] {
     if (by_displacement) return tau >= cfg.t_end - eps;
-    if (by_arc && res.steps >= path.max_steps) return true;
     return std::abs(tracer.t() - cfg.t_end) <= eps;
   };
-  while (!done()) {
+  // A start out of equilibrium (a gas chamber that starts pressurised, a state carried in) is
+  // first brought to equilibrium at t0 by Newton on u alone: the path's tangent means nothing
+  // off the path.
+  if (tracer.in_equilibrium()) {
+    // Nothing to do.
+  } else if (const StepReport eq = tracer.step(Control::kLoad, 0.0); !eq.converged) {
+    if (eq.interrupted) res.stopped = true;
+    return failed(fmt::format(
+        "at t = {:g}: path following starts from a state out of equilibrium, and Newton could "
+        "not bring it to equilibrium at the start's load ({}); start from an equilibrium (a "
+        "static step first)",
+        cfg.t0, eq.reason));
+  } else {
+    tracer.accept();
+    s.u = tracer.u();
+    res.iterations += eq.iterations;
+    res.factorizations += eq.factorizations;
+  }
+  // Frames and history rows every output interval of travel: of the load parameter along the
+  // path (which turns back through a limit point), or of the pseudo-time in displacement
+  // control; and at the last step.
+  double travelled = 0;
+  while (!reached_end()) {
+    if (by_arc && res.steps >= path.max_steps)
+      return failed(fmt::format(
+          "arc length: analysis.path.max_steps = {} steps taken and the path is at t = {:.6g}, "
+          "not at the end t = {:.6g}; raise max_steps or give a longer arc_length",
+          path.max_steps, tracer.t(), cfg.t_end));
     StepReport rep;
     double h_tau = 0;
     if (by_displacement) {
@@ -286,6 +323,10 @@ TimeLoopResult run_path_following(
       rep = tracer.step(Control::kLoad, std::min(ctl.size, cfg.t_end - tracer.t()));
     }
     if (!rep.converged) {
+      if (rep.interrupted) {
+        res.stopped = true;
+        return failed(fmt::format("interrupted at t = {:g}", tracer.t()));
+      }
       if (!cfg.adaptive || !ctl.cut()) {
         return failed(fmt::format("at t = {:g}: {}", tracer.t(), rep.reason));
       }
@@ -309,13 +350,17 @@ TimeLoopResult run_path_following(
     res.iterations += rep.iterations;
     res.factorizations += rep.factorizations;
     res.t = tracer.t();
+    travelled += by_displacement ? h_tau : std::abs(h);
+    const bool output = cfg.output_interval <= 0 || travelled >= cfg.output_interval * (1 - 1e-9) ||
+                        reached_end() || (by_arc && res.steps >= path.max_steps);
+    if (output) travelled = 0;
     AcceptedStep info{.t = tracer.t(),
                       .h = h,
                       .step = res.steps,
                       .iterations = rep.iterations,
                       .total_iterations = res.iterations,
                       .factorizations = rep.factorizations,
-                      .output_time = true,
+                      .output_time = output,
                       .report = &rep};
     if (observer && !observer(info, s)) {
       res.stopped = true;

@@ -3,9 +3,37 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 namespace velum {
+namespace {
+
+double seconds_now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
+bool DynamicRelaxation::out_of_time(const SecondOrderSystem& sys, double rn, std::string& why) {
+  if (newton.interrupt_requested()) {
+    interrupted_ = true;
+    why = "interrupted";
+    return true;
+  }
+  // Several processes: each one's clock, the decision together (any one spent ends it).
+  if (relaxation.max_seconds > 0 &&
+      sys.sum_over_processes(seconds_now() - level_start_ > relaxation.max_seconds ? 1.0 : 0.0) >
+          0) {
+    spent_ = true;
+    why = fmt::format(
+        "dynamic relaxation: the load level was not relaxed within analysis.relaxation."
+        "max_seconds = {:g} s ({} iterations; residual {:.3e}, scale {:.3e})",
+        relaxation.max_seconds, iterations_, rn, ref_);
+    return true;
+  }
+  return false;
+}
 
 void DynamicRelaxation::update_masses(SecondOrderSystem& sys, double t, const VecX& u) {
   const int n = sys.size();
@@ -56,6 +84,7 @@ bool DynamicRelaxation::relax(SecondOrderSystem& sys, double t, VecX& u, double 
     const double target = ConvergenceTest(rel_target, newton.abs_residual)
                               .target_against(scale, sys.residual_noise());
     if (rn <= target) return true;
+    if (out_of_time(sys, rn, why)) return false;
     // A residual far above the one at the last peak: the masses are too light for the
     // stiffness reached (it grows as the sheet tightens). Back to the peak, heavier masses.
     if (r_peak > 0 && rn > 1e3 * r_peak) {
@@ -111,12 +140,20 @@ StepReport DynamicRelaxation::step(SecondOrderSystem& sys, LinearSolver& solver,
   iterations_ = 0;
   peaks_ = 0;
   ref_ = 0;
+  level_start_ = seconds_now();
+  interrupted_ = spent_ = false;
   VecX u = s.u;
   double rel = std::max(relaxation.newton_switch, newton.tolerance);
   for (;;) {
     std::string why;
     const bool reached = relax(sys, t + h, u, rel, relaxation.max_iterations - iterations_, why);
     rep.iterations = static_cast<int>(std::min<long>(iterations_, 1L << 30));
+    if (interrupted_ || spent_) {
+      rep.interrupted = interrupted_;
+      rep.ends_run = spent_;
+      rep.reason = why;
+      return rep;
+    }
     if (!reached && !sys.all_finite(u)) {
       rep.reason = why;
       return rep;
@@ -138,6 +175,11 @@ StepReport DynamicRelaxation::step(SecondOrderSystem& sys, LinearSolver& solver,
     if (nr.converged) {
       s.u = trial.u;
       rep.converged = true;
+      return rep;
+    }
+    if (nr.interrupted) {
+      rep.interrupted = true;
+      rep.reason = nr.reason;
       return rep;
     }
     if (!reached || rel <= newton.tolerance) {

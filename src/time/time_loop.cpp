@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace velum {
@@ -47,6 +48,52 @@ class StepControl {
   StepControlState m_;
 };
 
+// The loop's time without drift: the last landing (the start, an output time, the end, or
+// where the step size last changed) plus a count of equal steps, so that 20,000 steps of 0.005
+// reach 100 to the last bit instead of 2.6e-11 short of it (a sliver step that could not
+// converge). A step that would stop a sliver short of the next target (an output time or
+// the end) is stretched to land on it: nothing below min_step, or a millionth of the step,
+// is left over.
+class StepClock {
+ public:
+  StepClock(const TimeLoopSettings& cfg, double t) : cfg_(cfg), anchor_(t) {}
+  double t() const { return anchor_ + static_cast<double>(n_) * h_; }
+  bool finished() const { return t() >= cfg_.t_end - eps(); }
+  struct Next {
+    double h = 0, t = 0;  ///< the step's size and where it ends
+    bool on_target = false;
+  };
+  // The step of (at most) h from t(): on the next target when it reaches it or would stop a
+  // sliver short of it.
+  Next next(double h) const {
+    const double now = t();
+    double target = cfg_.t_end;
+    if (cfg_.output_interval > 0) {
+      const double k = std::floor((now + eps()) / cfg_.output_interval) + 1;
+      target = std::min(target, k * cfg_.output_interval);
+    }
+    const double sliver = std::max({cfg_.min_step, 1e-6 * h, eps()});
+    if (h >= target - now - sliver) return {target - now, target, true};
+    const double t_next = h == h_ ? anchor_ + static_cast<double>(n_ + 1) * h_ : now + h;
+    return {h, t_next, false};
+  }
+  void advance(const Next& step) {
+    if (step.on_target || step.h != h_) {
+      anchor_ = step.on_target ? step.t : t();
+      n_ = 0;
+      h_ = step.on_target ? 0 : step.h;
+    }
+    if (!step.on_target) ++n_;
+  }
+
+ private:
+  double eps() const { return 1e-9 * cfg_.step; }
+  const TimeLoopSettings& cfg_;
+  double anchor_;
+  long n_ = 0;
+  double h_ = 0;
+};
+
 }  // namespace
 
 TimeLoopResult run_time_loop(SecondOrderSystem& sys, TimeIntegrator& integrator,
@@ -54,32 +101,44 @@ TimeLoopResult run_time_loop(SecondOrderSystem& sys, TimeIntegrator& integrator,
                              const std::function<bool(const AcceptedStep&, const State&)>& observer,
                              const LoopResume* resume) {
   TimeLoopResult res;
-  double t = resume ? resume->t : cfg.t0;
-  res.t = t;
-  const double eps = 1e-9 * cfg.step;
+  const double t0 = resume ? resume->t : cfg.t0;
+  res.t = t0;
+  StepClock clock(cfg, t0);
   StepControl control(cfg);
+  if (!resume && !(cfg.t_end - cfg.t0 >= cfg.min_step)) {
+    // No step can reach the end (shorter than min_step, or lost in the start's last digits):
+    // nothing would be solved, and that is no converged run.
+    res.reason = fmt::format(
+        "the analysis spans {:.6g} (t = {:.17g} to {:.17g}), less than min_step {:.6g}: no "
+        "step can be taken and nothing was solved (give a longer time.end)",
+        cfg.t_end - cfg.t0, cfg.t0, cfg.t_end, cfg.min_step);
+    return res;
+  }
   if (resume) {
     res.steps = resume->steps, res.iterations = resume->iterations;
     res.factorizations = resume->factorizations, res.cutbacks = resume->cutbacks;
     control.restore(resume->control);
-  } else if (const StepReport rep = integrator.start(sys, solver, t, s); !rep.converged) {
-    res.reason = fmt::format("at t = {:g}: {}", t, rep.reason);
+  } else if (const StepReport rep = integrator.start(sys, solver, t0, s); !rep.converged) {
+    res.reason = fmt::format("at t = {:g}: {}", t0, rep.reason);
     return res;
   }
-  while (t < cfg.t_end - eps) {
-    // Land on the next output time and on the end time.
-    double target = cfg.t_end;
-    if (cfg.output_interval > 0) {
-      const double k = std::floor((t + eps) / cfg.output_interval) + 1;
-      target = std::min(target, k * cfg.output_interval);
+  while (!clock.finished()) {
+    const double t = clock.t();
+    if (integrator.newton.interrupt_requested()) {
+      res.stopped = true;
+      res.reason = fmt::format("interrupted at t = {:g}", t);
+      return res;
     }
-    double hs = std::min(control.size(), target - t);
-    const bool hits_target = hs >= target - t - eps;
+    const StepClock::Next next = clock.next(control.size());
+    const double hs = next.h;
     const StepReport rep = integrator.step(sys, solver, t, hs, s);
     if (!rep.converged) {
-      if (!cfg.adaptive || hs * 0.5 < cfg.min_step) {
-        res.reason = fmt::format("at t = {:g} with step {:g} (minimum {:g}): {}", t, hs,
-                                 cfg.min_step, rep.reason);
+      if (rep.interrupted || rep.ends_run || !cfg.adaptive || hs * 0.5 < cfg.min_step) {
+        res.stopped = rep.interrupted;
+        res.reason = rep.interrupted || rep.ends_run
+                         ? fmt::format("at t = {:g}: {}", t, rep.reason)
+                         : fmt::format("at t = {:g} with step {:g} (minimum {:g}): {}", t, hs,
+                                       cfg.min_step, rep.reason);
         res.t = t;
         return res;
       }
@@ -87,20 +146,20 @@ TimeLoopResult run_time_loop(SecondOrderSystem& sys, TimeIntegrator& integrator,
       ++res.cutbacks;
       continue;
     }
-    t = hits_target ? target : t + hs;
+    clock.advance(next);
     ++res.steps;
     res.iterations += rep.iterations;
     res.factorizations += rep.factorizations;
-    res.t = t;
+    res.t = next.t;
     AcceptedStep info{
-        .t = t,
+        .t = next.t,
         .h = hs,
         .step = res.steps,
         .iterations = rep.iterations,
         .total_iterations = res.iterations,
         .factorizations = rep.factorizations,
         .total_factorizations = res.factorizations,
-        .output_time = hits_target && (cfg.output_interval > 0 || t >= cfg.t_end - eps),
+        .output_time = next.on_target && (cfg.output_interval > 0 || clock.finished()),
         .report = &rep,
         .control = &control.state(),
         .cutbacks = res.cutbacks};

@@ -29,6 +29,8 @@ struct FormFindingSettings {
   /// fraction of the force scale.
   double tolerance = 1e-5;
   int max_updates = 500;  ///< reference updates per load level
+  /// Wall-clock seconds a load level may take (0: no limit); spent, the level fails.
+  double max_seconds = 0;
 };
 
 struct AnalysisSettings {

@@ -25,6 +25,20 @@ struct PlausibilityLimits {
   double energy_fail = 10;
   /// ... and at the end of the run by this fraction before a warning.
   double energy_warn = 0.1;
+  /// ... and fails when it exceeds it by this multiple (as energy_fail during the run: a
+  /// folded element creates about as much as the work, 111% on the small C9 canopy, which
+  /// stays a warning).
+  double energy_fail_end = 10;
+};
+
+/// A run's energy account at its end (changes since its start).
+struct EnergyBalance {
+  double held = 0;          ///< kinetic + strain + damping energy
+  double work = 0;          ///< net work done on the model
+  double peak_work = 0;     ///< the largest |work done| reached during the run
+  double peak_created = 0;  ///< the largest held − work reached, at time peak_t
+  double peak_t = 0;
+  double held_start = 0;  ///< held at the start (its round-off)
 };
 
 class PlausibilityCheck {
@@ -37,10 +51,14 @@ class PlausibilityCheck {
   /// plausible, else why not (the run fails).
   std::string check(double t, const NodePositions& U, const State& s, bool energy, double held,
                     double work, double work_scale, double held_start = 0) const;
-  /// The balance at the end of a run that completed: a warning (to `warn`) when the solution
-  /// created more than energy_warn of the work.
-  void final_balance(double t, double held, double work, double work_scale,
-                     const std::function<void(std::string)>& warn, double held_start = 0) const;
+  /// The balance at the end of a run that completed, against the net work and the most work
+  /// ever done (not the sum of the magnitudes of the work increments, which an oscillation
+  /// grows without end): a warning (to `warn`) when the solution created more than
+  /// energy_warn of it, at the end or at any time before (an energy spike: an element that
+  /// folded); returns why the run fails when it created more than energy_fail_end of it at
+  /// the end (empty: it does not).
+  std::string final_balance(double t, const EnergyBalance& b,
+                            const std::function<void(std::string)>& warn) const;
   double model_size() const { return size_; }
   /// Several processes: each holds the displacements of its own nodes only; the checks
   /// count each node on the process keeping it (Assembler::keeps_node) and reduce.

@@ -34,6 +34,11 @@ struct NewtonSettings {
   /// Dynamics (with reuse_tangent): a step of the same size as the last starts with chord
   /// steps on the last step's factorisation, under the same tenfold test.
   bool reuse_across_steps = true;
+  /// Asked between the iterations of every loop that may run long (Newton, relaxation, path
+  /// steps, form-finding updates): true ends the solve at once (StepReport::interrupted). The
+  /// run driver passes its signal flag here; nothing in the time room sees the driver.
+  std::function<bool()> interrupted;
+  bool interrupt_requested() const { return interrupted && interrupted(); }
 };
 
 struct StepReport {
@@ -42,6 +47,13 @@ struct StepReport {
   int factorizations = 0;         ///< of which with a fresh tangent
   std::vector<double> residuals;  ///< residual norm at each iteration (before its solve)
   std::string reason;             ///< why it failed
+  /// Ended by NewtonSettings::interrupted (a signal): the run stops, no cut-back.
+  bool interrupted = false;
+  /// A smaller step cannot help (a per-level budget spent): the run ends with `reason`.
+  bool ends_run = false;
+  /// Negative eigenvalues seen in any factorisation of this solve (-1: none told), for the
+  /// diagnosis of a failed static step: past a limit point the tangent turns indefinite.
+  int negative_pivots_seen = -1;
   /// Static steps: negative eigenvalues of the tangent stiffness at the converged state (0: a
   /// stable equilibrium); -1 when the factorisation does not tell (LU) or not static.
   int negative_pivots = -1;

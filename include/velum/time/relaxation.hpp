@@ -16,6 +16,10 @@ namespace velum {
 struct RelaxationSettings {
   double newton_switch = 1e-3;   ///< residual / force scale at which Newton takes over
   long max_iterations = 200000;  ///< explicit iterations per load level
+  /// Wall-clock seconds a load level may take (relaxation and its Newton finish; 0: no
+  /// limit). Spent: the level fails and the run ends there (a smaller level would spend it
+  /// again).
+  double max_seconds = 0;
 };
 
 class DynamicRelaxation : public TimeIntegrator {
@@ -39,6 +43,8 @@ class DynamicRelaxation : public TimeIntegrator {
   /// false with `why` on a non-finite state.
   bool relax(SecondOrderSystem& sys, double t, VecX& u, double target, long budget,
              std::string& why);
+  /// Whether the level must end now (a signal, or max_seconds spent): `why` says which.
+  bool out_of_time(const SecondOrderSystem& sys, double rn, std::string& why);
   /// Fictitious masses from the tangent at u: m = ½ max over the node's equations of the row
   /// sums of |K| (so Δτ = 1 is stable by Gershgorin with a margin of 2).
   void update_masses(SecondOrderSystem& sys, double t, const VecX& u);
@@ -47,6 +53,8 @@ class DynamicRelaxation : public TimeIntegrator {
   SparseMatrix J_;
   double ref_ = 0;  ///< force scale at the start of this level
   long iterations_ = 0, peaks_ = 0;
+  double level_start_ = 0;  ///< steady clock, seconds, when this level began
+  bool interrupted_ = false, spent_ = false;
 };
 
 }  // namespace velum

@@ -74,7 +74,9 @@ void Reader::parse_analysis(const Node& a) {
     const std::string p = "analysis.form_finding";
     if (s.type != AnalysisSettings::Type::kFormFinding)
       error(f, p, "form_finding settings need analysis.type: form_finding");
-    if (check_map(f, p, {"stiffness", "tolerance", "max_updates"})) {
+    if (check_map(f, p, {"stiffness", "tolerance", "max_updates", "max_seconds"})) {
+      if (auto v = positive(f, "max_seconds", p, false, "the time budget of a load level"))
+        s.form_finding.max_seconds = *v;
       if (auto v = positive(f, "stiffness", p, false, "the stabilizing stiffness"))
         s.form_finding.stiffness = *v;
       if (auto v = positive(f, "tolerance", p, false, "the tolerance")) {
@@ -101,7 +103,9 @@ void Reader::parse_analysis(const Node& a) {
     const std::string p = "analysis.relaxation";
     if (s.type != AnalysisSettings::Type::kRelaxation)
       error(r, p, "relaxation settings need analysis.type: relaxation");
-    if (check_map(r, p, {"newton_switch", "max_iterations"})) {
+    if (check_map(r, p, {"newton_switch", "max_iterations", "max_seconds"})) {
+      if (auto v = positive(r, "max_seconds", p, false, "the time budget of a load level"))
+        s.relaxation.max_seconds = *v;
       if (auto v = positive(r, "newton_switch", p, false, "the Newton switch")) {
         if (*v >= 1)
           error(r["newton_switch"], sub(p, "newton_switch"),

@@ -132,6 +132,7 @@ ModelInput Reader::read_steps(const Node& root) {
   std::vector<std::string> errors, warnings;
   std::set<std::string> seen_errors, seen_warnings;
   std::vector<AnalysisStep> out_steps;
+  bool fields = true;
   for (size_t i = 0; i < plans.size(); ++i) {
     Reader r(name_, base_dir_);
     try {
@@ -143,13 +144,38 @@ ModelInput Reader::read_steps(const Node& root) {
       st.model = std::move(si.model);
       st.analysis = si.analysis;
       st.analysis.time.output_interval = si.output.interval;
+      fields = si.output.fields;
       st.boundary_given = plans[i].boundary_given, st.loads_given = plans[i].loads_given;
     } catch (const InputError& e) {
       for (const auto& m : e.messages())
         add_unique(errors, seen_errors, placed(m, name_, plans[i].origins));
     }
   }
+  // Each step is held to the limits on steps and output times of a model without steps; the
+  // steps together are too (a thousand steps of a million steps each ran without end).
+  double total_steps = 0, total_outputs = 0, total_frames = 0;
+  for (const AnalysisStep& st : out_steps) {
+    const TimeLoopSettings& t = st.analysis.time;
+    total_steps += t.t_end / t.step;
+    const double outputs = t.output_interval > 0 ? t.t_end / t.output_interval : 0;
+    total_outputs += outputs;
+    total_frames += fields ? outputs : 0;
+  }
   if (!errors.empty()) throw InputError(errors);
+  if (total_steps > kMaxSteps)
+    error(root["steps"], "steps",
+          fmt::format("the steps together take {:.3g} steps (the sum of end / step), more than "
+                      "the limit of {:.0e}: give longer steps or fewer analysis steps",
+                      total_steps, kMaxSteps));
+  if (total_outputs > kMaxOutputTimes || total_frames > kMaxFrames)
+    error(root["steps"], "steps",
+          fmt::format("the steps together write {:.3g} {} (the sum of end / output.interval), "
+                      "more than the limit of {:.0e}: give a longer output.interval or fewer "
+                      "analysis steps",
+                      fields ? total_frames : total_outputs,
+                      fields ? "frames (fields: true)" : "history rows",
+                      fields ? kMaxFrames : kMaxOutputTimes));
+  if (!errors_.empty()) throw InputError(errors_);
   // The input as a whole is the first step's (its model read once more: the step keeps its own).
   Reader first(name_, base_dir_);
   ModelInput in = first.read_one(model_of(0));
