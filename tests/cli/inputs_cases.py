@@ -28,7 +28,7 @@ failures = []
 def check(cond, what):
     if not cond:
         failures.append(what)
-        print("FAIL:", what)
+        print("FAIL:", what[:600])
 
 
 def run(name, model, *extra):
@@ -137,6 +137,161 @@ if p.returncode == 0:
         print(f"octant follower pressure: reactions z {f['Rz']:.6g} N")
         check(abs(f["Rz"] - g["Rz"]) < 1e-6 * abs(f["Rz"]),
               f"octant: gas {g['Rz']} against follower pressure {f['Rz']}")
+
+
+def check_model(name, model):
+    d = os.path.join(WORK, name)
+    os.makedirs(d, exist_ok=True)
+    path = os.path.join(d, "model.yaml")
+    with open(path, "w") as f:
+        yaml.safe_dump(model, f, sort_keys=False)
+    return subprocess.run([VELUM, "check", path], capture_output=True, text=True, timeout=60)
+
+
+def square_bag(n=4, L=0.3, bulge=0.0):
+    """One eighth of a square cushion: the top sheet over [0, L]^2, its seam held on z = 0,
+    lifted by `bulge` in the middle (0: flat, no volume)."""
+    nodes, els = [], []
+    for j in range(n + 1):
+        for i in range(n + 1):
+            x, y = L * i / n, L * j / n
+            nodes.append([1 + i + j * (n + 1), x, y,
+                          bulge * (1 - (x / L) ** 2) * (1 - (y / L) ** 2)])
+    for j in range(n):
+        for i in range(n):
+            a = 1 + i + j * (n + 1)
+            els.append([a, a + 1, a + n + 2, a + n + 1])
+
+    def ids(f):
+        return [q[0] for q in nodes if f(q[1], q[2])]
+
+    return {
+        "title": "square bag",
+        "mesh": {"nodes": nodes, "elements": [{"set": "sheet", "type": "quad4",
+                                                 "connectivity": els}],
+                 "node_sets": {"plane_x": ids(lambda x, y: x == 0),
+                               "plane_y": ids(lambda x, y: y == 0),
+                               "seam": ids(lambda x, y: abs(x - L) < 1e-12
+                                           or abs(y - L) < 1e-12)}},
+        "materials": {"fabric": {"type": "isotropic", "E": 5e8, "nu": 0.4, "density": 1000.0}},
+        "sections": [{"elements": "sheet", "material": "fabric", "thickness": 0.6e-3}],
+        "boundary": [{"nodes": "plane_x", "symmetry": {"normal": [1, 0, 0]}},
+                     {"nodes": "plane_y", "symmetry": {"normal": [0, 1, 0]}},
+                     {"nodes": "seam", "symmetry": {"normal": [0, 0, 1]}}],
+        "loads": [{"type": "gas", "elements": "sheet", "initial_pressure": 101325.0,
+                   "ambient": 101325.0, "gamma": 1.0, "amount": "fill"}],
+        "functions": {"fill": {"type": "table", "points": [[0, 1], [1, 2]]}},
+        "analysis": {"type": "static", "time": {"end": 1.0, "step": 0.25}},
+    }
+
+
+# A flat chamber (V = 0) is flat, not inside out; with a bulge it is accepted.
+p = check_model("flat-bag", square_bag())
+check(p.returncode == 1 and "zero to round-off" in p.stderr and "flat or degenerate" in p.stderr
+      and "bulge" in p.stderr and "reverse the node order" not in p.stderr,
+      f"flat bag: exit {p.returncode}: {p.stderr}")
+p = check_model("bulged-bag", square_bag(bulge=0.03))
+check(p.returncode == 0, f"bulged bag: exit {p.returncode}: {p.stderr}")
+
+
+def sine_sheet(prestress, n=12, A=0.02, max_updates=60):
+    """Form finding of a sheet over the unit square, its edges fixed, two of them curved
+    (w = A sin(pi x) on y = 0 and y = 1): warp = fill has a shape, warp != fill none."""
+    nodes, els, edge = [], [], []
+    for j in range(n + 1):
+        for i in range(n + 1):
+            x, y = i / n, j / n
+            nodes.append([1 + i + j * (n + 1), x, y,
+                          A * math.sin(math.pi * x) if j in (0, n) else 0.0])
+            if i in (0, n) or j in (0, n):
+                edge.append(1 + i + j * (n + 1))
+    for j in range(n):
+        for i in range(n):
+            a = 1 + i + j * (n + 1)
+            els.append([a, a + 1, a + n + 2, a + n + 1])
+    return {
+        "title": "sine sheet",
+        "mesh": {"nodes": nodes, "elements": [{"set": "sheet", "type": "quad4",
+                                                 "connectivity": els}],
+                 "node_sets": {"edge": edge}},
+        "materials": {"fabric": {"type": "isotropic", "E": 1000.0, "nu": 0.3, "density": 1.0}},
+        "sections": [{"elements": "sheet", "material": "fabric", "thickness": 1.0,
+                      "prestress": prestress}],
+        "boundary": [{"nodes": "edge", "fix": ["x", "y", "z"]}],
+        "analysis": {"type": "form_finding", "time": {"end": 1.0, "step": 1.0},
+                     "form_finding": {"max_updates": max_updates}},
+    }
+
+
+# Form finding of a warp != fill prestress with no equilibrium shape says why, and does not
+# send the user to max_updates.
+p, out = run("form-warp-fill", sine_sheet([4.0, 1.0, 0.0]))
+check(p.returncode == 2 and "differs between warp and fill" in p.stderr
+      and "more updates only slide the mesh" in p.stderr
+      and "raise analysis.form_finding.max_updates" not in p.stderr,
+      f"form finding warp != fill: exit {p.returncode}: {p.stderr}")
+
+# form.yaml names its mesh file relative to itself: the folder moved, it still runs.
+model = sine_sheet([1.0, 1.0, 0.0])
+lines = ["*NODE"] + [f"{q[0]}, {q[1]!r}, {q[2]!r}, {q[3]!r}" for q in model["mesh"]["nodes"]]
+lines += ["*ELEMENT, TYPE=M3D4, ELSET=SHEET"]
+lines += [f"{k + 1}, " + ", ".join(map(str, e))
+          for k, e in enumerate(model["mesh"]["elements"][0]["connectivity"])]
+lines += ["*NSET, NSET=EDGE", ", ".join(map(str, model["mesh"]["node_sets"]["edge"]))]
+model["mesh"] = {"file": "sheet.inp"}
+model["sections"][0]["elements"] = "SHEET"
+model["boundary"][0]["nodes"] = "EDGE"
+here = os.path.join(WORK, "form-portable")
+os.makedirs(here)
+with open(os.path.join(here, "sheet.inp"), "w") as f:
+    f.write("\n".join(lines) + "\n")
+p, out = run("form-portable", model)
+check(p.returncode == 0, f"form finding for form.yaml: exit {p.returncode}: {p.stderr}")
+if p.returncode == 0:
+    form = yaml.safe_load(open(os.path.join(out, "form.yaml")))
+    check(form["mesh"]["file"] == "../sheet.inp",
+          f"form.yaml names its mesh {form['mesh']['file']!r}, not ../sheet.inp")
+    moved = os.path.join(WORK, "form-moved")
+    shutil.move(here, moved)
+    q = subprocess.run([VELUM, "run", os.path.join(moved, "out", "form.yaml"), "-o",
+                        os.path.join(moved, "again"), "--threads", "1", "-q"],
+                       capture_output=True, text=True, timeout=60)
+    check(q.returncode == 0, f"form.yaml in a moved folder: exit {q.returncode}: {q.stderr}")
+
+
+def staged(static_step):
+    """A sheet shaken dynamically for 0.01 s, then a static step; output.interval 2 ms."""
+    model = copy.deepcopy(sine_sheet([1.0, 1.0, 0.0], n=2, A=0.0))
+    model["sections"][0].pop("prestress")
+    model["mesh"]["node_sets"]["right"] = [3, 6, 9]
+    model["boundary"] = [{"nodes": [1, 4, 7], "fix": ["x", "y", "z"]},
+                         {"nodes": "sheet", "fix": ["z"]}]
+    model["boundary"][1]["nodes"] = [q[0] for q in model["mesh"]["nodes"]]
+    model["loads"] = [{"type": "edge", "nodes": "right", "force_per_length": [8.0, 0, 0],
+                       "function": "ramp"}]
+    model["functions"] = {"ramp": {"type": "ramp", "duration": 1.0}}
+    del model["analysis"]
+    model["steps"] = [
+        {"name": "shake", "analysis": {"type": "dynamic", "time": {"end": 0.01, "step": 0.001}}},
+        {"name": "settle", "analysis": {"type": "static",
+                                        "time": {"end": 1.0, "step": static_step}}}]
+    model["output"] = {"interval": 0.002}
+    return model
+
+
+# A global output interval does not cut the load steps of a static step.
+for step, expected in [(1.0, 1), (0.25, 4)]:
+    p, out = run(f"stage-static-{step}", staged(step))
+    check(p.returncode == 0, f"staged, static step {step}: exit {p.returncode}: {p.stderr}")
+    if p.returncode:
+        continue
+    s = json.load(open(os.path.join(out, "summary.json")))
+    steps = [a["steps"] for a in s["analysis_steps"]]
+    with open(os.path.join(out, "history.csv")) as f:
+        rows = [r for r in csv.DictReader(f) if r["analysis_step"] == "2"]
+    print(f"staged, static step {step}: load steps {steps[1]}, history rows {len(rows)}")
+    check(steps == [10, expected] and len(rows) == expected,
+          f"staged, static step {step}: steps {steps}, {len(rows)} rows of the static step")
 
 if failures:
     print(f"{len(failures)} failure(s)")
