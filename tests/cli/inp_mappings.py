@@ -126,6 +126,12 @@ check(moved_two is not None and abs(u1(moved_two) - 0.2) < 1e-12,
 check(moved_one is not None and moved_two is not None
       and abs(u1(moved_two, 3) - u1(moved_one, 3)) < 1e-6 * abs(u1(moved_one, 3)),
       "moved in two steps (0.1 then 0.2) ends where one step (0.2) ends")
+text, m, moved_three = import_and_run("moved_three", MESH + step(held_y + "*BOUNDARY\n2, 1, 1, 0.1\n")
+                                      + step("*BOUNDARY\n2, 1, 1, 0.2\n") + step("*CLOAD\n3, 1, 0.\n")
+                                      + step("*BOUNDARY\n2, 1, 1, 0.4\n"))
+check(moved_three is not None and abs(u1(moved_three) - 0.4) < 1e-12
+      and {r["analysis_step"] for r in moved_three} == {"1", "2", "3", "4"},
+      f"a motion held through a step, then continued: {text[-600:] if moved_three is None else u1(moved_three)}")
 
 # ---- RIKS ----
 RIKS = """*NODE, NSET=ALL

@@ -28,8 +28,8 @@ namespace {
 
 // The factor an item's amplitude has reached at the end of a step that started at `start`.
 double end_factor(const Step& st, const std::string& amp, double start) {
-  if (amp == "=held") return 1;
-  if (amp.empty()) return 1;  // a ramp ends at full value; a step is full from the start
+  // Held, continued from where it was ("=from:"), ramped or stepped: at full value at the end.
+  if (amp.empty() || amp[0] == '=') return 1;
   const Amplitude& a = st.amplitudes.at(amp);
   return a.at(a.total_time ? start + st.period : st.period);
 }
