@@ -122,10 +122,14 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
   }
 
   const double V = gas_chamber_volume(model, gas, model.X);
-  // Zero to round-off (the cone volumes of a chamber's elements sum to it): a sheet lying in a
-  // plane through the origin, or one that encloses nothing with the planes.
-  const double size = (hi - lo).norm();
-  if (std::abs(V) <= 1e-9 * size * size * size)
+  // Zero to round-off (the cone volumes of the elements, each at most the chamber's extent
+  // times its area, sum to it): a sheet lying in a plane through the origin, or one that
+  // encloses nothing with the planes. A thin chamber (a tube of 1 mm over 100 m) stays far
+  // above it.
+  double area = 0;
+  for (const auto& part : gas.parts)
+    for (int e : part.elements) area += model.blocks[part.block]->measure(e);
+  if (std::abs(V) <= 1e-12 * (hi - lo).norm() * area)
     throw std::invalid_argument(fmt::format(
         "the enclosed volume is {:.3g}, zero to round-off: the chamber is flat or degenerate "
         "(its sheet encloses no gas with the symmetry planes through the origin [{}, {}, {}]); "
