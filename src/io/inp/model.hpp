@@ -5,6 +5,7 @@
 
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -175,6 +176,27 @@ std::vector<Step> read_step(const std::vector<Keyword>& keywords, const Mesh& me
 /// redefined under a ramp goes on from that value). Held items get the amplitude "=held"
 /// (constant); a point load held beside its redefinition is in `held_loads`.
 std::vector<Step> complete_steps(const std::vector<Step>& steps, Diagnostics& diag);
+
+/// The output requests (*OUTPUT, *NODE PRINT, *NODE OUTPUT, *ENERGY OUTPUT) of every step as
+/// the run's history columns, each once (output_requests.cpp).
+class OutputRequests {
+ public:
+  OutputRequests(const Mesh& mesh, Diagnostics& diag) : mesh_(mesh), diag_(diag) {}
+  /// Reads `k` when it is an output request (true), else false.
+  bool read(const Keyword& k);
+  std::vector<HistoryColumn> columns;
+
+ private:
+  static constexpr size_t kMaxNodeColumns = 50;  ///< per request: the first nodes of a set
+  void output(const Keyword& k);
+  void node_output(const Keyword& k);
+  void energy_output(const Keyword& k);
+  void column(HistoryColumn c);
+  const Mesh& mesh_;
+  Diagnostics& diag_;
+  bool field_output_ = false;
+  std::set<std::string> names_;
+};
 
 /// Reports every keyword not marked used: a warning for those that cannot change the answer
 /// (output requests, *HEADING), an error for the others.

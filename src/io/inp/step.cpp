@@ -1,6 +1,5 @@
-// *BOUNDARY, *AMPLITUDE, *SURFACE, *STEP with *STATIC / *DYNAMIC, *CLOAD, *DLOAD, *DSLOAD
-// and the output requests *NODE PRINT, *OUTPUT / *NODE OUTPUT, *ENERGY OUTPUT (as history
-// columns).
+// *BOUNDARY, *AMPLITUDE, *SURFACE, *STEP with *STATIC / *DYNAMIC, *CLOAD, *DLOAD, *DSLOAD,
+// *INITIAL CONDITIONS; the output requests through OutputRequests (output_requests.cpp).
 
 #include <fmt/format.h>
 
@@ -426,6 +425,7 @@ struct StepReader {
                             *max_inc));
   }
   bool procedure_seen = false;
+  OutputRequests requests{mesh, diag};
 
   // The step's pressures: one entry per (value, amplitude), elements in order.
   void group_pressures() {
@@ -436,112 +436,6 @@ struct StepReader {
       if (fresh) step.pressures.push_back({{}, p.value, p.amplitude, p.where});
       step.pressures[it->second].elements.push_back(key.first);
     }
-  }
-
-  // Output requests: *OUTPUT, HISTORY or FIELD sets what a *NODE OUTPUT after it is (CalculiX's
-  // *NODE OUTPUT stands alone: its node set's values); *NODE PRINT is history.
-  bool field_output = false;
-  std::set<std::string> columns{};
-  static constexpr size_t kMaxNodeColumns = 50;
-
-  std::vector<HistoryColumn> history{};  // every step's requests (Velum's output is the run's)
-  void column(HistoryColumn c) {
-    if (columns.insert(c.name).second) history.push_back(std::move(c));
-  }
-
-  void output(const Keyword& k) {
-    diag.check_options(k, {"HISTORY", "FIELD", "FREQUENCY", "TIME INTERVAL", "NUMBER INTERVAL",
-                           "VARIABLE", "TIME POINTS", "OP"});
-    field_output = k.has("FIELD") && !k.has("HISTORY");
-    if (field_output)
-      diag.warn(k, "field output: Velum writes every field in its frames (fields: true)");
-  }
-
-  void node_output(const Keyword& k) {
-    if (k.name == "NODE OUTPUT" && field_output) {
-      diag.warn(k, "field output: Velum writes every field in its frames (fields: true)");
-      return;
-    }
-    std::vector<long> nodes;
-    std::string set;
-    if (k.has("NSET")) {
-      const Set* s = mesh.nset(k.options.at("NSET"));
-      if (!s) {
-        diag.error(k, fmt::format("undefined node set '{}'", k.options.at("NSET")));
-        return;
-      }
-      nodes = s->ids, set = s->name;
-    } else {
-      for (const auto& n : mesh.nodes) nodes.push_back(n.id);
-      set = "ALL";
-    }
-    if (nodes.size() > kMaxNodeColumns)
-      diag.warn(k, fmt::format("the set has {} nodes: history columns of the first {} only "
-                               "(request a smaller set)",
-                               nodes.size(), kMaxNodeColumns));
-    const std::string where = diag.where(k.file, k.line);
-    for (const auto& d : k.data)
-      for (const auto& f : d.fields) {
-        const std::string v = canonical(f);
-        if (v.empty()) continue;
-        // U, U1-U3; V, V1-V3; COORD, COORD1-3; RF, RF1-RF3 (summed over the set)
-        std::string base = v, quantity;
-        int only = -1;
-        if (!v.empty() && v.back() >= '1' && v.back() <= '3' && v.size() > 1) {
-          base = v.substr(0, v.size() - 1);
-          only = v.back() - '1';
-        }
-        if (base == "U")
-          quantity = "displacement";
-        else if (base == "V")
-          quantity = "velocity";
-        else if (base == "COORD")
-          quantity = "position";
-        else if (base == "RF")
-          quantity = "reaction";
-        if (quantity.empty() || (only >= 0 && base == v)) {
-          diag.warn(k, d,
-                    fmt::format("output variable {} is not read (Velum's history: U, V, "
-                                "COORD, RF and their components)",
-                                f));
-          continue;
-        }
-        for (int c = 0; c < 3; ++c) {
-          if (only >= 0 && c != only) continue;
-          if (quantity == "reaction") {
-            const bool one = nodes.size() == 1;
-            column({fmt::format("RF{}_{}", c + 1, one ? std::to_string(nodes[0]) : set), quantity,
-                    0, one ? "" : set, one ? nodes[0] : 0, c, where});
-            continue;
-          }
-          for (size_t i = 0; i < std::min(nodes.size(), kMaxNodeColumns); ++i)
-            column({fmt::format("{}{}_{}", base, c + 1, nodes[i]), quantity, nodes[i], "", 0, c,
-                    where});
-        }
-      }
-  }
-
-  void energy_output(const Keyword& k) {
-    if (field_output) return;
-    static const std::map<std::string, std::string> kEnergy = {{"ALLKE", "kinetic_energy"},
-                                                               {"ALLSE", "strain_energy"},
-                                                               {"ALLIE", "strain_energy"},
-                                                               {"ALLWK", "external_work"}};
-    const std::string where = diag.where(k.file, k.line);
-    bool any = false;
-    for (const auto& d : k.data)
-      for (const auto& f : d.fields) {
-        const std::string v = canonical(f);
-        if (v.empty()) continue;
-        any = true;
-        if (auto it = kEnergy.find(v); it != kEnergy.end())
-          column({v, it->second, 0, "", 0, -1, where});
-        else
-          diag.warn(k, d, fmt::format("energy {} is not read (Velum's: ALLKE, ALLSE, ALLWK)", f));
-      }
-    if (!any)  // no variables: the whole model's energies
-      for (const char* v : {"ALLKE", "ALLSE", "ALLWK"})
-        column({v, kEnergy.at(v), 0, "", 0, -1, where});
   }
 
   // *INITIAL CONDITIONS, TYPE=STRESS: element or element set, then the stress components
@@ -655,15 +549,10 @@ std::vector<Step> read_step(const std::vector<Keyword>& keywords, const Mesh& me
       r.dload(k);
     else if (k.name == "DSLOAD")
       r.dsload(k);
-    else if (k.name == "OUTPUT")
-      r.output(k);
     else if (k.name == "INITIAL CONDITIONS")
       r.initial_conditions(k);
-    else if (k.name == "NODE PRINT" || k.name == "NODE OUTPUT")
-      r.node_output(k);
-    else if (k.name == "ENERGY OUTPUT")
-      r.energy_output(k);
-    else if (k.name == "END STEP") {
+    else if (r.requests.read(k)) {  // an output request: read
+    } else if (k.name == "END STEP") {
       if (!r.procedure_seen) diag.error(k, "the step has no *STATIC or *DYNAMIC");
       r.group_pressures();
       r.pressure_at.clear();
@@ -679,7 +568,7 @@ std::vector<Step> read_step(const std::vector<Keyword>& keywords, const Mesh& me
   r.group_pressures();
   std::vector<Step> steps = std::move(r.done);
   steps.push_back(std::move(r.step));
-  steps.front().history = std::move(r.history);
+  steps.front().history = std::move(r.requests.columns);
   return steps;
 }
 
