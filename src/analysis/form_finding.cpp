@@ -41,6 +41,49 @@ bool out_of_time(std::chrono::steady_clock::time_point start, double max_seconds
   return max_seconds > 0 &&
          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
              max_seconds;
+// Why the updates found no shape, and what helps. A residual that still falls wants more
+// updates; one that has levelled off (the mesh sliding along the surface) does not: with a
+// warp ≠ fill prestress there is in general no shape that carries it, with an isotropic one
+// the shape has settled above the tolerance.
+std::string no_shape_advice(const Model& model, const std::vector<double>& residuals) {
+  const double last = residuals.empty() ? 0.0 : residuals.back();
+  const size_t back = residuals.empty() ? 0 : std::min<size_t>(10, residuals.size() - 1);
+  const double before = residuals.empty() ? 0.0 : residuals[residuals.size() - 1 - back];
+  const bool falling = back >= 5 && last <= 0.5 * before;
+  const std::string trend =
+      back >= 5 ? fmt::format("; the residual was {:.3g} {} updates before", before, back) : "";
+  const ElementBlock* anisotropic = nullptr;
+  for (const auto& b : model.blocks) {
+    const Vec3 S0 = b->sheet_prestress();
+    const double size = S0.cwiseAbs().maxCoeff();
+    if (size > 0 && (std::abs(S0[0] - S0[1]) > 1e-12 * size || S0[2] != 0)) {
+      anisotropic = b.get();
+      break;
+    }
+  }
+  if (falling || (back < 5 && !anisotropic))
+    return fmt::format("{}; raise analysis.form_finding.max_updates or lower its stiffness{}",
+                       trend,
+                       anisotropic ? " (a warp ≠ fill prestress need not have an equilibrium "
+                                     "shape: docs/fabric-structures.md)"
+                                   : "");
+  if (anisotropic) {
+    const Vec3 S0 = anisotropic->sheet_prestress();
+    return fmt::format(
+        "{}. The prestress of set '{}' differs between warp and fill ([{:.6g}, {:.6g}, {:.6g}]): "
+        "on a curved surface a uniform warp ≠ fill stress is in general not in equilibrium in "
+        "the plane of the sheet (nor balanced by a uniform edge-cable force), so no shape "
+        "carries it exactly and more updates only slide the mesh along the surface. Give equal "
+        "warp and fill prestress (a minimal surface), or accept this shape with "
+        "analysis.form_finding.tolerance above {:.2g} and let form.yaml, run as static, settle "
+        "it elastically (docs/fabric-structures.md)",
+        trend, anisotropic->set_name(), S0[0], S0[1], S0[2], last);
+  }
+  return fmt::format(
+      "{}: it has levelled off (the mesh slides along the surface, the shape no longer "
+      "changes) and more updates cannot help; raise analysis.form_finding.tolerance above "
+      "{:.2g} (docs/fabric-structures.md)",
+      trend, last);
 }
 
 }  // namespace
@@ -110,6 +153,7 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
       if (report) *report = rep_out;
       return result;
     };
+    std::vector<double> residuals;  // of this level's updates, for the advice on failing
     for (int update = 0; update <= ff.max_updates; ++update) {
       // A signal, or the level's time spent: the level fails here (a stiffer stabilizer or
       // a shorter level would spend it again).
@@ -126,6 +170,7 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
       for (const auto& p : work.prescribed) moves = moves || p.displacement.norm() > 0;
       const double res = sys.norm(r), scale = sys.force_scale();
       rep_out.residual = scale > 0 ? res / scale : res;
+      residuals.push_back(rep_out.residual);
       if (!std::isfinite(res)) {
         out.reason = fmt::format("form finding at t = {:.6g}: non-finite forces after {} updates",
                                  t_next, update);
@@ -181,9 +226,9 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
     if (!found) {
       out.reason = fmt::format(
           "form finding at t = {:.6g}: no equilibrium shape after {} reference updates (residual "
-          "{:.3g} of the force scale, tolerance {:.3g}); raise analysis.form_finding.max_updates "
-          "or lower its stiffness",
-          t_next, ff.max_updates, rep_out.residual, ff.tolerance);
+          "{:.3g} of the force scale, tolerance {:.3g}){}",
+          t_next, ff.max_updates, rep_out.residual, ff.tolerance,
+          no_shape_advice(model, residuals));
       rep_out.shape = x;
       if (report) *report = rep_out;
       return result;

@@ -206,14 +206,15 @@ std::vector<double> MechanicalSystem::load_cell_field(std::string_view name, dou
   return per_cell;
 }
 
-void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* Kload, bool fused) {
+void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* Kload, bool fused,
+                                         bool at_supports) {
   Fext_.setZero(3, model_.num_nodes());
   if (Kload) {
     low_rank_.U.resize(size(), low_rank_columns_);
     low_rank_.W.resize(size(), low_rank_columns_);
   }
   if (velocity_) V_ = velocities(v);
-  const LoadState s{.t = t, .x = x_, .V = V_, .fused = fused};
+  const LoadState s{.t = t, .x = x_, .V = V_, .fused = fused, .at_supports = at_supports};
   LoadOutput out{.F = Fext_, .K = Kload, .low_rank = &low_rank_, .column = 0};
   // The loads in their order; the follower pressures of the blocks' internal pass (Fp_)
   // join the sum after the other surface loads.
@@ -345,11 +346,12 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     for (const auto& term : terms_) term->add_velocity_jacobian(V_, cv, *J);
 }
 
-const NodePositions& MechanicalSystem::external_forces(double t, const VecX& u, const VecX& v) {
+const NodePositions& MechanicalSystem::external_forces(double t, const VecX& u, const VecX& v,
+                                                       bool at_supports) {
   std::optional<Assembler::LocalShare> share;
   if (distributed()) share.emplace(assembler_);
   set_positions(t, u);
-  assemble_external(t, v, nullptr);
+  assemble_external(t, v, nullptr, false, at_supports);
   return Fext_;
 }
 
@@ -358,7 +360,7 @@ NodePositions MechanicalSystem::reactions(double t, const VecX& u, const VecX& v
   if (distributed()) share.emplace(assembler_);
   set_positions(t, u);
   assembler_.internal(x_, Fint_, nullptr);
-  assemble_external(t, v, nullptr);
+  assemble_external(t, v, nullptr, false, true);
   NodePositions R = Fint_ - Fext_;
   dofs_.keep_eliminated(R);
   return R;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 
@@ -155,6 +156,15 @@ class StageRunner {
     AnalysisSettings settings = step.analysis;
     settings.time.t0 = t_;
     settings.time.t_end = t_ + step.analysis.time.t_end;
+    // A static step's time is a load level: the output interval, shared by the steps and often
+    // set for a dynamic one, does not cut its load steps. Its states are written at the first
+    // load step at or past each output time, and at its end.
+    double every = 0, next_output = 0;
+    if (settings.type == AnalysisSettings::Type::kStatic && settings.time.output_interval > 0) {
+      every = settings.time.output_interval;
+      settings.time.output_interval = 0;  // the loop lands on the step's end only
+      next_output = (std::floor(t_ / every + 1e-9) + 1) * every;
+    }
     State start;
     if (have_state_) {
       start = carry_in(sys, t_, carried_, reason_);
@@ -171,9 +181,14 @@ class StageRunner {
       Energies E = snap.energy;
       E.external_work += before_.external_work;
       E.damping += before_.damping;
+      AcceptedStep accepted = snap.step;
+      if (every > 0 && accepted.step > 0 && accepted.t >= next_output * (1 - 1e-12)) {
+        accepted.output_time = true;
+        next_output = (std::floor(accepted.t / every + 1e-9) + 1) * every;
+      }
       return !obs_.step ||
              obs_.step(static_cast<int>(k),
-                       StepSnapshot{snap.step, snap.system, snap.state, E, snap.checkpoint});
+                       StepSnapshot{accepted, snap.system, snap.state, E, snap.checkpoint});
     };
     o.result =
         run_analysis(slot_, sys, settings, {.step = observe, .warning = obs_.warn, .form = &o.form},

@@ -18,9 +18,14 @@ void write_form_model(const ModelInput& input, const NodePositions& x,
   }
   YAML::Node mesh = root["mesh"];
   if (mesh["file"]) {
-    std::filesystem::path p = mesh["file"].as<std::string>();
-    if (p.is_relative()) p = std::filesystem::absolute(input.base_dir / p);
-    mesh["file"] = p.lexically_normal().string();
+    // Relative to form.yaml's folder (a results folder moved with its model and mesh still
+    // finds it); absolute only where no relative path leads there.
+    namespace fs = std::filesystem;
+    fs::path p = mesh["file"].as<std::string>();
+    if (p.is_relative()) p = fs::absolute(input.base_dir / p);
+    std::error_code ec;
+    const fs::path rel = fs::relative(p, fs::absolute(file).parent_path(), ec);
+    mesh["file"] = (ec || rel.empty() ? p.lexically_normal() : rel).generic_string();
   }
   YAML::Node positions(YAML::NodeType::Sequence);
   for (int n = 0; n < x.cols(); ++n) {

@@ -195,13 +195,14 @@ bool ResultsWriter::needs_reactions() const {
 
 NodePositions ResultsWriter::reactions(const StepSnapshot& snap, const NodePositions& x) const {
   // This process's share of internal minus external force (its elements, the nodal loads of
-  // the nodes it keeps), completed at the shared nodes: whole at every node of its piece.
+  // the nodes it keeps), completed at the shared nodes: whole at every node of its piece. The
+  // external forces as the supports carry them (an enclosed gas: its traction on the sheet).
   const Assembler& a = system_->assembler();
   NodePositions Fint, R;
   {
     const Assembler::LocalShare share(a);
     a.internal(x, Fint, nullptr);
-    R = Fint - system_->external_forces(snap.step.t, snap.state.u, snap.state.v);
+    R = Fint - system_->external_forces(snap.step.t, snap.state.u, snap.state.v, true);
   }
   a.sum_at_shared_nodes(R);
   system_->dofs().keep_eliminated(R);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <stdexcept>
 #include <vector>
@@ -121,6 +122,20 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
   }
 
   const double V = gas_chamber_volume(model, gas, model.X);
+  // Zero to round-off (the cone volumes of the elements, each at most the chamber's extent
+  // times its area, sum to it): a sheet lying in a plane through the origin, or one that
+  // encloses nothing with the planes. A thin chamber (a tube of 1 mm over 100 m) stays far
+  // above it.
+  double area = 0;
+  for (const auto& part : gas.parts)
+    for (int e : part.elements) area += model.blocks[part.block]->measure(e);
+  if (std::abs(V) <= 1e-12 * (hi - lo).norm() * area)
+    throw std::invalid_argument(fmt::format(
+        "the enclosed volume is {:.3g}, zero to round-off: the chamber is flat or degenerate "
+        "(its sheet encloses no gas with the symmetry planes through the origin [{}, {}, {}]); "
+        "give it a start shape that encloses gas (a bulge, e.g. the sheet lifted off its "
+        "symmetry plane in the middle) or check the symmetry planes and `origin`",
+        V, gas.origin.x(), gas.origin.y(), gas.origin.z()));
   if (!(V > 0))
     throw std::invalid_argument(fmt::format(
         "the enclosed volume is {:.6g}, not positive: the normals g1 x g2 of the elements point "

@@ -84,6 +84,10 @@ class GasChamberTerm final : public LoadTerm {
     const double p = load_.pressure(V, site_.model.function_value(load_.amount, s.t));
     volume_ = V;
     pressure_ = p;
+    if (s.at_supports) {  // the reactions: the traction, not ∂V/∂x (LoadState::at_supports)
+      traction(s.x, p - load_.ambient, out.F);
+      return;
+    }
     derivatives(s.x, p - load_.ambient, gradient_, out.K);
     out.F += (p - load_.ambient) * gradient_;
     if (!out.K) return;
@@ -149,11 +153,32 @@ class GasChamberTerm final : public LoadTerm {
     site_.assembler.sum_shares(A);
   }
 
+  // F += the follower pressure `gauge` on the chamber's sheet, f_N = gauge ∫ N (g1 x g2) dξ:
+  // ∂V/∂x on every component a symmetry plane leaves free, but without the part normal to the
+  // planes at their nodes that the cone volume's open edges add (the octant: −⅔ p A_z).
+  void traction(const NodePositions& x, double gauge, NodePositions& F) {
+    NodePositions& T = traction_;
+    T.setZero(3, site_.model.num_nodes());
+    for (size_t k = 0; k < parts_.size(); ++k) {
+      const int block = load_.parts[k].block;
+      const ElementBlock& b = *site_.model.blocks[static_cast<size_t>(block)];
+      site_.assembler.add_element_loads(
+          block, parts_[k].colors,
+          [&](std::span<const int> elems, double* f, double*) {
+            b.pressure(elems, x, gauge, f, nullptr);
+          },
+          T, nullptr);
+    }
+    site_.assembler.sum_shares(T);
+    F += T;
+  }
+
   const GasChamber& load_;
   LoadSite site_;
   std::vector<Part> parts_;
   double volume_ = 0, pressure_ = 0;
   NodePositions gradient_;
+  NodePositions traction_;
   VecX gradient_eq_;
 };
 

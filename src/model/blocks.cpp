@@ -87,6 +87,7 @@ class MembraneBlock final : public SurfaceBlock {
   }
 
   bool prestressed() const override { return law_->has_prestress(); }
+  Vec3 sheet_prestress() const override { return law_->prestress(); }
   std::unique_ptr<ElementBlock> rebuilt(std::vector<int> connectivity, const NodePositions& X,
                                         double stabilizer,
                                         std::span<const int> listed) const override {

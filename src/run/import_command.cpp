@@ -15,6 +15,17 @@
 namespace velum::run {
 
 int import_command(const std::filesystem::path& deck, const std::filesystem::path& output) {
+  // The model file must not replace the deck (the same file by any path to it).
+  {
+    std::error_code ec;
+    if (std::filesystem::exists(output, ec) && std::filesystem::equivalent(deck, output, ec)) {
+      say(stderr,
+          "error: {}: the output is the deck itself; give another file for the model (-o "
+          "MODEL.yaml): nothing written\n",
+          output.string());
+      return kExitBadInput;
+    }
+  }
   std::vector<std::string> warnings;
   std::string yaml;
   try {

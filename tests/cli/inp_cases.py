@@ -204,7 +204,10 @@ twin1 = write(os.path.join(WORK, "quad4_twin.yaml"), f"""mesh:
 """ + twin1_body)
 meshfile1 = write(os.path.join(WORK, "quad4_meshfile.yaml"),
                   "mesh:\n  file: quad4.inp\n" + twin1_body)
-imp1 = import_deck(deck1, "quad4_import", ["*NODE PRINT: not read"])
+imp1 = import_deck(deck1, "quad4_import")
+check([h["name"] for h in yaml.safe_load(open(imp1))["output"]["history"]]
+      == [f"U{c}_{n}" for c in (1, 2, 3) for n in right],
+      "quad4: *NODE PRINT, NSET=RIGHT / U becomes history columns")
 r_imp, r_twin, r_file = run(imp1, "quad4_import"), run(twin1, "quad4_twin"), run(meshfile1, "quad4_meshfile")
 same(r_imp, r_twin, "quad4 import vs YAML")
 same(r_file, r_twin, "quad4 mesh.file vs YAML")
@@ -546,7 +549,8 @@ BAD = [
     ("aniso_indefinite", edit("*ELASTIC\n100., 0.3\n", "*ELASTIC, TYPE=ORTHOTROPIC\n1., 5., 1., 0., 0., 1., 1., 1.,\n1.\n"), {}, ["deck.inp:9: *ELASTIC: the elasticity matrix is not positive definite"]),
     ("cylindrical", edit("*MEMBRANE SECTION", "*ORIENTATION, NAME=O, SYSTEM=CYLINDRICAL\n0., 0., 0., 0., 0., 1.\n*MEMBRANE SECTION"), {}, ["deck.inp:13: *ORIENTATION: SYSTEM=CYLINDRICAL is not supported"]),
     ("rotation_axis", edit("*MEMBRANE SECTION", "*ORIENTATION, NAME=O\n1., 0., 0., 0., 1., 0.\n1, 20.\n*MEMBRANE SECTION"), {}, ["deck.inp:15: *ORIENTATION", "axis must be 3"]),
-    ("two_steps", GOOD + "*STEP\n*STATIC\n*END STEP\n", {}, ["deck.inp:26: *STEP: Velum runs one step"]),
+    ("step_in_step", edit("*STATIC\n", "*STATIC\n*STEP\n"), {}, ["deck.inp:21: *STEP: a *STEP inside a step"]),
+    ("riks_in_steps", edit("*STATIC\n", "*STATIC, RIKS\n") + "*STEP\n*STATIC\n*END STEP\n", {}, ["deck.inp:19: *STATIC, RIKS: in a deck of several steps"]),
     ("cload_outside_step", edit("*STEP\n", "*CLOAD\n2, 1, 1.\n*STEP\n"), {}, ["deck.inp:19: *CLOAD: belongs inside a *STEP"]),
     ("cload_moment", edit("3, 1, 1.", "3, 5, 1."), {}, ["deck.inp:24: *CLOAD: degree of freedom 5", "no moments"]),
     ("dload_label", edit("*CLOAD\n2, 1, 1.\n3, 1, 1.\n", "*DLOAD\nS, BX, 1.\n"), {}, ["deck.inp:23: *DLOAD: load label 'BX' is not supported"]),
@@ -575,7 +579,10 @@ BAD = [
     ("include_loop", "*INCLUDE, INPUT=deck.inp\n" + GOOD, {}, ["deck.inp:1: *INCLUDE:", "includes itself"]),
     ("nul_byte", GOOD.replace("*STEP", "*ST\0EP"), {}, ["deck.inp:19: a NUL byte"]),
     ("option_twice", edit("*ELEMENT, TYPE=M3D4, ELSET=S", "*ELEMENT, TYPE=M3D4, TYPE=M3D3, ELSET=S"), {}, ["deck.inp:6: *ELEMENT: option TYPE is given twice"]),
-    ("unknown_option", edit("*STATIC\n", "*STATIC, RIKS\n"), {}, ["deck.inp:20: *STATIC: option RIKS is not supported"]),
+    ("unknown_option", edit("*STATIC\n", "*STATIC, FOO\n"), {}, ["deck.inp:20: *STATIC: option FOO is not supported"]),
+    ("initial_conditions_type", edit("*STEP\n", "*INITIAL CONDITIONS, TYPE=VELOCITY\nALL, 1, 1.\n*STEP\n"), {}, ["deck.inp:19: *INITIAL CONDITIONS: TYPE=VELOCITY is not supported"]),
+    ("initial_stress_components", edit("*STEP\n", "*INITIAL CONDITIONS, TYPE=STRESS\nS, 1., 2., 3., 4.\n*STEP\n"), {}, ["deck.inp:20: *INITIAL CONDITIONS: element 1 is a membrane: its stress has three components"]),
+    ("node_seven_fields", edit("2, 1., 0., 0.", "2, 1., 0., 0., 0., 0., 1., 0."), {}, ["deck.inp:3: *NODE: expected: node id, x, y, z"]),
     ("assembly", "*PART, NAME=P\n" + GOOD, {}, ["deck.inp:1: *PART: not supported: assembly-based decks"]),
     ("axes_normal_x", edit("2, 1., 0., 0.\n3, 1., 1., 0.\n4, 0., 1., 0.", "2, 0., 1., 0.\n3, 0., 1., 1.\n4, 0., 0., 1.").replace("*ELASTIC\n100., 0.3", "*ELASTIC, TYPE=LAMINA\n100., 50., 0.3, 20., 20., 20."), {}, ["deck.inp:13: section: element 1 lies normal to global x", "give the section an *ORIENTATION"]),
     ("bad_increments", edit("0.5, 1.", "2., 1."), {}, ["deck.inp:21: *STATIC: needs 0 < minimum"]),

@@ -63,8 +63,10 @@ class MechanicalSystem final : public SecondOrderSystem {
   NodePositions velocities(const VecX& v) const;
   /// External forces at time t for displacements u (full, global); no internal forces are
   /// assembled. Overwrites last_external(). On several processes, this process's share
-  /// (Assembler::LocalShare), as reactions() below.
-  const NodePositions& external_forces(double t, const VecX& u, const VecX& v);
+  /// (Assembler::LocalShare), as reactions() below. `at_supports`: as the supports carry them
+  /// (LoadState::at_supports; for the reactions), else as the residual has them.
+  const NodePositions& external_forces(double t, const VecX& u, const VecX& v,
+                                       bool at_supports = false);
   /// Reactions: internal minus external force at eliminated components (full, global; zero
   /// at free components). Valid after evaluate() at the same state.
   const NodePositions& last_internal() const { return Fint_; }
@@ -110,7 +112,9 @@ class MechanicalSystem final : public SecondOrderSystem {
   void set_positions(double t, const VecX& u);
   // Loads at t; their load stiffness is subtracted from *Kload. With `fused`, the pressures
   // that cover a whole block were computed in the internal pass (their forces are in Fp_).
-  void assemble_external(double t, const VecX& v, SparseMatrix* Kload, bool fused = false);
+  // `at_supports`: LoadState::at_supports (the reactions' forces).
+  void assemble_external(double t, const VecX& v, SparseMatrix* Kload, bool fused = false,
+                         bool at_supports = false);
   // |diagonal| of a matrix on the assembler's pattern (J, T_), whole (the shares summed).
   VecX abs_diagonal(const SparseMatrix& J) const;
   double distributed_force_scale();

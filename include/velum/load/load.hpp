@@ -46,6 +46,11 @@ struct LoadState {
   /// The follower pressures on whole blocks came through the blocks' internal pass
   /// (whole_block_pressure): their forces are already summed.
   bool fused = false;
+  /// The forces the supports carry (the output's reactions) rather than the residual's: they
+  /// differ for a load derived from a potential that the supports close (the gas: (p − p_a)
+  /// ∂V/∂x, whose volume closed by the symmetry planes adds a part normal to the planes at
+  /// their nodes; the supports carry the traction p − p_a on the sheet).
+  bool at_supports = false;
 };
 
 /// Where a bound load adds: the external forces F (3 x nodes), the load stiffness subtracted

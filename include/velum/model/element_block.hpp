@@ -96,6 +96,9 @@ class ElementBlock {
   std::unique_ptr<ElementBlock> on_reference(const NodePositions& X, double stabilizer) const;
   /// Whether the section carries a prestress.
   virtual bool prestressed() const = 0;
+  /// The section's prestress in the sheet axes [s11, s22, s12] (membranes; zero for cables):
+  /// form finding names a warp ≠ fill one when it finds no equilibrium shape.
+  virtual Vec3 sheet_prestress() const { return Vec3::Zero(); }
 
   /// Keeps the section data (integration points, reference geometry) of the listed elements
   /// only (ascending), freeing the others': under mpirun a process computes its own elements

@@ -51,10 +51,36 @@ std::vector<std::string> split_fields(std::string_view s) {
   return out;
 }
 
+// The options of a keyword line: split at the commas outside quotes (a quoted file name may
+// hold commas and blanks).
+std::vector<std::string> split_options(std::string_view s) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  char quote = 0;
+  for (size_t i = 0; i <= s.size(); ++i) {
+    if (i < s.size() && quote) {
+      if (s[i] == quote) quote = 0;
+      continue;
+    }
+    if (i < s.size() && (s[i] == '"' || s[i] == '\'')) {
+      quote = s[i];
+      continue;
+    }
+    if (i == s.size() || s[i] == ',') {
+      out.push_back(trim(s.substr(start, i - start)));
+      start = i + 1;
+    }
+  }
+  return out;
+}
+
 struct Reader {
   Diagnostics& diag;
   std::vector<Keyword> keywords;
   std::vector<std::filesystem::path> open;  // the include chain, for loops
+  // The block data lines go to: the last keyword but an *INCLUDE (an included file is read in
+  // place, so a file of data lines only continues the block its *INCLUDE stands in); -1 none.
+  long block = -1;
 
   void read(const std::filesystem::path& file, int depth, const Keyword* from) {
     const int fi = static_cast<int>(diag.files.size());
@@ -119,32 +145,35 @@ struct Reader {
             diag.error(k, fmt::format("more than {} nested includes", kMaxIncludeDepth));
           } else {
             std::string name = it->second;
-            if (name.size() >= 2 && name.front() == '"' && name.back() == '"')
+            if (name.size() >= 2 && (name.front() == '"' || name.front() == '\'') &&
+                name.back() == name.front())
               name = name.substr(1, name.size() - 2);
             std::filesystem::path p = name;
             if (p.is_relative()) p = file.parent_path() / p;
-            read(p, depth + 1, &keywords.back());
+            const Keyword include = keywords.back();  // the vector grows while it is read
+            read(p, depth + 1, &include);
             continued = false;
           }
           continue;
         }
         keywords.push_back(std::move(k));
+        block = static_cast<long>(keywords.size()) - 1;
         continue;
       }
-      if (keywords.empty() || keywords.back().name == "INCLUDE") {
+      if (block < 0) {
         diag.errors.push_back(
             fmt::format("{}: a data line outside any keyword block", diag.where(fi, number)));
         continue;
       }
       DataLine d{fi, number, split_fields(line)};
       if (d.fields.size() > 1 && d.fields.back().empty()) d.fields.pop_back();  // "1, 2,"
-      keywords.back().data.push_back(std::move(d));
+      keywords[static_cast<size_t>(block)].data.push_back(std::move(d));
     }
     open.pop_back();
   }
 
   void add_options(Keyword& k, const std::string& text) {
-    for (const auto& f : split_fields(text)) {
+    for (const auto& f : split_options(text)) {
       if (f.empty()) continue;
       const size_t eq = f.find('=');
       const std::string name = canonical(f.substr(0, eq));

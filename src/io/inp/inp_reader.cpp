@@ -31,7 +31,6 @@ void report_unread(const std::vector<Keyword>& keywords, const std::vector<bool>
       {"INSTANCE", "assembly-based decks are not supported: write the flat deck"},
       {"ASSEMBLY", "assembly-based decks are not supported: write the flat deck"},
       {"MASS", "point masses: give them in the YAML model (masses:)"},
-      {"INITIAL CONDITIONS", "initial conditions are not supported"},
       {"EQUATION", "multi-point constraints are not supported"},
       {"CONTROLS", "Velum's Newton controls are analysis.newton in the YAML model"}};
   for (size_t i = 0; i < keywords.size(); ++i) {
@@ -129,7 +128,7 @@ std::string import_inp(const std::filesystem::path& file, std::vector<std::strin
   std::vector<bool> used(keywords.size(), false);
   inp::Mesh mesh = inp::read_mesh(keywords, used, diag);
   inp::Properties props = inp::read_properties(keywords, used, diag);
-  inp::Step step = inp::read_step(keywords, mesh, used, diag);
+  const std::vector<inp::Step> steps = inp::read_step(keywords, mesh, used, diag);
   std::string title;
   for (size_t i = 0; i < keywords.size(); ++i)
     if (keywords[i].name == "HEADING") {
@@ -148,7 +147,7 @@ std::string import_inp(const std::filesystem::path& file, std::vector<std::strin
   if (mesh.elements.empty() && diag.errors.empty())
     diag.errors.push_back(fmt::format("{}: the deck has no *ELEMENT", file.string()));
   std::string yaml;
-  if (diag.errors.empty()) yaml = inp::write_yaml(title, mesh, props, step, diag);
+  if (diag.errors.empty()) yaml = inp::write_yaml(title, mesh, props, steps, diag);
   warnings.insert(warnings.end(), diag.warnings.begin(), diag.warnings.end());
   if (!diag.errors.empty()) throw InpError(diag.errors);
   return yaml;

@@ -97,10 +97,21 @@ void read_nodes(const Keyword& k, Mesh& mesh, Diagnostics& diag) {
   if (k.has("SYSTEM") && canonical(k.options.at("SYSTEM")) != "R")
     diag.error(k, "only SYSTEM=R (rectangular coordinates) is supported");
   std::vector<long> ids;
+  bool normals = false;
   for (const auto& d : k.data) {
-    if (d.fields.size() > 4) {
-      diag.error(k, d, "expected: node id, x, y, z");
+    if (d.fields.size() > 7) {
+      diag.error(k, d,
+                 "expected: node id, x, y, z (and optionally the normal's direction cosines)");
       continue;
+    }
+    // Fields 5-7: the direction cosines of a shell normal at the node (Abaqus, CalculiX), read
+    // as numbers but not used: a membrane's normal is its surface's.
+    for (size_t i = 4; i < d.fields.size(); ++i) diag.number(k, d, i, 0.0);
+    if (d.fields.size() > 4 && !normals) {
+      normals = true;
+      diag.warn(k, d,
+                "the normals given on the node lines (fields 5-7) are not read: a membrane's "
+                "normal is that of its surface");
     }
     auto id = diag.integer(k, d, 0);
     auto x = diag.number(k, d, 1, 0.0), y = diag.number(k, d, 2, 0.0),

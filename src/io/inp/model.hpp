@@ -5,6 +5,7 @@
 
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -89,6 +90,9 @@ Properties read_properties(const std::vector<Keyword>& keywords, std::vector<boo
 struct Amplitude {
   std::string name;
   std::vector<std::pair<double, double>> points;
+  bool total_time = false;  ///< TIME=TOTAL TIME (else step time)
+  /// Its value at time t (the first and last values held outside the table).
+  double at(double t) const;
 };
 
 /// One node's motion in one component: fixed, or prescribed (value times an amplitude).
@@ -118,6 +122,18 @@ struct Gravity {
   std::string where;
 };
 
+/// A history column from an output request (*NODE PRINT, *NODE OUTPUT under *OUTPUT,
+/// HISTORY, *ENERGY OUTPUT): a quantity of the model file's output.history.
+struct HistoryColumn {
+  std::string name;      ///< the column, e.g. U2_N3, RF1_LEFT, ALLKE
+  std::string quantity;  ///< displacement, velocity, position, reaction, kinetic_energy, ...
+  long node = 0;         ///< displacement, velocity, position
+  std::string set;       ///< reaction: the node set (summed over it) ...
+  long set_node = 0;     ///< ... or one node
+  int component = -1;    ///< 0-2; -1: none
+  std::string where;
+};
+
 struct Step {
   bool present = false;
   bool dynamic = false;
@@ -125,18 +141,62 @@ struct Step {
   bool direct = false;       ///< fixed increments
   double alpha = -0.05;      ///< HHT (Abaqus sign: -1/3 ... 0)
   bool ramp_default = true;  ///< loads without an amplitude: ramp (static) or step (dynamic)
+  /// *STATIC, RIKS: arc length (analysis.path), the loads scaled by the load proportionality
+  /// factor up to `max_lpf` (the loads as given: 1), at most `max_steps` increments (INC=).
+  bool riks = false;
+  double max_lpf = 1;
+  long max_steps = 0;  ///< 0: Velum's default
+  std::string name;    ///< NAME= of the *STEP
+  /// OP=NEW: the step removes what the steps before it applied (boundary conditions, point
+  /// loads, distributed loads, surface loads) before its own.
+  bool new_boundary = false, new_cloads = false, new_dloads = false, new_dsloads = false;
   int file = 0, line = 0;
   std::map<std::pair<long, int>, Constraint> constraints;  ///< (node, component 0-2)
   std::map<std::pair<long, int>, NodeLoad> loads;
+  std::vector<std::pair<std::pair<long, int>, NodeLoad>> held_loads;  ///< complete_steps
   std::vector<Pressure> pressures;
   std::vector<Gravity> gravity;
   std::map<std::string, Amplitude> amplitudes;  ///< by canonical name
+  std::vector<HistoryColumn> history;           ///< from the output requests
+  /// *INITIAL CONDITIONS, TYPE=STRESS: per element id, [S11, S22, S12] in the material axes
+  /// (a truss: S11 only), the sections' prestress.
+  std::map<long, Vec3> initial_stress;
 };
 
 /// Reads *BOUNDARY (model data and step), *AMPLITUDE, *SURFACE, *STEP with *STATIC or
-/// *DYNAMIC, *CLOAD, *DLOAD, *DSLOAD and *END STEP.
-Step read_step(const std::vector<Keyword>& keywords, const Mesh& mesh, std::vector<bool>& used,
-               Diagnostics& diag);
+/// *DYNAMIC, *CLOAD, *DLOAD, *DSLOAD and *END STEP, the output requests and *INITIAL
+/// CONDITIONS: one Step per *STEP, each with what it gives itself (the first also the model
+/// data's boundary conditions, the initial stress and every step's output requests; the last
+/// every amplitude).
+std::vector<Step> read_step(const std::vector<Keyword>& keywords, const Mesh& mesh,
+                            std::vector<bool>& used, Diagnostics& diag);
+
+/// Steps 2, 3, ... of a deck as complete steps of a Velum `steps:` list (Abaqus's propagation:
+/// what a step does not redefine is held at its value at the end of the step before; a load
+/// redefined under a ramp goes on from that value). Held items get the amplitude "=held"
+/// (constant); a point load held beside its redefinition is in `held_loads`.
+std::vector<Step> complete_steps(const std::vector<Step>& steps, Diagnostics& diag);
+
+/// The output requests (*OUTPUT, *NODE PRINT, *NODE OUTPUT, *ENERGY OUTPUT) of every step as
+/// the run's history columns, each once (output_requests.cpp).
+class OutputRequests {
+ public:
+  OutputRequests(const Mesh& mesh, Diagnostics& diag) : mesh_(mesh), diag_(diag) {}
+  /// Reads `k` when it is an output request (true), else false.
+  bool read(const Keyword& k);
+  std::vector<HistoryColumn> columns;
+
+ private:
+  static constexpr size_t kMaxNodeColumns = 50;  ///< per request: the first nodes of a set
+  void output(const Keyword& k);
+  void node_output(const Keyword& k);
+  void energy_output(const Keyword& k);
+  void column(HistoryColumn c);
+  const Mesh& mesh_;
+  Diagnostics& diag_;
+  bool field_output_ = false;
+  std::set<std::string> names_;
+};
 
 /// Reports every keyword not marked used: a warning for those that cannot change the answer
 /// (output requests, *HEADING), an error for the others.
@@ -145,6 +205,6 @@ void report_unread(const std::vector<Keyword>& keywords, const std::vector<bool>
 
 /// The Velum model as YAML text.
 std::string write_yaml(const std::string& title, const Mesh& mesh, const Properties& props,
-                       const Step& step, Diagnostics& diag);
+                       const std::vector<Step>& steps, Diagnostics& diag);
 
 }  // namespace velum::io::inp

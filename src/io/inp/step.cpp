@@ -1,5 +1,5 @@
-// *BOUNDARY, *AMPLITUDE, *SURFACE, *STEP with *STATIC / *DYNAMIC, *CLOAD, *DLOAD, *DSLOAD
-// and *NODE PRINT / *NODE OUTPUT (as history columns).
+// *BOUNDARY, *AMPLITUDE, *SURFACE, *STEP with *STATIC / *DYNAMIC, *CLOAD, *DLOAD, *DSLOAD,
+// *INITIAL CONDITIONS; the output requests through OutputRequests (output_requests.cpp).
 
 #include <fmt/format.h>
 
@@ -77,14 +77,19 @@ struct StepReader {
     return a;
   }
 
-  void check_op(const Keyword& k) {
-    if (k.has("OP") && canonical(k.options.at("OP")) != "MOD")
-      diag.error(k, "only OP=MOD is supported (one step: nothing to remove)");
+  // OP=MOD (the default) or OP=NEW (what the steps before applied of this kind is removed).
+  void check_op(const Keyword& k, bool& fresh) {
+    if (!k.has("OP")) return;
+    const std::string op = canonical(k.options.at("OP"));
+    if (op == "NEW" && in_step)
+      fresh = true;
+    else if (op != "MOD")
+      diag.error(k, fmt::format("OP={}: MOD or NEW (NEW inside a step)", k.options.at("OP")));
   }
 
   void boundary(const Keyword& k) {
     diag.check_options(k, {"OP", "AMPLITUDE", "TYPE"});
-    check_op(k);
+    check_op(k, step.new_boundary);
     if (k.has("TYPE") && canonical(k.options.at("TYPE")) != "DISPLACEMENT")
       diag.error(k, fmt::format("TYPE={}: only displacements are supported", k.options.at("TYPE")));
     const std::string amp = amplitude(k);
@@ -157,16 +162,17 @@ struct StepReader {
       diag.error(k, "only VALUE=RELATIVE is supported");
       return;
     }
+    bool total = false;
     if (k.has("TIME")) {
       const std::string t = canonical(k.options.at("TIME"));
       if (t != "STEP TIME" && t != "TOTAL TIME") {
-        diag.error(k, fmt::format("TIME={} is not supported (STEP TIME or TOTAL TIME: the same "
-                                  "in a deck of one step starting at 0)",
+        diag.error(k, fmt::format("TIME={} is not supported (STEP TIME or TOTAL TIME)",
                                   k.options.at("TIME")));
         return;
       }
+      total = t == "TOTAL TIME";
     }
-    Amplitude a{*name, {}};
+    Amplitude a{*name, {}, total};
     std::vector<double> v;
     for (const auto& d : k.data)
       for (size_t i = 0; i < d.fields.size(); ++i)
@@ -221,7 +227,7 @@ struct StepReader {
 
   void cload(const Keyword& k) {
     diag.check_options(k, {"OP", "AMPLITUDE"});
-    check_op(k);
+    check_op(k, step.new_cloads);
     const std::string amp = amplitude(k);
     for (const auto& d : k.data) {
       auto ns = nodes(k, d);
@@ -251,7 +257,7 @@ struct StepReader {
 
   void dload(const Keyword& k) {
     diag.check_options(k, {"OP", "AMPLITUDE"});
-    check_op(k);
+    check_op(k, step.new_dloads);
     const std::string amp = amplitude(k);
     for (const auto& d : k.data) {
       auto es = elements(k, d);
@@ -293,7 +299,7 @@ struct StepReader {
 
   void dsload(const Keyword& k) {
     diag.check_options(k, {"OP", "AMPLITUDE"});
-    check_op(k);
+    check_op(k, step.new_dsloads);
     const std::string amp = amplitude(k);
     for (const auto& d : k.data) {
       const std::string name = d.fields.empty() ? "" : canonical(d.fields[0]);
@@ -318,23 +324,33 @@ struct StepReader {
 
   void begin_step(const Keyword& k) {
     diag.check_options(k, {"NLGEOM", "INC", "AMPLITUDE", "NAME", "UNSYMM"});
-    if (step_done || in_step) {
-      diag.error(k, "Velum runs one step: a deck with several *STEP blocks cannot be imported");
+    if (in_step) {
+      diag.error(k, "a *STEP inside a step (no *END STEP before it)");
       return;
+    }
+    if (step_done) {  // the next step: the amplitudes go on, the rest is its own
+      const auto amplitudes = step.amplitudes;
+      done.push_back(std::move(step));
+      step = Step{};
+      step.amplitudes = amplitudes;
+      pressure_at.clear();
+      ramp_given = inc_given = procedure_seen = false;
     }
     in_step = true;
     step.present = true;
     step.file = k.file, step.line = k.line;
+    if (k.has("NAME")) step.name = k.options.at("NAME");
     const std::string nl = k.has("NLGEOM") ? canonical(k.options.at("NLGEOM")) : "NO";
     if (nl != "" && nl != "YES")
       diag.warn(k,
                 "the deck asks for a geometrically linear analysis (NLGEOM absent or NO); "
                 "Velum is always geometrically nonlinear: results differ where rotations are "
                 "not small");
-    if (k.has("INC"))
-      diag.warn(k,
-                "INC= (the maximum number of increments) has no counterpart: Velum takes "
-                "the increments the step needs");
+    if (k.has("INC")) {
+      const DataLine d{k.file, k.line, {k.options.at("INC")}};
+      if (auto n = diag.integer(k, d, 0); n && *n > 0) step.max_steps = *n;
+      inc_given = true;
+    }
     if (k.has("AMPLITUDE")) {
       const std::string a = canonical(k.options.at("AMPLITUDE"));
       if (a == "STEP")
@@ -345,7 +361,8 @@ struct StepReader {
         diag.error(k, fmt::format("AMPLITUDE={}: RAMP or STEP", a));
     }
   }
-  bool ramp_given = false;
+  bool ramp_given = false, inc_given = false;
+  std::vector<Step> done{};  // the steps read before this one
 
   void procedure(const Keyword& k) {
     const bool dynamic = k.name == "DYNAMIC";
@@ -359,9 +376,14 @@ struct StepReader {
     }
     procedure_seen = true;
     diag.check_options(k, dynamic ? std::vector<std::string>{"DIRECT", "ALPHA"}
-                                  : std::vector<std::string>{"DIRECT"});
+                                  : std::vector<std::string>{"DIRECT", "RIKS"});
     step.dynamic = dynamic;
     step.direct = k.has("DIRECT");
+    if (k.has("RIKS")) return riks(k);
+    if (inc_given)
+      diag.warn(k,
+                "INC= (the maximum number of increments) has no counterpart: Velum takes "
+                "the increments the step needs");
     if (dynamic && !ramp_given) step.ramp_default = false;
     if (dynamic && !ramp_given)
       diag.warn(k,
@@ -403,12 +425,104 @@ struct StepReader {
                             *max_inc));
   }
   bool procedure_seen = false;
+  OutputRequests requests{mesh, diag};
+
+  // The step's pressures: one entry per (value, amplitude), elements in order.
+  void group_pressures() {
+    std::map<std::tuple<int, double, std::string>, size_t> group;
+    for (const auto& [key, p] : pressure_at) {
+      auto [it, fresh] =
+          group.try_emplace({key.second, p.value, p.amplitude}, step.pressures.size());
+      if (fresh) step.pressures.push_back({{}, p.value, p.amplitude, p.where});
+      step.pressures[it->second].elements.push_back(key.first);
+    }
+  }
+
+  // *INITIAL CONDITIONS, TYPE=STRESS: element or element set, then the stress components
+  // in the material axes (a membrane S11, S22, S12; a truss S11): the sections' prestress.
+  void initial_conditions(const Keyword& k) {
+    diag.check_options(k, {"TYPE"});
+    const std::string type = k.has("TYPE") ? canonical(k.options.at("TYPE")) : "";
+    if (type != "STRESS") {
+      diag.error(k, fmt::format("TYPE={} is not supported (Velum reads TYPE=STRESS, as the "
+                                "sections' prestress)",
+                                type.empty() ? "(none)" : type));
+      return;
+    }
+    if (in_step) diag.error(k, "initial conditions are model data: give them before the *STEP");
+    for (const auto& d : k.data) {
+      auto es = elements(k, d);
+      if (!es) continue;
+      Vec3 S = Vec3::Zero();
+      bool ok = true;
+      for (size_t i = 1; i < d.fields.size() && ok; ++i) {
+        auto v = diag.number(k, d, i, 0.0);
+        ok = v.has_value();
+        if (ok && i <= 3) S[static_cast<int>(i - 1)] = *v;
+      }
+      if (!ok) continue;
+      for (long e : *es) {
+        const bool truss = mesh.elements[mesh.element_at.at(e)].type.rfind("cable", 0) == 0;
+        if (d.fields.size() > (truss ? 2u : 4u)) {
+          diag.error(k, d,
+                     fmt::format("element {} is a {}: its stress has {} (got {} values)", e,
+                                 truss ? "truss" : "membrane",
+                                 truss ? "one component, S11" : "three components, S11, S22, S12",
+                                 d.fields.size() - 1));
+          break;
+        }
+        step.initial_stress[e] = S;
+      }
+    }
+  }
+
+  // *STATIC, RIKS: initial arc length, period, minimum, maximum, maximum LPF, node, degree of
+  // freedom, its displacement limit. The loads scale with the load proportionality factor
+  // (Abaqus ignores their amplitudes): Velum's load parameter t through a linear function.
+  void riks(const Keyword& k) {
+    step.riks = true;
+    step.initial = step.period = step.max_inc = 1;
+    step.min_inc = 1e-5;
+    if (k.data.size() > 1) diag.error(k, "expected one data line");
+    if (k.data.empty()) {
+      diag.warn(k, "no data line: the loads as given are reached (load proportionality factor 1)");
+      return;
+    }
+    const DataLine& d = k.data[0];
+    auto period = diag.number(k, d, 1, 1.0);
+    if (!period) return;
+    auto initial = diag.number(k, d, 0, *period);
+    auto min_inc = diag.number(k, d, 2, std::min(*initial, 1e-5 * *period));
+    auto max_inc = diag.number(k, d, 3, *period);
+    auto lpf = diag.number(k, d, 4, 0.0);
+    if (!initial || !min_inc || !max_inc || !lpf) return;
+    if (*period <= 0 || *initial <= 0 || *initial > *period || *min_inc <= 0 ||
+        *min_inc > *initial) {
+      diag.error(k, d,
+                 fmt::format("needs 0 < minimum ({}) <= initial arc length ({}) <= period ({})",
+                             *min_inc, *initial, *period));
+      return;
+    }
+    // Abaqus's first load increment is initial / period of the loads given.
+    step.initial = *initial / *period, step.min_inc = *min_inc / *period;
+    step.period = 1, step.max_inc = *max_inc / *period;
+    if (*lpf > 0)
+      step.max_lpf = *lpf;
+    else
+      diag.warn(k, d,
+                "no maximum load proportionality factor (field 5): the run ends when the "
+                "loads as given are reached (factor 1) or after the step's INC= increments");
+    if (d.fields.size() > 5 && !d.fields[5].empty())
+      diag.warn(k, d,
+                "the displacement limit (fields 6-8) is not read: Velum's arc length ends at "
+                "the maximum load proportionality factor or after INC= increments");
+  }
 };
 
 }  // namespace
 
-Step read_step(const std::vector<Keyword>& keywords, const Mesh& mesh, std::vector<bool>& used,
-               Diagnostics& diag) {
+std::vector<Step> read_step(const std::vector<Keyword>& keywords, const Mesh& mesh,
+                            std::vector<bool>& used, Diagnostics& diag) {
   StepReader r{mesh, diag, {}, false, false, {}, {}};
   for (size_t i = 0; i < keywords.size(); ++i) {
     const Keyword& k = keywords[i];
@@ -435,8 +549,13 @@ Step read_step(const std::vector<Keyword>& keywords, const Mesh& mesh, std::vect
       r.dload(k);
     else if (k.name == "DSLOAD")
       r.dsload(k);
-    else if (k.name == "END STEP") {
+    else if (k.name == "INITIAL CONDITIONS")
+      r.initial_conditions(k);
+    else if (r.requests.read(k)) {  // an output request: read
+    } else if (k.name == "END STEP") {
       if (!r.procedure_seen) diag.error(k, "the step has no *STATIC or *DYNAMIC");
+      r.group_pressures();
+      r.pressure_at.clear();
       r.in_step = false;
       r.step_done = true;
     } else
@@ -446,15 +565,11 @@ Step read_step(const std::vector<Keyword>& keywords, const Mesh& mesh, std::vect
   if (r.in_step)
     diag.errors.push_back(
         fmt::format("{}: *STEP: no *END STEP", diag.where(r.step.file, r.step.line)));
-  // Pressures: one entry per (value, amplitude), elements in order.
-  std::map<std::tuple<int, double, std::string>, size_t> group;
-  for (const auto& [key, p] : r.pressure_at) {
-    auto [it, fresh] =
-        group.try_emplace({key.second, p.value, p.amplitude}, r.step.pressures.size());
-    if (fresh) r.step.pressures.push_back({{}, p.value, p.amplitude, p.where});
-    r.step.pressures[it->second].elements.push_back(key.first);
-  }
-  return std::move(r.step);
+  r.group_pressures();
+  std::vector<Step> steps = std::move(r.done);
+  steps.push_back(std::move(r.step));
+  steps.front().history = std::move(r.requests.columns);
+  return steps;
 }
 
 }  // namespace velum::io::inp

@@ -6,9 +6,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <set>
+#include <tuple>
 
 #include "model.hpp"
 
@@ -79,8 +82,15 @@ Mat3 rotated(const Mat3& Q, double deg) {
 }  // namespace
 
 std::string write_yaml(const std::string& title, const Mesh& mesh, const Properties& props,
-                       const Step& step, Diagnostics& diag) {
+                       const std::vector<Step>& deck_steps, Diagnostics& diag) {
   auto at = [&](int file, int line) { return diag.where(file, line); };
+  if (deck_steps.empty()) return {};
+  // Several steps: each complete (what it holds from the steps before), as Velum's steps:.
+  const std::vector<Step> steps =
+      deck_steps.size() > 1 ? complete_steps(deck_steps, diag) : deck_steps;
+  const bool staged = steps.size() > 1;
+  const Step& step = steps.front();  // the model data (initial stress, output requests)
+  const std::map<std::string, Amplitude>& amplitudes = steps.back().amplitudes;  // all of them
   // ---- sections: which elements each one holds ----
   std::vector<int> section_of(mesh.elements.size(), -1);
   for (size_t s = 0; s < props.sections.size(); ++s) {
@@ -125,20 +135,28 @@ std::string write_yaml(const std::string& title, const Mesh& mesh, const Propert
   if (!diag.errors.empty()) return {};
 
   // ---- parts: elements with the same section and the same pressures ----
-  std::vector<std::vector<int>> pressures_of(mesh.elements.size());
-  for (size_t p = 0; p < step.pressures.size(); ++p)
-    for (long id : step.pressures[p].elements)
-      pressures_of[mesh.element_at.at(id)].push_back(static_cast<int>(p));
+  // (step, pressure) pairs per element
+  std::vector<std::vector<std::pair<int, int>>> pressures_of(mesh.elements.size());
+  for (size_t k = 0; k < steps.size(); ++k)
+    for (size_t p = 0; p < steps[k].pressures.size(); ++p)
+      for (long id : steps[k].pressures[p].elements)
+        pressures_of[mesh.element_at.at(id)].emplace_back(static_cast<int>(k), static_cast<int>(p));
+  // ... and the same prestress (*INITIAL CONDITIONS, TYPE=STRESS).
   struct Part {
     std::string name;
     int section = 0;
     std::vector<size_t> elements;
+    std::array<double, 3> prestress{};
   };
   std::vector<Part> parts;
-  std::map<std::pair<int, std::vector<int>>, size_t> part_at;
+  std::map<std::tuple<int, std::vector<std::pair<int, int>>, std::array<double, 3>>, size_t>
+      part_at;
   for (size_t e = 0; e < mesh.elements.size(); ++e) {
-    auto [it, fresh] = part_at.try_emplace({section_of[e], pressures_of[e]}, parts.size());
-    if (fresh) parts.push_back({"", section_of[e], {}});
+    std::array<double, 3> S{};
+    if (auto it = step.initial_stress.find(mesh.elements[e].id); it != step.initial_stress.end())
+      S = {it->second[0], it->second[1], it->second[2]};
+    auto [it, fresh] = part_at.try_emplace({section_of[e], pressures_of[e], S}, parts.size());
+    if (fresh) parts.push_back({"", section_of[e], {}, S});
     parts[it->second].elements.push_back(e);
   }
   std::map<int, int> count;
@@ -171,7 +189,8 @@ std::string write_yaml(const std::string& title, const Mesh& mesh, const Propert
       diag.errors.push_back(fmt::format("{}: *MATERIAL: '{}' has no *ELASTIC", mhere, m.name));
       return std::nullopt;
     }
-    if (!m.density && step.dynamic) {
+    if (!m.density &&
+        std::any_of(steps.begin(), steps.end(), [](const Step& st) { return st.dynamic; })) {
       diag.errors.push_back(
           fmt::format("{}: *MATERIAL: '{}' has no *DENSITY, which a dynamic "
                       "step needs",
@@ -250,8 +269,9 @@ std::string write_yaml(const std::string& title, const Mesh& mesh, const Propert
       };
       axes = fmt::format(", axes: {{points: [{}, {}, {}]}}", point(o->nc, o->c), point(o->na, o->a),
                          point(o->nb, o->b));
-    } else if (sec.membrane && props.materials[props.material_at.at(sec.material)].law !=
-                                   Material::Law::kIsotropic) {
+    } else if (sec.membrane && (props.materials[props.material_at.at(sec.material)].law !=
+                                    Material::Law::kIsotropic ||
+                                p.prestress[0] != p.prestress[1] || p.prestress[2] != 0)) {
       axes = ", axes: {points: [[0, 0, 0], [1, 0, 0], [0, 1, 0]]}";  // Abaqus: global x projected
       // Where global x is within 0.1° of a sheet's normal, Abaqus projects global z instead
       // and Velum global y: refused rather than mapped differently.
@@ -271,110 +291,222 @@ std::string write_yaml(const std::string& title, const Mesh& mesh, const Propert
         }
       }
     }
-    sections_yaml += fmt::format(
-        "  - {{elements: {}, material: {}, {}: {}{}}}   # {}\n", yaml_name(p.name), yaml_name(*mat),
-        sec.membrane ? "thickness" : "area", num(sec.size), axes, at(sec.file, sec.line));
+    std::string prestress;  // in the material axes; a truss's as its force S11 A
+    if (p.prestress != std::array<double, 3>{})
+      prestress = sec.membrane ? fmt::format(", prestress: [{}, {}, {}]", num(p.prestress[0]),
+                                             num(p.prestress[1]), num(p.prestress[2]))
+                               : fmt::format(", prestress: {}", num(p.prestress[0] * sec.size));
+    sections_yaml +=
+        fmt::format("  - {{elements: {}, material: {}, {}: {}{}{}}}   # {}\n", yaml_name(p.name),
+                    yaml_name(*mat), sec.membrane ? "thickness" : "area", num(sec.size), axes,
+                    prestress, at(sec.file, sec.line));
   }
 
   // ---- functions ----
   std::set<std::string> used_amplitudes;
-  bool default_ramp_used = false;
-  auto function = [&](const std::string& amp) -> std::string {
-    if (!amp.empty()) {
-      used_amplitudes.insert(amp);
-      return ", function: " + yaml_name(step.amplitudes.at(amp).name);
-    }
-    if (!step.ramp_default) return "";
-    default_ramp_used = true;
-    return ", function: step_ramp";
-  };
-
-  // ---- boundary: per node, its fixed components and its prescribed motion ----
-  struct NodeMotion {
-    std::array<bool, 3> fixed{false, false, false}, moved{false, false, false};
-    Vec3 d = Vec3::Zero();
-    std::string amplitude, where;
-  };
-  std::map<long, NodeMotion> motion;
-  for (const auto& [key, c] : step.constraints) {
-    NodeMotion& m = motion[key.first];
-    const auto comp = static_cast<size_t>(key.second);
-    if (!c.prescribed || c.value == 0) {
-      m.fixed[comp] = true;
-      continue;
-    }
-    if (std::any_of(m.moved.begin(), m.moved.end(), [](bool b) { return b; }) &&
-        m.amplitude != c.amplitude) {
-      diag.errors.push_back(
-          fmt::format("{}: *BOUNDARY: node {} moves with two amplitudes ('{}' "
-                      "and '{}'): Velum gives a node one time function",
-                      c.where, key.first, m.amplitude, c.amplitude));
-      continue;
-    }
-    m.moved[comp] = true;
-    m.d[key.second] = c.value;
-    m.amplitude = c.amplitude;
-    m.where = c.where;
-  }
-  std::map<std::array<bool, 3>, std::vector<long>> fixes;
-  std::map<std::pair<std::array<double, 3>, std::string>, std::vector<long>> moves;
-  for (const auto& [node, m] : motion) {
-    const bool moving = std::any_of(m.moved.begin(), m.moved.end(), [](bool b) { return b; });
-    if (moving) {
-      for (size_t c = 0; c < 3; ++c)
-        if (!m.moved[c] && !m.fixed[c]) {
-          diag.errors.push_back(fmt::format(
-              "{}: *BOUNDARY: node {} is given a displacement with its component {} free: "
-              "Velum prescribes all three components of a moving node (fix or prescribe it)",
-              m.where, node, c + 1));
-          break;
-        }
-      moves[{{m.d.x(), m.d.y(), m.d.z()}, m.amplitude}].push_back(node);
-    }
-    if (std::any_of(m.fixed.begin(), m.fixed.end(), [](bool b) { return b; }))
-      fixes[m.fixed].push_back(node);
-  }
-  std::string boundary_yaml;
-  for (const auto& [fix, nodes] : fixes) {
-    std::string comps;
-    for (size_t c = 0; c < 3; ++c)
-      if (fix[c]) {
-        if (!comps.empty()) comps += ", ";
-        comps += "xyz"[c];
+  std::map<std::string, double> ramps;                 // the steps' default ramps: name -> duration
+  std::map<std::string, std::string> extra_functions;  // name -> its YAML
+  bool riks_amplitude_warned = false, riks_used = false;
+  std::vector<double> starts(steps.size(), 0.0);  // each step's start in total time
+  for (size_t k = 1; k < steps.size(); ++k) starts[k] = starts[k - 1] + steps[k - 1].period;
+  auto function = [&](const Step& st, size_t k, const std::string& amp) -> std::string {
+    if (amp == "=held") return "";  // held at its value at the end of the step before
+    if (st.riks) {                  // every load scales with the load proportionality factor
+      if (!amp.empty() && !riks_amplitude_warned) {
+        riks_amplitude_warned = true;
+        diag.warnings.push_back(fmt::format(
+            "{}: *STATIC, RIKS: the loads' amplitudes are not used (as in Abaqus): every load "
+            "scales with the load proportionality factor",
+            at(st.file, st.line)));
       }
-    boundary_yaml += fmt::format("  - {{nodes: {}, fix: [{}]}}\n", id_list(nodes, 11), comps);
-  }
-  for (const auto& [key, nodes] : moves)
-    boundary_yaml +=
-        fmt::format("  - {{nodes: {}, displacement: {}{}}}\n", id_list(nodes, 11),
-                    vec(Vec3(key.first[0], key.first[1], key.first[2])), function(key.second));
+      riks_used = true;
+      return ", function: riks_lpf";
+    }
+    if (!amp.empty()) {
+      const Amplitude& a = amplitudes.at(amp);
+      if (a.total_time && starts[k] > 0) {  // Velum's step functions run in step time
+        const std::string name = fmt::format("{}_step{}", a.name, k + 1);
+        std::string pts;
+        for (const auto& [t, v] : a.points)
+          pts += fmt::format("{}[{}, {}]", pts.empty() ? "" : ", ", num(t - starts[k]), num(v));
+        extra_functions[name] = fmt::format("{{type: table, points: [{}]}}", pts);
+        return ", function: " + yaml_name(name);
+      }
+      used_amplitudes.insert(amp);
+      return ", function: " + yaml_name(a.name);
+    }
+    if (!st.ramp_default) return "";
+    const std::string name = staged ? fmt::format("step_ramp_{}", k + 1) : "step_ramp";
+    ramps[name] = st.period;
+    return ", function: " + name;
+  };
 
-  // ---- loads ----
-  std::map<std::pair<long, std::string>, Vec3> node_force;
-  for (const auto& [key, l] : step.loads) {
-    auto [it, fresh] = node_force.try_emplace({key.first, l.amplitude}, Vec3::Zero());
-    it->second[key.second] = l.value;
+  // ---- boundary and loads of step k, each line starting with `indent` ----
+  auto boundary_and_loads = [&](const Step& st, size_t k, const std::string& indent) {
+    // per node, its fixed components and its prescribed motion
+    struct NodeMotion {
+      std::array<bool, 3> fixed{false, false, false}, moved{false, false, false};
+      Vec3 d = Vec3::Zero(), from = Vec3::Zero();
+      std::set<std::string> amplitudes;
+      std::string where;
+    };
+    std::map<long, NodeMotion> motion;
+    for (const auto& [key, c] : st.constraints) {
+      NodeMotion& m = motion[key.first];
+      const auto comp = static_cast<size_t>(key.second);
+      if (!c.prescribed || c.value == 0) {
+        m.fixed[comp] = true;
+        continue;
+      }
+      m.moved[comp] = true;
+      m.d[key.second] = c.value;
+      m.where = c.where;
+      if (c.amplitude == "=held") {
+        m.from[key.second] = c.value;
+        m.amplitudes.insert("=held");
+      } else if (c.amplitude.rfind("=from:", 0) == 0) {
+        m.from[key.second] = std::stod(c.amplitude.substr(6));
+        m.amplitudes.insert("=ramp");
+      } else {
+        m.amplitudes.insert(c.amplitude.empty() && st.ramp_default ? "=ramp" : c.amplitude);
+      }
+    }
+    std::map<std::array<bool, 3>, std::vector<long>> fixes;
+    std::map<std::pair<std::array<double, 3>, std::string>, std::vector<long>> moves;
+    for (const auto& [node, m] : motion) {
+      const bool moving = std::any_of(m.moved.begin(), m.moved.end(), [](bool b) { return b; });
+      if (moving) {
+        for (size_t c = 0; c < 3; ++c)
+          if (!m.moved[c] && !m.fixed[c]) {
+            diag.errors.push_back(fmt::format(
+                "{}: *BOUNDARY: node {} is given a displacement with its component {} free: "
+                "Velum prescribes all three components of a moving node (fix or prescribe it)",
+                m.where, node, c + 1));
+            break;
+          }
+        // One time function per node: held, a ramp from where it is (its components in a
+        // fixed ratio), or one amplitude.
+        std::string amp;
+        if (m.amplitudes.size() == 1 && *m.amplitudes.begin() != "=ramp") {
+          amp = *m.amplitudes.begin();
+        } else if (m.amplitudes.count("=ramp") &&
+                   (m.amplitudes.size() == 1 ||
+                    (m.amplitudes.size() == 2 && m.amplitudes.count("=held")))) {
+          const double r = m.from.dot(m.d) / m.d.squaredNorm();
+          if ((m.from - r * m.d).norm() > 1e-12 * m.d.norm()) {
+            diag.errors.push_back(fmt::format(
+                "{}: *BOUNDARY: node {} moves on from [{}, {}, {}] to [{}, {}, {}]: Velum "
+                "prescribes a node's motion as one vector times one time function, so a motion "
+                "that changes direction between steps cannot be written",
+                m.where, node, m.from.x(), m.from.y(), m.from.z(), m.d.x(), m.d.y(), m.d.z()));
+            continue;
+          }
+          if (r == 0) {
+            amp = "";
+          } else {
+            const std::string name = fmt::format("on_from_{}_step{}", num(r), k + 1);
+            extra_functions[name] =
+                fmt::format("{{type: table, points: [[0, {}], [{}, 1]]}}", num(r), num(st.period));
+            amp = "=fn:" + name;
+          }
+        } else {
+          diag.errors.push_back(fmt::format(
+              "{}: *BOUNDARY: node {} moves with two amplitudes: Velum gives a node one time "
+              "function",
+              m.where, node));
+          continue;
+        }
+        moves[{{m.d.x(), m.d.y(), m.d.z()}, amp}].push_back(node);
+      }
+      if (std::any_of(m.fixed.begin(), m.fixed.end(), [](bool b) { return b; }))
+        fixes[m.fixed].push_back(node);
+    }
+    std::string boundary_yaml;
+    const size_t col = indent.size() + 9;
+    for (const auto& [fix, nodes] : fixes) {
+      std::string comps;
+      for (size_t c = 0; c < 3; ++c)
+        if (fix[c]) {
+          if (!comps.empty()) comps += ", ";
+          comps += "xyz"[c];
+        }
+      boundary_yaml +=
+          fmt::format("{}- {{nodes: {}, fix: [{}]}}\n", indent, id_list(nodes, col), comps);
+    }
+    for (const auto& [key, nodes] : moves)
+      boundary_yaml +=
+          fmt::format("{}- {{nodes: {}, displacement: {}{}}}\n", indent, id_list(nodes, col),
+                      vec(Vec3(key.first[0], key.first[1], key.first[2])),
+                      key.second.rfind("=fn:", 0) == 0 ? ", function: " + key.second.substr(4)
+                                                       : function(st, k, key.second));
+
+    // loads
+    std::map<std::pair<long, std::string>, Vec3> node_force;
+    auto add_force = [&](const std::pair<long, int>& key, const NodeLoad& l) {
+      auto [it, fresh] = node_force.try_emplace({key.first, l.amplitude}, Vec3::Zero());
+      it->second[key.second] += l.value;
+    };
+    for (const auto& [key, l] : st.loads) add_force(key, l);
+    for (const auto& [key, l] : st.held_loads) add_force(key, l);
+    std::map<std::pair<std::array<double, 3>, std::string>, std::vector<long>> forces;
+    for (const auto& [key, f] : node_force)
+      forces[{{f.x(), f.y(), f.z()}, key.second}].push_back(key.first);
+    std::string loads_yaml;
+    for (const auto& [key, nodes] : forces)
+      loads_yaml += fmt::format(
+          "{}- {{type: point, nodes: {}, force: {}{}}}\n", indent, id_list(nodes, col),
+          vec(Vec3(key.first[0], key.first[1], key.first[2])), function(st, k, key.second));
+    for (size_t p = 0; p < st.pressures.size(); ++p) {
+      const Pressure& pr = st.pressures[p];
+      const std::pair<int, int> id{static_cast<int>(k), static_cast<int>(p)};
+      for (const auto& part : parts) {
+        const auto& of = pressures_of[part.elements[0]];
+        if (std::find(of.begin(), of.end(), id) != of.end())
+          loads_yaml += fmt::format("{}- {{type: pressure, elements: {}, value: {}{}}}   # {}\n",
+                                    indent, yaml_name(part.name), num(pr.value),
+                                    function(st, k, pr.amplitude), pr.where);
+      }
+    }
+    for (const auto& g : st.gravity)
+      loads_yaml += fmt::format("{}- {{type: gravity, acceleration: {}{}}}   # {}\n", indent,
+                                vec(g.acceleration), function(st, k, g.amplitude), g.where);
+    return std::pair{boundary_yaml, loads_yaml};
+  };
+
+  // ---- the analysis of step k ----
+  auto analysis = [&](const Step& st, const std::string& indent) {
+    std::string a = fmt::format("{}type: {}\n", indent, st.dynamic ? "dynamic" : "static");
+    if (st.dynamic)
+      a += fmt::format("{}integrator: {{scheme: hht, alpha: {}}}\n", indent, num(-st.alpha));
+    if (st.riks) {
+      a += fmt::format("{}time: {{end: {}, step: {}, min_step: {}}}   # {}\n", indent,
+                       num(st.max_lpf), num(st.initial), num(st.min_inc), at(st.file, st.line));
+      a += fmt::format("{}path: {{method: arc_length{}}}\n", indent,
+                       st.max_steps > 0 ? fmt::format(", max_steps: {}", st.max_steps) : "");
+    } else {
+      a += fmt::format("{}time: {{end: {}, step: {}, min_step: {}, adaptive: {}}}   # {}\n", indent,
+                       num(st.period), num(st.initial), num(st.min_inc),
+                       st.direct ? "false" : "true", at(st.file, st.line));
+    }
+    return a;
+  };
+
+  std::string boundary_yaml, loads_yaml, steps_yaml;
+  if (!staged) {
+    std::tie(boundary_yaml, loads_yaml) = boundary_and_loads(step, 0, "  ");
+  } else {
+    std::set<std::string> names;
+    for (size_t k = 0; k < steps.size(); ++k) {
+      const Step& st = steps[k];
+      std::string name = st.name.empty() ? fmt::format("Step-{}", k + 1) : st.name;
+      while (!names.insert(canonical(name)).second) name += "_";
+      auto [b, l] = boundary_and_loads(st, k, "      ");
+      steps_yaml += fmt::format("  - name: {}   # {}\n    analysis:\n{}", yaml_name(name),
+                                at(st.file, st.line), analysis(st, "      "));
+      steps_yaml += b.empty() ? "    boundary: []\n" : "    boundary:\n" + b;
+      steps_yaml += l.empty() ? "    loads: []\n" : "    loads:\n" + l;
+    }
   }
-  std::map<std::pair<std::array<double, 3>, std::string>, std::vector<long>> forces;
-  for (const auto& [key, f] : node_force)
-    forces[{{f.x(), f.y(), f.z()}, key.second}].push_back(key.first);
-  std::string loads_yaml;
-  for (const auto& [key, nodes] : forces)
-    loads_yaml +=
-        fmt::format("  - {{type: point, nodes: {}, force: {}{}}}\n", id_list(nodes, 11),
-                    vec(Vec3(key.first[0], key.first[1], key.first[2])), function(key.second));
-  for (size_t p = 0; p < step.pressures.size(); ++p) {
-    const Pressure& pr = step.pressures[p];
-    for (const auto& part : parts)
-      if (std::find(pressures_of[part.elements[0]].begin(), pressures_of[part.elements[0]].end(),
-                    static_cast<int>(p)) != pressures_of[part.elements[0]].end())
-        loads_yaml +=
-            fmt::format("  - {{type: pressure, elements: {}, value: {}{}}}   # {}\n",
-                        yaml_name(part.name), num(pr.value), function(pr.amplitude), pr.where);
-  }
-  for (const auto& g : step.gravity)
-    loads_yaml += fmt::format("  - {{type: gravity, acceleration: {}{}}}   # {}\n",
-                              vec(g.acceleration), function(g.amplitude), g.where);
 
   if (!diag.errors.empty()) return {};
 
@@ -407,28 +539,49 @@ std::string write_yaml(const std::string& title, const Mesh& mesh, const Propert
   y += "materials:\n" + materials_yaml + "sections:\n" + sections_yaml;
   if (!boundary_yaml.empty()) y += "boundary:\n" + boundary_yaml;
   if (!loads_yaml.empty()) y += "loads:\n" + loads_yaml;
-  if (default_ramp_used || !used_amplitudes.empty()) {
+  if (riks_used || !ramps.empty() || !used_amplitudes.empty() || !extra_functions.empty()) {
     y += "functions:\n";
-    if (default_ramp_used)
-      y += fmt::format("  step_ramp: {{type: ramp, duration: {}}}   # the step's default\n",
-                       num(step.period));
+    if (riks_used)  // linear over every factor the path may visit
+      y += fmt::format(
+          "  riks_lpf: {{type: table, points: [[-{0}, -{0}], [{0}, {0}]]}}   # the load "
+          "proportionality factor\n",
+          num(std::pow(10.0, std::ceil(std::log10(step.max_lpf)) + 3)));
+    for (const auto& [name, duration] : ramps)
+      y += fmt::format("  {}: {{type: ramp, duration: {}}}   # the step's default\n", name,
+                       num(duration));
     for (const auto& a : used_amplitudes) {
-      const Amplitude& amp = step.amplitudes.at(a);
+      const Amplitude& amp = amplitudes.at(a);
       std::string pts;
       for (const auto& [t, v] : amp.points)
         pts += fmt::format("{}[{}, {}]", pts.empty() ? "" : ", ", num(t), num(v));
       y += fmt::format("  {}: {{type: table, points: [{}]}}\n", yaml_name(amp.name), pts);
     }
+    for (const auto& [name, text] : extra_functions)
+      y += fmt::format("  {}: {}\n", yaml_name(name), text);
   }
-  y += "analysis:\n";
-  y += fmt::format("  type: {}\n", step.dynamic ? "dynamic" : "static");
-  if (step.dynamic)
-    y += fmt::format("  integrator: {{scheme: hht, alpha: {}}}\n", num(-step.alpha));
-  y += fmt::format("  time: {{end: {}, step: {}, min_step: {}, adaptive: {}}}   # {}\n",
-                   num(step.period), num(step.initial), num(step.min_inc),
-                   step.direct ? "false" : "true", at(step.file, step.line));
-  const double interval = std::max(step.initial, step.period / 100);
+  if (staged) {
+    y += "steps:\n" + steps_yaml;
+  } else {
+    y += "analysis:\n" + analysis(step, "  ");
+  }
+  double interval = std::numeric_limits<double>::infinity();
+  for (const Step& st : steps)
+    interval = std::min(interval, st.riks ? st.initial : std::max(st.initial, st.period / 100));
   y += fmt::format("output:\n  interval: {}\n  fields: true\n", num(interval));
+  if (!step.history.empty()) {
+    y += "  history:\n";
+    for (const auto& h : step.history) {
+      std::string what;
+      if (h.quantity == "reaction")
+        what = h.set.empty() ? fmt::format("nodes: [{}]", h.set_node)
+                             : fmt::format("nodes: {}", yaml_name(h.set));
+      else if (h.node)
+        what = fmt::format("node: {}", h.node);
+      if (h.component >= 0) what += fmt::format(", component: {}", "xyz"[h.component]);
+      y += fmt::format("    - {{name: {}, quantity: {}{}{}}}   # {}\n", yaml_name(h.name),
+                       h.quantity, what.empty() ? "" : ", ", what, h.where);
+    }
+  }
   return y;
 }
 
