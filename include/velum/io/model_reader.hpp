@@ -90,6 +90,7 @@ inline constexpr double kMaxOutputTimes = 1e6;      ///< time.end / output.inter
 inline constexpr double kMaxFrames = 1e4;           ///< ... with fields on: ParaView frames
 inline constexpr size_t kMaxHistoryNameBytes = 64;  ///< a history column name
 inline constexpr size_t kMaxSuggestionChars = 64;   ///< "did you mean": characters compared
+inline constexpr int kMaxYamlDepth = 32;            ///< nesting of mappings and lists
 
 /// Bad input: the list of "file:line: key: problem" messages, all of them.
 class InputError : public std::runtime_error {
