@@ -151,6 +151,7 @@ ModelInput Reader::read_one(const Node& root) {
   }
   if (!errors_.empty()) throw InputError(errors_);
   in_.base_dir = base_dir_;
+  in_.materials_yaml = YAML::Dump(root["materials"]) + "\n" + YAML::Dump(root["sections"]);
   if (in_.analysis.type == AnalysisSettings::Type::kFormFinding) in_.yaml = YAML::Dump(root);
   return std::move(in_);
 }

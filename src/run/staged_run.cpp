@@ -43,6 +43,7 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
         input.model.num_nodes(), input.model.num_elements(), n, out.directory.string());
   RunSummary& summary = out.summary;
   summary.elements = input.model.num_elements();
+  summary.warnings = input.warnings;  // the reader's (not printed under --quiet)
   StageObserver obs;
   obs.begin = [&](int k, MechanicalSystem& sys) {
     writer->begin_analysis_step(k + 1, sys);
@@ -73,6 +74,9 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
     } catch (const OutputError& e) {
       out.status = kExitIo;
       out.errors.push_back(e.what());
+      summary.converged = false;  // summary.json says so (where it can), not "running"
+      summary.reason = fmt::format("the results could not be written: {}", e.what());
+      finish_summary(*writer, summary, opt.started, cpu_at_start, out);
       return out;
     }
   for (int k = 0; k < n; ++k) {

@@ -74,7 +74,8 @@ struct ModelInput {
   std::vector<std::vector<long>> element_ids;  ///< per block of model.blocks: the user's ids
   std::vector<std::string> block_materials;    ///< per block: the name of its section's material
   std::vector<std::string> warnings;           ///< "file:line: key: text", not fatal
-  std::string yaml;                ///< the model's YAML text (DIR/form.yaml is written from it)
+  std::string yaml;            ///< the model's YAML text (DIR/form.yaml is written from it)
+  std::string materials_yaml;  ///< `materials` and `sections` as read (a restart must match them)
   std::filesystem::path base_dir;  ///< what relative paths in it start from
   /// A staged model's steps, in order (model, analysis and output above are the first
   /// step's); empty for a model without `steps:`.

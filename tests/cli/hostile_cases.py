@@ -1,0 +1,199 @@
+#!/usr/bin/python3
+"""The outside hostile campaign's classes of failure (issue 47, item 8), one case or more each,
+through the command line: warnings on a console that cannot take them, --restart against an
+edited, damaged or foreign checkpoint and results folder, results files that are symbolic links,
+an I/O failure's summary.json, and the model checks added for the campaign (gas chambers, quad8
+slits, form finding's prestress, a .msh file's header). Every case has a timeout: a hang fails.
+
+usage: hostile_cases.py VELUM WORK_DIR [CASE_NAME_SUBSTRING]
+"""
+import json
+import math
+import os
+import shutil
+import struct
+import subprocess
+import sys
+
+import yaml
+
+VELUM, WORK = sys.argv[1], sys.argv[2]
+ONLY = sys.argv[3] if len(sys.argv) > 3 else ""
+shutil.rmtree(WORK, ignore_errors=True)
+os.makedirs(WORK)
+failures = []
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+def sheet(end=0.02, unused_node=False, checkpoint=None, E=1000.0, history="ux"):
+    """Two quad4 pulled at one edge, dynamic: a few hundredths of a second."""
+    nodes = [[1, 0, 0, 0], [2, 1, 0, 0], [3, 2, 0, 0], [4, 0, 1, 0], [5, 1, 1, 0], [6, 2, 1, 0]]
+    if unused_node:
+        nodes.append([7, 5, 5, 5])
+    m = {
+        "mesh": {"nodes": nodes,
+                 "elements": [{"set": "sheet", "type": "quad4",
+                               "connectivity": [[1, 2, 5, 4], [2, 3, 6, 5]]}],
+                 "node_sets": {"left": [1, 4], "right": [3, 6]}},
+        "materials": {"iso": {"type": "isotropic", "E": E, "nu": 0.3, "density": 1.0}},
+        "sections": [{"elements": "sheet", "material": "iso", "thickness": 0.1}],
+        "boundary": [{"nodes": "left", "fix": ["x", "y", "z"]}],
+        "loads": [{"type": "edge", "nodes": "right", "force_per_length": [1.0, 0, 0]}],
+        "analysis": {"type": "dynamic", "time": {"end": end, "step": 0.005}},
+        "output": {"interval": 0.005, "history": [
+            {"name": history, "quantity": "displacement", "node": 6, "component": "x"}]},
+    }
+    if checkpoint:
+        m["output"]["checkpoint"] = checkpoint
+    return m
+
+
+def write(name, model):
+    path = os.path.join(WORK, name + ".yaml")
+    with open(path, "w") as f:
+        f.write(model if isinstance(model, str) else yaml.safe_dump(model))
+    return path
+
+
+def velum(*args, stderr=subprocess.PIPE, timeout=60):
+    return subprocess.run([VELUM, *map(str, args)], stdout=subprocess.PIPE, stderr=stderr,
+                          text=True, timeout=timeout)
+
+
+def summary(out):
+    return json.load(open(os.path.join(out, "summary.json")))
+
+
+def wanted(name):
+    return ONLY in name
+
+
+# --- A console that cannot take a warning never changes the exit status; -q prints none. ---
+if wanted("console"):
+    shallow = os.path.join(os.path.dirname(os.path.abspath(__file__)), "trust", "shallow-truss.yaml")
+    for name, model in [("reader warning", write("unused", sheet(unused_node=True))),
+                        ("run warning", shallow)]:
+        for quiet in ([], ["-q"]):
+            out = os.path.join(WORK, "console", name.replace(" ", "_") + "".join(quiet))
+            with open("/dev/full", "w") as full:
+                p = velum("run", model, "-o", out, "--threads", "1", *quiet, stderr=full)
+            check(p.returncode == 0, f"console {name} {quiet}: 2>/dev/full gives exit {p.returncode}")
+            r, w = os.pipe()
+            os.close(r)
+            p = velum("run", model, "-o", out, "--threads", "1", *quiet, stderr=w)
+            os.close(w)
+            check(p.returncode == 0, f"console {name} {quiet}: closed stderr gives {p.returncode}")
+        p = velum("run", model, "-o", out, "--threads", "1", "-q")
+        check(p.returncode == 0 and "warning" not in p.stderr,
+              f"console {name}: -q printed {p.stderr!r}")
+        check(len(summary(out)["warnings"]) > 0, f"console {name}: warnings not in summary.json")
+
+
+# --- --restart checks the checkpoint, the model and the folder before it touches anything. ---
+def fnv1a(data):
+    h = 14695981039346656037
+    for b in data:
+        h = ((h ^ b) * 1099511628211) & 0xFFFFFFFFFFFFFFFF
+    return h
+
+
+def first_run(name, **kw):
+    model = write(name, sheet(checkpoint={"steps": 1}, **kw))
+    out = os.path.join(WORK, "restart", name)
+    p = velum("run", model, "-o", out, "--threads", "1", "-q")
+    check(p.returncode == 0, f"restart {name}: first run exit {p.returncode}: {p.stderr}")
+    return out
+
+
+def refused(name, model, out, message, code=1):
+    before = {f: os.path.getsize(os.path.join(out, f)) for f in ("history.csv", "steps.csv")
+              if os.path.isfile(os.path.join(out, f))}
+    p = velum("run", model, "--restart", out, "--threads", "1", "-q", timeout=30)
+    check(p.returncode == code and message in p.stderr and "Traceback" not in p.stderr,
+          f"restart {name}: exit {p.returncode}, {p.stderr!r} (wanted {code}, {message!r})")
+    after = {f: os.path.getsize(os.path.join(out, f)) for f in before}
+    check(before == after, f"restart {name}: the folder was changed: {before} -> {after}")
+
+
+if wanted("restart"):
+    longer = write("longer", sheet(end=0.04, checkpoint={"steps": 1}))
+    out = first_run("good")
+    p = velum("run", longer, "--restart", out, "--threads", "1", "-q")
+    check(p.returncode == 0, f"restart good: exit {p.returncode}: {p.stderr}")
+
+    # An edited byte anywhere (here: the last frame time) fails the checksum.
+    out = first_run("edited")
+    ck = os.path.join(out, "checkpoint.bin")
+    data = bytearray(open(ck, "rb").read())
+    data[-20] ^= 0x40
+    open(ck, "wb").write(data)
+    refused("edited", longer, out, "checksum does not match")
+
+    # A value no run writes, with the checksum made to match: a NaN time.
+    out = first_run("nan")
+    ck = os.path.join(out, "checkpoint.bin")
+    data = bytearray(open(ck, "rb").read()[:-8])
+    at = 8 + 4
+    at += 8 + struct.unpack_from("<q", data, at)[0]  # the model's name
+    at += 4
+    at += 8 + struct.unpack_from("<q", data, at)[0]  # the fingerprint
+    struct.pack_into("<d", data, at, math.nan)
+    open(ck, "wb").write(bytes(data) + struct.pack("<Q", fnv1a(data)))
+    refused("nan time", longer, out, "holds a value no run writes")
+
+    # Results files the user cut short or changed since the checkpoint.
+    out = first_run("cut")
+    h = os.path.join(out, "history.csv")
+    os.truncate(h, os.path.getsize(h) // 2)
+    refused("cut history", longer, out, "was cut short since")
+    out = first_run("overwritten")
+    h = os.path.join(out, "history.csv")
+    size = os.path.getsize(h)
+    open(h, "w").write("x" * size)
+    refused("changed history", longer, out, "does not end a row")
+    out = first_run("no frame")
+    os.remove(os.path.join(out, "frames", "frame_00001.vtu"))
+    refused("missing frame", longer, out, "frame_00001.vtu: missing")
+
+    # Another model with as many equations: material, history columns, analysis type.
+    out = first_run("other")
+    for what, model, message in [
+            ("material", sheet(end=0.04, E=2000.0), "E: 2000"),
+            ("history", sheet(end=0.04, history="u6"), "history columns: u6"),
+            ("analysis", dict(sheet(end=0.04), analysis={
+                "type": "static", "time": {"end": 0.04, "step": 0.005}}), "analysis: static")]:
+        refused(f"other {what}", write("other-" + what, model), out, message)
+
+    # Not a regular file in the checkpoint's place: a device, a FIFO.
+    out = first_run("device")
+    ck = os.path.join(out, "checkpoint.bin")
+    os.remove(ck)
+    os.symlink("/dev/zero", ck)
+    refused("/dev/zero", longer, out, "not a regular file")
+    os.remove(ck)
+    os.mkfifo(ck)
+    refused("fifo", longer, out, "not a regular file")
+
+
+# --- Results files are never written through a symbolic link; an I/O failure's summary. ---
+if wanted("symlink"):
+    out = os.path.join(WORK, "symlink", "out")
+    os.makedirs(out)
+    outside = os.path.join(WORK, "symlink", "outside.txt")
+    open(outside, "w").write("keep me\n")
+    os.symlink(outside, os.path.join(out, "history.csv"))
+    p = velum("run", write("sym", sheet()), "-o", out, "--threads", "1", "-q")
+    check(p.returncode == 3 and "symbolic link" in p.stderr,
+          f"symlink: exit {p.returncode}: {p.stderr!r}")
+    check(open(outside).read() == "keep me\n", "symlink: the file outside was written")
+    s = summary(out)
+    check(s["status"] == "failed" and "could not be written" in s.get("reason", ""),
+          f"symlink: summary.json says {s}")
+
+print(f"{len(failures)} failed" if failures else "hostile cases passed")
+sys.exit(1 if failures else 0)
