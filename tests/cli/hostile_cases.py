@@ -195,5 +195,75 @@ if wanted("symlink"):
     check(s["status"] == "failed" and "could not be written" in s.get("reason", ""),
           f"symlink: summary.json says {s}")
 
+
+# --- Gas chambers: one gas load per surface, an amount above 0, every piece the right way
+# round, quadratic edges without slits. A unit cube of 6 faces, normals out of the gas. ---
+CUBE_FACES = [[1, 4, 3, 2], [5, 6, 7, 8], [1, 2, 6, 5], [4, 8, 7, 3], [1, 5, 8, 4], [2, 3, 7, 6]]
+CUBE_NODES = {1: (0, 0, 0), 2: (1, 0, 0), 3: (1, 1, 0), 4: (0, 1, 0), 5: (0, 0, 1), 6: (1, 0, 1),
+              7: (1, 1, 1), 8: (0, 1, 1)}
+
+
+def gas_cube(quad8=False, slit=False, inside_out_twin=False, loads=None, functions=None):
+    nodes = dict(CUBE_NODES)
+    faces = [list(f) for f in CUBE_FACES]
+    if inside_out_twin:  # a smaller cube beside it, its faces reversed: the total stays > 0
+        for n, (x, y, z) in CUBE_NODES.items():
+            nodes[n + 10] = (5 + 0.5 * x, 0.5 * y, 0.5 * z)
+        faces += [[n + 10 for n in reversed(f)] for f in CUBE_FACES]
+    if quad8:
+        mids = {}
+        for f in faces:
+            for k in range(4):
+                a, b = f[k], f[(k + 1) % 4]
+                key = (min(a, b), max(a, b))
+                if key not in mids:
+                    mids[key] = 100 + len(mids)
+                    nodes[mids[key]] = tuple((p + q) / 2 for p, q in zip(nodes[a], nodes[b]))
+        faces = [f + [mids[(min(f[k], f[(k + 1) % 4]), max(f[k], f[(k + 1) % 4]))]
+                      for k in range(4)] for f in faces]
+        if slit:  # the first face's first edge gets a mid-side node of its own
+            nodes[200] = nodes[faces[0][4]]
+            faces[0][4] = 200
+    m = {
+        "mesh": {"nodes": [[n, *x] for n, x in sorted(nodes.items())],
+                 "elements": [{"set": "skin", "type": "quad8" if quad8 else "quad4",
+                               "connectivity": faces}],
+                 "node_sets": {"corner": [1]}},
+        "materials": {"nylon": {"type": "isotropic", "E": 1e8, "nu": 0.3, "density": 1000}},
+        "sections": [{"elements": "skin", "material": "nylon", "thickness": 0.001}],
+        "boundary": [{"nodes": "corner", "fix": ["x", "y", "z"]}],
+        "loads": loads or [{"type": "gas", "elements": "skin", "initial_pressure": 1.1e5,
+                            "ambient": 1e5}],
+        "analysis": {"type": "static", "time": {"end": 1, "step": 1}},
+    }
+    if functions:
+        m["functions"] = functions
+    return m
+
+
+if wanted("gas"):
+    gas = {"type": "gas", "elements": "skin", "initial_pressure": 1.1e5, "ambient": 1e5}
+    for name, model, code, message in [
+            ("cube", gas_cube(), 0, "is valid"),
+            ("quad8 cube", gas_cube(quad8=True), 0, "is valid"),
+            ("two gas loads", gas_cube(loads=[gas, gas]), 1,
+             "element set 'skin' already bounds the gas of loads[0]"),
+            ("same set twice", gas_cube(loads=[dict(gas, elements=["skin", "skin"])]), 1,
+             "already bounds the gas"),
+            ("amount 0", gas_cube(loads=[dict(gas, amount="fill")], functions={
+                "fill": {"type": "table", "points": [[0, 1], [1, 0]]}}), 1,
+             "function 'fill' is not positive at every time"),
+            ("amount ramp", gas_cube(loads=[dict(gas, amount="fill")], functions={
+                "fill": {"type": "ramp", "duration": 1}}), 1, "a ramp starts at 0"),
+            ("inside-out piece", gas_cube(inside_out_twin=True), 1,
+             "the surface has 2 separate pieces"),
+            ("quad8 slit", gas_cube(quad8=True, slit=True), 1,
+             "but not its mid-side node"),
+    ]:
+        p = velum("check", write("gas-" + name.replace(" ", "-"), model))
+        text = p.stdout + p.stderr
+        check(p.returncode == code and message in text,
+              f"gas {name}: exit {p.returncode}, wanted {code} and {message!r}: {text}")
+
 print(f"{len(failures)} failed" if failures else "hostile cases passed")
 sys.exit(1 if failures else 0)

@@ -122,6 +122,8 @@ class Reader : public ReaderContext {
   std::map<std::string, std::vector<long>> file_node_sets_;
   std::map<std::string, std::vector<int>> node_sets_;
   std::map<std::string, std::vector<int>> set_blocks_;
+  /// Element sets that bound a gas chamber: the gas load's path and line (one chamber each).
+  std::map<std::string, std::string> gas_sets_;
   struct LoadAt {
     const Load* load;
     Node at;
