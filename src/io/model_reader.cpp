@@ -173,6 +173,28 @@ void Reader::parse(const Node& root) {
   final_checks(root);
 }
 
+// Form finding seeks the shape in equilibrium with a tension: without one (no prestress, or
+// only zeros) there is nothing to find, and a membrane compressed in some direction has no
+// such shape (a soap film cannot push). Bad input, not a failed solve.
+void Reader::check_form_prestress(const Node& root) {
+  const bool tension = std::any_of(prestresses_.begin(), prestresses_.end(),
+                                   [](const PrestressSite& s) { return s.greatest > 0; });
+  if (!tension)
+    error(root["sections"] ? root["sections"] : root, "sections",
+          prestresses_.empty()
+              ? "analysis.type form_finding needs a prestress: give membrane sections a "
+                "'prestress: [s11, s22, s12]' or cable sections a 'prestress' (a tension)"
+              : "analysis.type form_finding needs a tension: every section's prestress is zero "
+                "or compressive");
+  for (const auto& s : prestresses_)
+    if (s.membrane && s.least < 0)
+      error(s.at, s.path,
+            fmt::format("form finding needs a membrane prestress in tension in every direction; "
+                        "its principal values are {:.6g} and {:.6g} (a compressed membrane has "
+                        "no equilibrium shape)",
+                        s.greatest, s.least));
+}
+
 void Reader::final_checks(const Node& root) {
   for (const auto& [name, set] : element_sets_) {
     if (set.has_section) continue;
@@ -182,6 +204,7 @@ void Reader::final_checks(const Node& root) {
             fmt::format("element set '{}' has no section (material and {})", name,
                         set.dimension == 2 ? "thickness" : "area"));
   }
+  if (in_.analysis.type == AnalysisSettings::Type::kFormFinding) check_form_prestress(root);
   if (!errors_.empty()) return;
   if (in_.model.blocks.empty()) {
     error(root, "mesh", "the model has no elements");

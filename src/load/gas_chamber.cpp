@@ -124,6 +124,7 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
     return std::any_of(held[n].begin(), held[n].end(),
                        [&](const Vec3& h) { return std::abs(std::abs(h.dot(normal)) - 1) < 1e-9; });
   };
+  std::vector<Vec3> planes;  // orthonormal directions across the planes that close the chamber
   for (const auto& [key, use] : edges) {
     if (use.count == 2) continue;
     bool closed = false;
@@ -131,6 +132,9 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
       if (std::all_of(use.nodes.begin(), use.nodes.end(),
                       [&](int n) { return on_plane(n, normal); })) {
         closed = true;
+        Vec3 q = normal;
+        for (const Vec3& p : planes) q -= q.dot(p) * p;
+        if (q.norm() > 1e-6) planes.push_back(q.normalized());
         break;
       }
     if (!closed) {
@@ -144,6 +148,15 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
           gas.origin.x(), gas.origin.y(), gas.origin.z()));
     }
   }
+
+  // The volume (1/3) ∫ (x - o)·n dA sums terms of the size |x - o| |dA| that cancel down to V:
+  // an origin far from the chamber (a model placed 1e4 from its own origin) loses as many
+  // digits in V, the gas forces and their tangent, and Newton its convergence. Move it next to
+  // the chamber, along the planes that close it (V does not change); an origin near the
+  // chamber is kept as given.
+  Vec3 towards = 0.5 * (lo + hi) - gas.origin;
+  for (const Vec3& p : planes) towards -= towards.dot(p) * p;
+  if (towards.norm() > (hi - lo).norm()) gas.origin += towards;
 
   // Each connected piece of the surface encloses gas of its own sign: a piece turned inside
   // out beside a larger one the right way round would leave the total positive.

@@ -265,5 +265,68 @@ if wanted("gas"):
         check(p.returncode == code and message in text,
               f"gas {name}: exit {p.returncode}, wanted {code} and {message!r}: {text}")
 
+
+# --- Form finding: no prestress, only zeros, or a compressed membrane is bad input (exit 1). ---
+def form(prestress):
+    """Four quad4 around one free node (raised), the rim held: a flat square when tense."""
+    m = sheet()
+    m["mesh"] = {"nodes": [[3 * j + i + 1, i, j, 0.3 if (i, j) == (1, 1) else 0]
+                           for j in range(3) for i in range(3)],
+                 "elements": [{"set": "sheet", "type": "quad4", "connectivity": [
+                     [1, 2, 5, 4], [2, 3, 6, 5], [4, 5, 8, 7], [5, 6, 9, 8]]}],
+                 "node_sets": {"rim": [1, 2, 3, 4, 6, 7, 8, 9]}}
+    m["analysis"] = {"type": "form_finding", "time": {"end": 1, "step": 1}}
+    m["boundary"] = [{"nodes": "rim", "fix": ["x", "y", "z"]}]
+    m["output"]["history"][0]["node"] = 5
+    m["loads"] = []
+    if prestress is not None:
+        m["sections"][0]["prestress"] = prestress
+    return m
+
+
+if wanted("form"):
+    for name, prestress, code, message in [
+            ("tension", [10.0, 10.0, 0.0], 0, "converged"),
+            ("none", None, 1, "form_finding needs a prestress"),
+            ("zero", [0.0, 0.0, 0.0], 1, "form_finding needs a tension"),
+            ("compressive", [-10.0, -10.0, 0.0], 1, "in tension in every direction"),
+            ("shear", [1.0, 1.0, 5.0], 1, "principal values are 6 and -4")]:
+        out = os.path.join(WORK, "form", name)
+        p = velum("run", write("form-" + name, form(prestress)), "-o", out, "--threads", "1")
+        check(p.returncode == code and message in p.stderr,
+              f"form {name}: exit {p.returncode}, wanted {code} and {message!r}: {p.stderr}")
+
+
+# --- Far from the origin: a gas box 1e4 away converges as the same box at the origin. ---
+if wanted("far"):
+    def box(shift, origin=None):
+        m = gas_cube()
+        m["mesh"]["nodes"] = [[n, x + shift, y + shift, z + shift]
+                              for n, x, y, z in m["mesh"]["nodes"]]
+        m["mesh"]["node_sets"] = {"corner": [1], "c2": [2], "c4": [4]}
+        m["boundary"] = [{"nodes": "corner", "fix": ["x", "y", "z"]},
+                         {"nodes": "c2", "fix": ["y", "z"]}, {"nodes": "c4", "fix": ["z"]}]
+        m["analysis"] = {"type": "static", "time": {"end": 1, "step": 0.25}}
+        m["output"] = {"history": [{"name": "V", "quantity": "gas_volume", "load": 0},
+                                   {"name": "uz", "quantity": "displacement", "node": 7,
+                                    "component": "z"}]}
+        return m
+
+    rows = {}
+    for shift in (0, 1e4):
+        out = os.path.join(WORK, "far", str(int(shift)))
+        p = velum("run", write(f"far-{int(shift)}", box(shift)), "-o", out, "--threads", "1",
+                  "-q")
+        check(p.returncode == 0, f"far {shift}: exit {p.returncode}: {p.stderr}")
+        if p.returncode == 0:
+            rows[shift] = [list(map(float, r.split(",")))
+                           for r in open(os.path.join(out, "history.csv")).read().split()[1:]]
+            s = summary(out)
+            check(s["newton_iterations"] <= 24, f"far {shift}: {s['newton_iterations']} iterations")
+    if len(rows) == 2:
+        (V0, u0), (V1, u1) = rows[0][-1][1:], rows[1e4][-1][1:]
+        check(abs(V1 - V0) < 1e-6 * V0 and abs(u1 - u0) < 1e-6 * abs(u0),
+              f"far: V {V0} against {V1}, uz {u0} against {u1}")
+
 print(f"{len(failures)} failed" if failures else "hostile cases passed")
 sys.exit(1 if failures else 0)
