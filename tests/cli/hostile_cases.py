@@ -328,5 +328,22 @@ if wanted("far"):
         check(abs(V1 - V0) < 1e-6 * V0 and abs(u1 - u0) < 1e-6 * abs(u0),
               f"far: V {V0} against {V1}, uz {u0} against {u1}")
 
+
+# --- A .msh file's first line is checked before the file is read: 16 GB (sparse) of nothing. ---
+if wanted("msh"):
+    import time
+    big = os.path.join(WORK, "big.msh")
+    with open(big, "wb") as f:
+        f.truncate(16 << 30)
+    m = sheet()
+    m["mesh"] = {"file": big}
+    m["sections"][0]["elements"] = "all"
+    started = time.monotonic()
+    p = velum("check", write("big-msh", m), timeout=30)
+    took = time.monotonic() - started
+    os.remove(big)
+    check(p.returncode == 1 and "not a Gmsh mesh file" in p.stderr and took < 5,
+          f"msh: exit {p.returncode} after {took:.1f} s: {p.stderr}")
+
 print(f"{len(failures)} failed" if failures else "hostile cases passed")
 sys.exit(1 if failures else 0)
