@@ -5,11 +5,15 @@ Writes PNGs into OUT (default DIR/plots):
   shape_<field>_<frame>.png  the deformed shape coloured by a cell or point field of a frame;
                              cells where the field does not apply (NaN) are drawn grey;
   history.png                chosen history.csv columns against time, one panel each.
-Runs with Debian's /usr/bin/python3 (matplotlib, meshio, numpy). Exit status 0, or 1 with a
-message on bad input (no such folder, field, frame or column).
+Runs with Debian's /usr/bin/python3 (matplotlib, meshio, numpy). Exit status 0; 1 with a
+one-line message on bad input (no such folder, field, frame or column; a results file that is
+damaged, empty, cut short or missing; an option out of range); 3 when the PNGs cannot be written.
+Never a traceback.
 """
 import argparse
+import contextlib
 import csv
+import io
 import os
 import sys
 import xml.etree.ElementTree as ET
@@ -42,12 +46,40 @@ MAX_DEFAULT_COLUMNS = 8
 DEFAULT_FIELDS = ["force_per_length_max", "true_stress_max", "force", "displacement"]
 
 
+MAX_DPI = 1000  # a 7.5 x 6 inch figure at 1000 dpi is 45 megapixels
+
+
 class BadInput(Exception):
     pass
 
 
+class CannotWrite(Exception):
+    pass
+
+
+def finite_number(text):
+    v = float(text)
+    if not np.isfinite(v):
+        raise argparse.ArgumentTypeError(f"{text}: expected a finite number")
+    return v
+
+
+def dpi_value(text):
+    v = int(text)
+    if not 1 <= v <= MAX_DPI:
+        raise argparse.ArgumentTypeError(f"{text}: expected 1 to {MAX_DPI}")
+    return v
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, as every other error (exit 2: bad input)
+        print(f"velum plot: error: {' '.join(message.split())} (velum plot --help)",
+              file=sys.stderr)
+        sys.exit(2)
+
+
 def parse_args(argv):
-    p = argparse.ArgumentParser(prog="velum plot", description=__doc__.split("\n")[0])
+    p = Parser(prog="velum plot", description=__doc__.split("\n")[0])
     p.add_argument("dir", metavar="DIR", help="results folder of `velum run`")
     p.add_argument("--field", help="cell or point field to colour by (default: "
                    "force_per_length_max, else true_stress_max, force, displacement); a vector "
@@ -56,7 +88,7 @@ def parse_args(argv):
                    help="use the point (node-averaged) values of the field where a frame has both")
     p.add_argument("--frame", type=int, default=-1,
                    help="frame index, from 0; negative counts from the last (default -1)")
-    p.add_argument("--scale", type=float, default=1.0,
+    p.add_argument("--scale", type=finite_number, default=1.0,
                    help="displacement magnification of the drawn shape (default 1)")
     p.add_argument("--view", choices=["iso", "xy", "xz", "yz"], default="iso",
                    help="3-D view or a projection onto a coordinate plane (default iso)")
@@ -64,7 +96,8 @@ def parse_args(argv):
                    "first 8; 'none' for no history figure)")
     p.add_argument("--no-shape", action="store_true", help="no deformed-shape figure")
     p.add_argument("-o", "--output", help="folder for the PNGs (default DIR/plots)")
-    p.add_argument("--dpi", type=int, default=110, help="resolution (default 110)")
+    p.add_argument("--dpi", type=dpi_value, default=110,
+                   help=f"resolution, 1 to {MAX_DPI} (default 110)")
     return p.parse_args(argv)
 
 
@@ -72,9 +105,33 @@ def frames_of(folder):
     pvd = os.path.join(folder, "results.pvd")
     if not os.path.exists(pvd):
         return []
-    root = ET.parse(pvd).getroot()
-    return [(float(d.get("timestep")), os.path.join(folder, d.get("file")))
-            for d in root.findall("./Collection/DataSet")]
+    try:
+        root = ET.parse(pvd).getroot()
+        frames = [(float(d.get("timestep")), os.path.join(folder, d.get("file")))
+                  for d in root.findall("./Collection/DataSet")]
+    except (ET.ParseError, OSError, TypeError, ValueError) as e:
+        raise BadInput(f"{pvd}: not a results index written by velum run ({one_line(e)})")
+    return frames
+
+
+def one_line(e):
+    """An exception's message on one line (or its type's name when it has none)."""
+    text = " ".join(str(e).split())
+    return text if text else type(e).__name__
+
+
+def read_frame_file(path):
+    """read_frame, with any fault of the file (missing, empty, cut short, not VTK) bad input."""
+    said = io.StringIO()  # meshio prints its own complaint and exits: keep it as the reason
+    try:
+        with contextlib.redirect_stderr(said), contextlib.redirect_stdout(said):
+            mesh = read_frame(path)
+    except (Exception, SystemExit) as e:  # meshio, ElementTree: many kinds on a damaged file
+        why = one_line(said.getvalue()) if isinstance(e, SystemExit) else one_line(e)
+        raise BadInput(f"{path}: cannot read the frame ({why or 'not a frame'})")
+    if not len(mesh.points) or not np.all(np.isfinite(mesh.points)):
+        raise BadInput(f"{path}: the frame has no points or points that are not finite")
+    return mesh
 
 
 def read_frame(path):
@@ -210,10 +267,34 @@ def plot_shape(mesh, time, field, nodal, scale, view, path, dpi):
     plt.close(fig)
 
 
+def read_history(folder):
+    """history.csv as (header, rows of floats); every fault of the file is bad input that
+    names the file and line."""
+    name = os.path.join(folder, "history.csv")
+    try:
+        with open(name, newline="") as f:
+            text = f.read()
+    except (OSError, UnicodeDecodeError) as e:
+        raise BadInput(f"{name}: cannot read it ({one_line(e)})")
+    if "\0" in text:
+        raise BadInput(f"{name}:{text[:text.index(chr(0))].count(chr(10)) + 1}: NUL bytes (the "
+                       "file is damaged)")
+    rows = [(i + 1, r) for i, r in enumerate(csv.reader(text.splitlines())) if r]
+    if not rows:
+        raise BadInput(f"{name}: empty (no header line)")
+    head, data = rows[0][1], []
+    for line, r in rows[1:]:
+        if len(r) != len(head):
+            raise BadInput(f"{name}:{line}: {len(r)} values, the header has {len(head)}")
+        try:
+            data.append([float(v) for v in r])
+        except ValueError as e:
+            raise BadInput(f"{name}:{line}: {one_line(e)}")
+    return head, np.array(data, dtype=float).reshape(len(data), len(head))
+
+
 def plot_history(folder, columns, path, dpi):
-    with open(os.path.join(folder, "history.csv")) as f:
-        rows = [r for r in csv.reader(f) if r]
-    head, data = rows[0], np.array([[float(v) for v in r] for r in rows[1:]], dtype=float)
+    head, data = read_history(folder)
     available = head[1:]
     if columns is None:
         columns = available[:MAX_DEFAULT_COLUMNS]
@@ -234,9 +315,27 @@ def plot_history(folder, columns, path, dpi):
     axes[-1, 0].set_xlabel("time")
     fig.suptitle(os.path.basename(os.path.normpath(folder)) + ": history")
     fig.tight_layout()
-    fig.savefig(path, dpi=dpi)
-    plt.close(fig)
+    save(fig, path, dpi)
     return True
+
+
+def make_folder(out):
+    try:
+        os.makedirs(out, exist_ok=True)
+    except OSError as e:
+        raise CannotWrite(f"{out}: cannot make the folder for the PNGs ({one_line(e)})")
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise CannotWrite(f"{out}: the folder for the PNGs is not writable")
+
+
+def save(fig, path, dpi):
+    """Writes the figure; a PNG that cannot be written is an I/O failure."""
+    try:
+        fig.savefig(path, dpi=dpi)
+    except OSError as e:
+        raise CannotWrite(f"{path}: cannot write it ({one_line(e)})")
+    finally:
+        plt.close(fig)
 
 
 def main(argv):
@@ -254,16 +353,19 @@ def main(argv):
                            f"{len(frames) - 1}, or negative from the last)")
         index = a.frame % len(frames)
         time, path = frames[index]
-        mesh = read_frame(path)
-        field = a.field or next(f for f in DEFAULT_FIELDS
-                                if f in mesh.cell_data or f in mesh.point_data)
-        os.makedirs(out, exist_ok=True)
+        mesh = read_frame_file(path)
+        field = a.field or next((f for f in DEFAULT_FIELDS
+                                 if f in mesh.cell_data or f in mesh.point_data), None)
+        if field is None:
+            raise BadInput(f"{path}: none of the fields {', '.join(DEFAULT_FIELDS)} (--field "
+                           "to choose one)")
+        make_folder(out)
         png = os.path.join(out, f"shape_{field.replace(':', '_')}_{index:05d}.png")
         plot_shape(mesh, time, field, a.nodal, a.scale, a.view, png, a.dpi)
         written.append(png)
     if a.history != "none" and os.path.exists(os.path.join(a.dir, "history.csv")):
         columns = None if a.history is None else [c.strip() for c in a.history.split(",")]
-        os.makedirs(out, exist_ok=True)
+        make_folder(out)
         png = os.path.join(out, "history.png")
         if plot_history(a.dir, columns, png, a.dpi):
             written.append(png)
@@ -279,4 +381,13 @@ if __name__ == "__main__":
         sys.exit(main(sys.argv[1:]))
     except BadInput as e:
         print(f"velum plot: error: {e}", file=sys.stderr)
+        sys.exit(1)
+    except CannotWrite as e:
+        print(f"velum plot: error: {e}", file=sys.stderr)
+        sys.exit(3)
+    except MemoryError:
+        print("velum plot: error: out of memory (a smaller --dpi?)", file=sys.stderr)
+        sys.exit(1)
+    except Exception as e:  # whatever a damaged folder leads to: one line, never a traceback
+        print(f"velum plot: error: cannot draw the plots: {one_line(e)}", file=sys.stderr)
         sys.exit(1)

@@ -49,7 +49,14 @@ io::ModelSource source_of(const std::string& name, const std::string& base_dir) 
 
 /// Reads a model given as Python objects; InputError becomes velum.InputError.
 io::ModelInput read(py::handle model, const io::ModelSource& source) {
-  const YAML::Node root = to_yaml(model, "");
+  YAML::Node root;
+  try {
+    root = to_yaml(model, "");
+  } catch (const io::InputError& e) {  // too deep, holding itself, too large: as from a file
+    std::vector<std::string> messages;
+    for (const auto& m : e.messages()) messages.push_back(source.name + ": " + m);
+    raise_input_error(messages);
+  }
   try {
     py::gil_scoped_release nogil;
     return io::read_model(root, source);
@@ -71,13 +78,13 @@ py::list blocks_of(const io::ModelInput& in) {
 }
 
 py::object read_yaml_file(const std::string& path) {
+  // As `velum run` loads it: no FIFO or device, one document, no key twice, not too deep.
   YAML::Node root;
   try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    raise_input_error({path + ": cannot open the model file"});
-  } catch (const YAML::ParserException& e) {
-    raise_input_error({fmt::format("{}:{}: YAML syntax error: {}", path, e.mark.line + 1, e.msg)});
+    py::gil_scoped_release nogil;
+    root = io::load_model_yaml(path);
+  } catch (const io::InputError& e) {
+    raise_input_error(e.messages());
   }
   return from_yaml(root);
 }

@@ -26,12 +26,15 @@ MechanicalSystem::MechanicalSystem(const Model& model)
   assembler_.mass(nullptr, &lumped_nodes_);
   lumped_eq_.setZero(size());
   equation_node_.assign(size(), 0);
+  VecX X_eq = VecX::Zero(size());
   for (int n = 0; n < model.num_nodes(); ++n)
     for (int c = 0; c < 3; ++c)
       if (const int eq = dofs_.equation(n, c); eq >= 0) {
         lumped_eq_[eq] = lumped_nodes_[n];
         equation_node_[eq] = n;
+        X_eq[eq] = model.X(c, n);
       }
+  reference_position_norm_ = norm(X_eq);
   // Every load bound to this assembler, in the model's order (the order of the sum).
   const LoadSite site{model, assembler_, dofs_};
   for (const auto& load : model.loads) {

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -12,7 +14,19 @@
 namespace velum::io {
 namespace {
 
-constexpr char kMagic[8] = {'V', 'E', 'L', 'U', 'M', 'C', 'K', '1'};
+// Version 2 adds the processes, the model's fingerprint and a checksum.
+constexpr char kMagic[8] = {'V', 'E', 'L', 'U', 'M', 'C', 'K', '2'};
+constexpr char kMagicV1[8] = {'V', 'E', 'L', 'U', 'M', 'C', 'K', '1'};
+
+/// FNV-1a, 64 bits: catches an edited or damaged byte (not an attack: anyone can recompute it).
+std::uint64_t checksum(const char* p, size_t n) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (size_t i = 0; i < n; ++i) {
+    h ^= static_cast<unsigned char>(p[i]);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
 
 class Out {
  public:
@@ -86,6 +100,8 @@ void write_checkpoint(const std::filesystem::path& path, const CheckpointFile& c
   o.buf_.append(kMagic, sizeof kMagic);
   o.pod(c.dofs);
   o.text(c.model);
+  o.pod(c.processes);
+  o.text(c.fingerprint);
   const LoopResume& l = c.run.loop;
   o.pod(l.t), o.pod(l.step), o.pod(l.steps), o.pod(l.iterations), o.pod(l.factorizations),
       o.pod(l.cutbacks);
@@ -100,15 +116,37 @@ void write_checkpoint(const std::filesystem::path& path, const CheckpointFile& c
   o.pod(c.history_bytes), o.pod(c.steps_bytes);
   o.vec(c.frame_times);
   o.vec(c.run.loads);
+  o.pod(checksum(o.buf_.data(), o.buf_.size()));
   write_file_atomically(path, o.buf_);
 }
 
 CheckpointFile read_checkpoint(const std::filesystem::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f)
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto st = fs::status(path, ec);
+  if (!fs::exists(st))
     throw std::runtime_error(path.string() +
                              ": no checkpoint (the run needs output.checkpoint to write one)");
+  // A device or a FIFO put in its place would be read without end or block.
+  if (!fs::is_regular_file(st))
+    throw std::runtime_error(path.string() + ": not a regular file, so not a Velum checkpoint");
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw std::runtime_error(path.string() + ": cannot open the checkpoint");
   std::string data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  if (data.size() >= sizeof kMagic && std::memcmp(data.data(), kMagicV1, sizeof kMagicV1) == 0)
+    throw std::runtime_error(path.string() +
+                             ": a checkpoint of an older Velum (without a checksum): run the "
+                             "model again from its start");
+  std::uint64_t sum = 0;
+  if (data.size() >= sizeof kMagic + sizeof sum) {
+    std::memcpy(&sum, data.data() + data.size() - sizeof sum, sizeof sum);
+    data.resize(data.size() - sizeof sum);
+    if (std::memcmp(data.data(), kMagic, sizeof kMagic) == 0 &&
+        sum != checksum(data.data(), data.size()))
+      throw std::runtime_error(path.string() +
+                               ": the checkpoint's checksum does not match: it was changed or "
+                               "damaged since it was written");
+  }
   In in(std::move(data), path.string());
   char magic[sizeof kMagic];
   for (char& ch : magic) ch = in.pod<char>();
@@ -116,6 +154,8 @@ CheckpointFile read_checkpoint(const std::filesystem::path& path) {
   CheckpointFile c;
   c.dofs = in.pod<int>();
   c.model = in.text();
+  c.processes = in.pod<int>();
+  c.fingerprint = in.text();
   LoopResume& l = c.run.loop;
   l.t = in.pod<double>(), l.step = in.pod<double>();
   l.steps = in.pod<int>(), l.iterations = in.pod<int>(), l.factorizations = in.pod<int>();
@@ -133,8 +173,18 @@ CheckpointFile read_checkpoint(const std::filesystem::path& path) {
   for (long i = 0; i < nw; ++i) c.run.warnings.push_back(in.text());
   c.history_bytes = in.pod<long>(), c.steps_bytes = in.pod<long>();
   c.frame_times = in.doubles();
-  if (!in.done()) c.run.loads = in.doubles();  // absent from the checkpoints before it
+  c.run.loads = in.doubles();
   if (!in.done()) in.bad();
+  // Whole and unchanged; still, nothing below may be read as a time or a size without sense.
+  auto finite = [](const VecX& v) { return v.allFinite(); };
+  const bool sane = c.dofs >= 0 && c.processes >= 1 && std::isfinite(l.t) &&
+                    std::isfinite(l.step) && std::isfinite(l.control.h) && l.control.h >= 0 &&
+                    l.steps >= 0 && finite(c.run.state.u) && finite(c.run.state.v) &&
+                    finite(c.run.state.a) && c.history_bytes >= 0 && c.steps_bytes >= 0;
+  if (!sane)
+    throw std::runtime_error(path.string() +
+                             ": the checkpoint holds a value no run writes (a time, step or "
+                             "state that is not finite, or a negative size)");
   return c;
 }
 

@@ -129,7 +129,11 @@ std::vector<std::vector<double>> FrameWriter::average_to_nodes(const FrameFields
 }
 
 std::string FrameWriter::file(int index) const {
-  return fmt::format("frames/{}.{}", frame_name(index), pieces_ > 1 ? "pvtu" : "vtu");
+  return file(index, pieces_);
+}
+
+std::string FrameWriter::file(int index, int pieces) {
+  return fmt::format("frames/{}.{}", frame_name(index), pieces > 1 ? "pvtu" : "vtu");
 }
 
 void FrameWriter::write(int index, const FrameValues& v) const {

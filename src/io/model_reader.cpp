@@ -73,50 +73,58 @@ std::pair<int, int> document_lines(std::string_view text) {
   return {first, 0};
 }
 
-}  // namespace
-
-ModelInput Reader::read_file(const std::filesystem::path& file) {
-  in_.file = file;
+/// The model file's text, refused before it is read if it is not a regular file (a FIFO would
+/// block, a device never end) or larger than kMaxModelFileBytes.
+std::string model_file_text(const std::filesystem::path& file, const std::string& name) {
   namespace fs = std::filesystem;
   std::error_code ec;
   const auto st = fs::status(file, ec);
   if (fs::is_directory(st))
-    throw InputError({fmt::format("{}: is a directory, not a model file", name_)});
+    throw InputError({fmt::format("{}: is a directory, not a model file", name)});
   if (fs::exists(st) && !fs::is_regular_file(st))
     throw InputError(
-        {fmt::format("{}: not a regular file (a model file is a YAML text file)", name_)});
+        {fmt::format("{}: not a regular file (a model file is a YAML text file)", name)});
   if (fs::is_regular_file(st)) {
     const auto bytes = fs::file_size(file, ec);
     if (!ec && bytes > kMaxModelFileBytes)
       throw InputError({fmt::format(
           "{}: the model file has {} bytes, more than the limit of {} MiB (put large meshes "
           "in a Gmsh file: mesh.file)",
-          name_, bytes, kMaxModelFileBytes >> 20)});
+          name, bytes, kMaxModelFileBytes >> 20)});
   }
   // yaml-cpp 0.7's LoadAll loops forever on some inputs (a flow mapping followed by a comma,
-  // found by fuzzing): the file is read whole, its document markers are found here (in
-  // read_text), and only the first document is parsed.
+  // found by fuzzing): the file is read whole, its document markers are found in
+  // parse_model_text, and only the first document is parsed.
   std::string text;
-  {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw InputError({fmt::format("{}: cannot open the model file", name_)});
-    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  }
-  return read_text(text);
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError({fmt::format("{}: cannot open the model file", name)});
+  text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return text;
 }
 
-ModelInput Reader::read_text(const std::string& yaml) {
+/// The YAML tree of a model's text: one document only.
+YAML::Node parse_model_text(const std::string& yaml, const std::string& name) {
   if (auto [first, second] = document_lines(yaml); second > 0)
     throw InputError({fmt::format(
         "{}:{}: a second YAML document (after '---' or '...'): a model file holds one, which "
         "began at line {}",
-        name_, second, first)});
-  Node root;
+        name, second, first)});
   try {
-    root = YAML::Load(yaml);
+    return YAML::Load(yaml);
   } catch (const YAML::ParserException& e) {
-    throw InputError({fmt::format("{}:{}: YAML syntax error: {}", name_, e.mark.line + 1, e.msg)});
+    throw InputError({fmt::format("{}:{}: YAML syntax error: {}", name, e.mark.line + 1, e.msg)});
   }
+}
+
+}  // namespace
+
+ModelInput Reader::read_file(const std::filesystem::path& file) {
+  in_.file = file;
+  return read_text(model_file_text(file, name_));
+}
+
+ModelInput Reader::read_text(const std::string& yaml) {
+  const Node root = parse_model_text(yaml, name_);
   ModelInput in = read(root);
   in.yaml = yaml;
   return in;
@@ -143,6 +151,7 @@ ModelInput Reader::read_one(const Node& root) {
   }
   if (!errors_.empty()) throw InputError(errors_);
   in_.base_dir = base_dir_;
+  in_.materials_yaml = YAML::Dump(root["materials"]) + "\n" + YAML::Dump(root["sections"]);
   if (in_.analysis.type == AnalysisSettings::Type::kFormFinding) in_.yaml = YAML::Dump(root);
   return std::move(in_);
 }
@@ -165,6 +174,28 @@ void Reader::parse(const Node& root) {
   final_checks(root);
 }
 
+// Form finding seeks the shape in equilibrium with a tension: without one (no prestress, or
+// only zeros) there is nothing to find, and a membrane compressed in some direction has no
+// such shape (a soap film cannot push). Bad input, not a failed solve.
+void Reader::check_form_prestress(const Node& root) {
+  const bool tension = std::any_of(prestresses_.begin(), prestresses_.end(),
+                                   [](const PrestressSite& s) { return s.greatest > 0; });
+  if (!tension)
+    error(root["sections"] ? root["sections"] : root, "sections",
+          prestresses_.empty()
+              ? "analysis.type form_finding needs a prestress: give membrane sections a "
+                "'prestress: [s11, s22, s12]' or cable sections a 'prestress' (a tension)"
+              : "analysis.type form_finding needs a tension: every section's prestress is zero "
+                "or compressive");
+  for (const auto& s : prestresses_)
+    if (s.membrane && s.least < 0)
+      error(s.at, s.path,
+            fmt::format("form finding needs a membrane prestress in tension in every direction; "
+                        "its principal values are {:.6g} and {:.6g} (a compressed membrane has "
+                        "no equilibrium shape)",
+                        s.greatest, s.least));
+}
+
 void Reader::final_checks(const Node& root) {
   for (const auto& [name, set] : element_sets_) {
     if (set.has_section) continue;
@@ -174,6 +205,7 @@ void Reader::final_checks(const Node& root) {
             fmt::format("element set '{}' has no section (material and {})", name,
                         set.dimension == 2 ? "thickness" : "area"));
   }
+  if (in_.analysis.type == AnalysisSettings::Type::kFormFinding) check_form_prestress(root);
   if (!errors_.empty()) return;
   if (in_.model.blocks.empty()) {
     error(root, "mesh", "the model has no elements");
@@ -228,6 +260,14 @@ ModelInput read_model(const std::filesystem::path& file) {
 
 ModelInput read_model_text(const std::string& yaml, const ModelSource& source) {
   return model_file::Reader(source.name, source.base_dir).read_text(yaml);
+}
+
+YAML::Node load_model_yaml(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  YAML::Node root = model_file::parse_model_text(model_file::model_file_text(file, name), name);
+  if (auto problems = model_file::yaml_structure_problems(root, name); !problems.empty())
+    throw InputError(std::move(problems));
+  return root;
 }
 
 ModelInput read_model(const YAML::Node& root, const ModelSource& source) {

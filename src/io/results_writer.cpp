@@ -13,17 +13,43 @@
 #include <numbers>
 #include <system_error>
 
+#include <fcntl.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 namespace velum::io {
+namespace {
+
+/// Opens a results file for writing without following a symbolic link put in its place (which
+/// could point out of the folder); null with errno set on failure.
+std::FILE* open_output(const std::filesystem::path& path, bool append) {
+  const int fd =
+      ::open(path.c_str(),
+             O_WRONLY | O_CREAT | O_CLOEXEC | O_NOFOLLOW | (append ? O_APPEND : O_TRUNC), 0666);
+  if (fd < 0) return nullptr;
+  std::FILE* f = ::fdopen(fd, append ? "ab" : "wb");
+  if (!f) ::close(fd);
+  return f;
+}
+
+/// Why a results file could not be opened (errno), in words.
+std::string open_failure(const std::filesystem::path& path) {
+  if (errno == ELOOP)
+    return fmt::format(
+        "cannot write {}: it is a symbolic link (results are not written through "
+        "links; remove it)",
+        path.string());
+  return fmt::format("cannot write {}: {}", path.string(), std::strerror(errno));
+}
+
+}  // namespace
 
 void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
   std::filesystem::path tmp = path;
   tmp += ".tmp";
   {
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f)
-      throw OutputError(fmt::format("cannot write {}: {}", tmp.string(), std::strerror(errno)));
+    std::FILE* f = open_output(tmp, false);
+    if (!f) throw OutputError(open_failure(tmp));
     const size_t n = std::fwrite(text.data(), 1, text.size(), f);
     const bool ok = n == text.size() && std::fflush(f) == 0;
     if (std::fclose(f) != 0 || !ok)
@@ -95,11 +121,10 @@ ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
     if (ec1 || ec2)
       throw OutputError(fmt::format("cannot resume the results in {}: {}", dir_.string(),
                                     (ec1 ? ec1 : ec2).message()));
-    history_ = std::fopen(h.c_str(), "ab");
-    steps_ = std::fopen(sp.c_str(), "ab");
-    if (!history_ || !steps_)
-      throw OutputError(
-          fmt::format("cannot append to {}: {}", dir_.string(), std::strerror(errno)));
+    history_ = open_output(h, true);
+    if (!history_) throw OutputError(open_failure(h));
+    steps_ = open_output(sp, true);
+    if (!steps_) throw OutputError(open_failure(sp));
     std::fseek(history_, 0, SEEK_END);
     std::fseek(steps_, 0, SEEK_END);
     frame_times_ = resume->frame_times;
@@ -107,16 +132,14 @@ ResultsWriter::ResultsWriter(const ModelInput& input, MechanicalSystem& system,
     return;
   }
   if (input_.output.fields) write_legend();
-  history_ = std::fopen(h.c_str(), "w");
-  if (!history_)
-    throw OutputError(fmt::format("cannot write {}: {}", h.string(), std::strerror(errno)));
+  history_ = open_output(h, false);
+  if (!history_) throw OutputError(open_failure(h));
   std::string header = input_.steps.empty() ? "time" : "time,analysis_step";
   for (const auto& e : input_.output.history) header += "," + e.name;
   std::fprintf(history_, "%s\n", header.c_str());
   if (std::fflush(history_) != 0) throw OutputError(fmt::format("cannot write {}", h.string()));
-  steps_ = std::fopen(sp.c_str(), "w");
-  if (!steps_)
-    throw OutputError(fmt::format("cannot write {}: {}", sp.string(), std::strerror(errno)));
+  steps_ = open_output(sp, false);
+  if (!steps_) throw OutputError(open_failure(sp));
   if (std::fputs(input_.steps.empty()
                      ? "step,time,step_size,iterations,factorizations,negative_pivots,residuals\n"
                      : "analysis_step,step,time,step_size,iterations,factorizations,"

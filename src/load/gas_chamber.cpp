@@ -18,6 +18,17 @@ struct EdgeUse {
   bool forward = true;     ///< traversed from the smaller corner index to the larger
   std::vector<int> nodes;  ///< model node indices
   int count = 0;
+  int other_part = 0, other_element = 0;  ///< the second element along it
+};
+
+/// Union-find over the chamber's elements (numbered part by part), for its connected pieces.
+struct Pieces {
+  std::vector<int> up;
+  int find(int i) {
+    while (up[i] != i) i = up[i] = up[up[i]];
+    return i;
+  }
+  void join(int a, int b) { up[find(a)] = find(b); }
 };
 
 }  // namespace
@@ -78,9 +89,23 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
               "the edge from node {} to node {} is shared by three or more elements of the "
               "chamber: a chamber's surface must be a closed sheet (one gas load per chamber)",
               id(a), id(c)));
+        // Quadratic edges (corners, then the mid-side node): the same corners but another
+        // mid-side node leave a slit.
+        if (use.count == 1 && le.size() > 2 && use.nodes[2] != nodes[le[2]]) {
+          const auto& other = *model.blocks[gas.parts[use.part].block];
+          throw std::invalid_argument(fmt::format(
+              "elements {} of set '{}' and {} of set '{}' share the corners of the edge from "
+              "node {} to node {} but not its mid-side node ({} and {}): the surface has a slit "
+              "there; give both elements the same mid-side node",
+              element_name(use.part, use.element), other.set_name(),
+              element_name(static_cast<int>(pi), e), b.set_name(), id(a), id(c), id(use.nodes[2]),
+              id(nodes[le[2]])));
+        }
         if (use.count == 0) {
           use.part = static_cast<int>(pi), use.element = e, use.forward = forward;
           for (int k : le) use.nodes.push_back(nodes[k]);
+        } else {
+          use.other_part = static_cast<int>(pi), use.other_element = e;
         }
         ++use.count;
       }
@@ -100,6 +125,7 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
     return std::any_of(held[n].begin(), held[n].end(),
                        [&](const Vec3& h) { return std::abs(std::abs(h.dot(normal)) - 1) < 1e-9; });
   };
+  std::vector<Vec3> planes;  // orthonormal directions across the planes that close the chamber
   for (const auto& [key, use] : edges) {
     if (use.count == 2) continue;
     bool closed = false;
@@ -107,6 +133,9 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
       if (std::all_of(use.nodes.begin(), use.nodes.end(),
                       [&](int n) { return on_plane(n, normal); })) {
         closed = true;
+        Vec3 q = normal;
+        for (const Vec3& p : planes) q -= q.dot(p) * p;
+        if (q.norm() > 1e-6) planes.push_back(q.normalized());
         break;
       }
     if (!closed) {
@@ -120,6 +149,60 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
           gas.origin.x(), gas.origin.y(), gas.origin.z()));
     }
   }
+
+  // The volume (1/3) ∫ (x - o)·n dA sums terms of the size |x - o| |dA| that cancel down to V:
+  // an origin far from the chamber (a model placed 1e4 from its own origin) loses as many
+  // digits in V, the gas forces and their tangent, and Newton its convergence. Move it next to
+  // the chamber, along the planes that close it (V does not change); an origin near the
+  // chamber is kept as given.
+  Vec3 towards = 0.5 * (lo + hi) - gas.origin;
+  for (const Vec3& p : planes) towards -= towards.dot(p) * p;
+  if (towards.norm() > (hi - lo).norm()) gas.origin += towards;
+
+  // Each connected piece of the surface encloses gas of its own sign: a piece turned inside
+  // out beside a larger one the right way round would leave the total positive.
+  std::vector<int> first(gas.parts.size() + 1, 0);
+  for (size_t pi = 0; pi < gas.parts.size(); ++pi)
+    first[pi + 1] = first[pi] + static_cast<int>(gas.parts[pi].elements.size());
+  std::vector<std::vector<int>> slot(gas.parts.size());  // element index -> its place in part
+  for (size_t pi = 0; pi < gas.parts.size(); ++pi) {
+    slot[pi].assign(static_cast<size_t>(model.blocks[gas.parts[pi].block]->size()), -1);
+    for (size_t k = 0; k < gas.parts[pi].elements.size(); ++k)
+      slot[pi][static_cast<size_t>(gas.parts[pi].elements[k])] = static_cast<int>(k);
+  }
+  auto global = [&](int part, int e) { return first[part] + slot[part][e]; };
+  Pieces pieces{std::vector<int>(static_cast<size_t>(first.back()))};
+  for (size_t i = 0; i < pieces.up.size(); ++i) pieces.up[i] = static_cast<int>(i);
+  for (const auto& [key, use] : edges)
+    if (use.count == 2)
+      pieces.join(global(use.part, use.element), global(use.other_part, use.other_element));
+  struct Piece {
+    GasLoad chamber;            ///< the piece as a chamber of its own, for its volume
+    int part = 0, element = 0;  ///< its first element, for the message
+  };
+  std::map<int, Piece> by_piece;
+  for (size_t pi = 0; pi < gas.parts.size(); ++pi)
+    for (int e : gas.parts[pi].elements) {
+      auto [it, fresh] = by_piece.try_emplace(pieces.find(global(static_cast<int>(pi), e)));
+      Piece& piece = it->second;
+      if (fresh) piece.part = static_cast<int>(pi), piece.element = e;
+      auto& parts = piece.chamber.parts;
+      if (parts.empty() || parts.back().block != gas.parts[pi].block)
+        parts.push_back({gas.parts[pi].block, {}});
+      parts.back().elements.push_back(e);
+    }
+  if (by_piece.size() > 1)
+    for (auto& [root, piece] : by_piece) {
+      piece.chamber.origin = gas.origin;
+      const double v = gas_chamber_volume(model, piece.chamber, model.X);
+      if (!(v > 0))
+        throw std::invalid_argument(fmt::format(
+            "the surface has {} separate pieces and the one with element {} of set '{}' "
+            "encloses a volume of {:.6g}, not positive: its normals g1 x g2 point into the gas; "
+            "reverse the node order of its elements (the normals must point out of the gas)",
+            by_piece.size(), element_name(piece.part, piece.element),
+            model.blocks[gas.parts[piece.part].block]->set_name(), v));
+    }
 
   const double V = gas_chamber_volume(model, gas, model.X);
   // Zero to round-off (the cone volumes of the elements, each at most the chamber's extent

@@ -17,11 +17,13 @@ namespace {
 constexpr const char* kUnitsNote =
     "units: the model's own (any consistent set); nothing is converted";
 
-/// Reads the model; on bad input prints every message and returns nullopt.
-std::optional<ModelInput> load(const std::filesystem::path& file) {
+/// Reads the model; on bad input prints every message and returns nullopt. Quiet: errors only
+/// (the warnings are in summary.json).
+std::optional<ModelInput> load(const std::filesystem::path& file, bool quiet = false) {
   try {
     ModelInput in = read_model(file);
-    for (const auto& w : in.warnings) say(stderr, "warning: {}\n", w);
+    if (!quiet)
+      for (const auto& w : in.warnings) say(stderr, "warning: {}\n", w);
     return in;
   } catch (const InputError& e) {
     for (const auto& m : e.messages()) say(stderr, "error: {}\n", m);
@@ -89,7 +91,7 @@ int run_command(const RunOptions& opt) {
   controls.quiet = opt.quiet;
   controls.restart = opt.restart;
   InterruptGuard interrupts;  // SIGINT, SIGTERM: finish the current step, then stop
-  auto in = load(opt.model);
+  auto in = load(opt.model, opt.quiet);
   if (!in) return kExitBadInput;
   if (const int sig = InterruptGuard::signal_received())  // nothing written yet
     return sig == SIGINT ? kExitInterrupted : kExitTerminated;

@@ -65,11 +65,13 @@ class Progress {
     if (drawn_) say(stderr, "\n");
     drawn_ = false;
   }
-  // A warning on its own line (the bar, if drawn, continues below it).
+  // A warning on its own line (the bar, if drawn, continues below it); quiet: none (it is in
+  // summary.json). A console that cannot take it changes nothing.
   void warn(const std::string& w) {
-    if (drawn_) fmt::print(stderr, "\n");
+    if (quiet_) return;
+    if (drawn_) say(stderr, "\n");
     drawn_ = false;
-    fmt::print(stderr, "warning: {}\n", w);
+    say(stderr, "warning: {}\n", w);
   }
   void finish(const TimeLoopResult& r) {
     if (quiet_) return;

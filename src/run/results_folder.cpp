@@ -82,6 +82,15 @@ bool open_results(const ModelInput& input, MechanicalSystem& system,
   } catch (const OutputError& e) {
     out.status = kExitIo;
     out.errors.push_back(e.what());
+    // Not "running" once the run is over (where summary.json can still be written).
+    try {
+      write_file_atomically(
+          dir / "summary.json",
+          fmt::format("{{\n  \"status\": \"failed\",\n  \"reason\": \"the results could not be "
+                      "written: {}\",\n  \"model\": \"{}\"\n}}\n",
+                      json_escape(e.what()), json_escape(input.file.string())));
+    } catch (const OutputError&) {
+    }
     return false;
   }
   return true;

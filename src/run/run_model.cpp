@@ -52,36 +52,6 @@ class CheckpointSchedule {
   double interval_, end_, eps_, last_k_ = 0;
 };
 
-void save_checkpoint(const ResultsWriter& writer, const std::filesystem::path& model, int dofs,
-                     Checkpoint run) {
-  const WriterPosition at = writer.position();
-  write_checkpoint(writer.directory() / "checkpoint.bin",
-                   CheckpointFile{.dofs = dofs,
-                                  .model = model.filename().string(),
-                                  .run = std::move(run),
-                                  .history_bytes = at.history_bytes,
-                                  .steps_bytes = at.steps_bytes,
-                                  .frame_times = at.frame_times});
-}
-
-// The checkpoint in DIR, if it fits the model; otherwise a message and nullopt.
-std::optional<CheckpointFile> load_checkpoint(const std::filesystem::path& dir,
-                                              const ModelInput& in, const MechanicalSystem& sys) {
-  try {
-    CheckpointFile c = read_checkpoint(dir / "checkpoint.bin");
-    if (c.dofs != sys.global_size() || c.run.state.u.size() != sys.global_size())
-      throw std::runtime_error(
-          fmt::format("{}: written by a model with {} equations ({}), this one has {}",
-                      (dir / "checkpoint.bin").string(), c.dofs, c.model, sys.global_size()));
-    if (in.analysis.path.method != PathSettings::Method::kLoadControl)
-      throw std::runtime_error("--restart: path following (analysis.path) has no checkpoints");
-    return c;
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
-    return std::nullopt;
-  }
-}
-
 // Under mpirun: the model cut down to this process's piece (share_model), and the history's
 // nodes renumbered to the piece's (-1, or left out of a reaction's list: another process's).
 void share_out(ModelInput& input) {
@@ -150,7 +120,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   if (opt.restart) {
     input.output.directory = *opt.restart;
     out.directory = *opt.restart;
-    if (!(resume = load_checkpoint(*opt.restart, input, *system))) {
+    if (!(resume = load_checkpoint(*opt.restart, input, *system, out.errors))) {
       out.status = kExitBadInput;
       return out;
     }
@@ -242,7 +212,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
           if (snap.checkpoint && checkpoints.due(snap.step)) {
             Checkpoint c = (*snap.checkpoint)();
             if (writes)
-              save_checkpoint(*writer, input.file, static_cast<int>(system->global_size()),
+              save_checkpoint(*writer, input, static_cast<int>(system->global_size()),
                               std::move(c));
           }
         } catch (const OutputError&) {
@@ -284,7 +254,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     if (out.stopped && summary.reason.empty())
       summary.reason = fmt::format("stopped by the caller at t = {:.6g}", summary.final_time);
     if (!result.loop.completed) out.status = kExitSolveFailed;
-    summary.warnings = result.warnings;
+    summary.warnings = input.warnings;  // the reader's (not printed under --quiet), the run's
+    summary.warnings.insert(summary.warnings.end(), result.warnings.begin(), result.warnings.end());
     if (const int sig = InterruptGuard::signal_received(); sig && !result.loop.completed)
       mark_interrupted(
           sig, fmt::format("after step {} (t = {:.6g})", result.loop.steps, summary.final_time),
@@ -294,6 +265,10 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     progress.end_line();
     out.status = kExitIo;
     out.errors.push_back(e.what());
+    // summary.json says so (where it can still be written), not "running".
+    summary.converged = false;
+    summary.reason = fmt::format("the results could not be written: {}", e.what());
+    if (writes && writer) finish_summary(*writer, summary, opt.started, cpu_at_start, out);
     return out;
   } catch (const std::exception& e) {
     summary.converged = false;
@@ -311,8 +286,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   }
   if (out.status == kExitInterrupted || out.status == kExitTerminated) return out;
   if (!opt.quiet && !summary.warnings.empty())
-    fmt::print(stderr, "velum: {} warning{} (in summary.json)\n", summary.warnings.size(),
-               summary.warnings.size() == 1 ? "" : "s");
+    say(stderr, "velum: {} warning{} (in summary.json)\n", summary.warnings.size(),
+        summary.warnings.size() == 1 ? "" : "s");
   if (!opt.quiet)
     say(stderr,
         "velum: converged; energy: kinetic {:.6g}, strain {:.6g}, external work {:.6g}, "

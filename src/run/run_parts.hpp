@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "velum/io/checkpoint.hpp"
 #include "velum/io/run_control.hpp"
@@ -25,6 +26,15 @@ bool open_results(const ModelInput& input, MechanicalSystem& system,
                   const std::filesystem::path& dir, const std::optional<CheckpointFile>& resume,
                   RunOutcome& out, std::optional<OutputLock>& lock,
                   std::unique_ptr<ResultsWriter>& writer);
+
+/// Writes DIR/checkpoint.bin (restart.cpp). Throws OutputError.
+void save_checkpoint(const ResultsWriter& writer, const ModelInput& input, int dofs,
+                     Checkpoint run);
+/// The checkpoint in DIR if it fits the model and the folder; otherwise nullopt, and why in
+/// `errors` (bad input: nothing in DIR was touched).
+std::optional<CheckpointFile> load_checkpoint(const std::filesystem::path& dir,
+                                              const ModelInput& in, const MechanicalSystem& sys,
+                                              std::vector<std::string>& errors);
 
 /// A run stopped by SIGINT or SIGTERM (sig): status "interrupted", `reason`, exit 130 / 143.
 void mark_interrupted(int sig, const std::string& reason, RunSummary& summary, RunOutcome& out);

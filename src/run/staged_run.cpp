@@ -46,6 +46,7 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
   // SIGINT, SIGTERM inside the loops that may run long (one process: run_staged refuses more).
   for (AnalysisStep& s : input.steps)
     s.analysis.newton.interrupted = [] { return InterruptGuard::signal_received() != 0; };
+  summary.warnings = input.warnings;  // the reader's (not printed under --quiet)
   StageObserver obs;
   obs.begin = [&](int k, MechanicalSystem& sys) {
     writer->begin_analysis_step(k + 1, sys);
@@ -76,6 +77,9 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
     } catch (const OutputError& e) {
       out.status = kExitIo;
       out.errors.push_back(e.what());
+      summary.converged = false;  // summary.json says so (where it can), not "running"
+      summary.reason = fmt::format("the results could not be written: {}", e.what());
+      finish_summary(*writer, summary, opt.started, cpu_at_start, out);
       return out;
     }
   for (int k = 0; k < n; ++k) {

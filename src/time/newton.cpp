@@ -157,7 +157,10 @@ class NewtonSolver::Iteration {
   // The contraction θ = ‖du_k‖/‖du_k−1‖ of the last two corrections.
   double contraction() const { return dn_prev_ > 0 ? dn_ / dn_prev_ : 1.0; }
   // The distance to the solution a converged iterate may have left.
-  double allowed() const { return test_.distance_target(sys_.norm(u_ - u_start_), sys_.norm(u_)); }
+  double allowed() const {
+    return test_.distance_target(sys_.norm(u_ - u_start_),
+                                 sys_.norm(u_) + sys_.reference_position_norm());
+  }
   // Whether the latest residual fell by `gain_` from the one before (where the tests ask,
   // the latest is always the one in question).
   bool fell_fast() const {

@@ -175,8 +175,10 @@ StepReport PathTracer::step(Control control, double size) {
     }
     const double target = test.residual_target(rn, sys_.force_scale(), sys_.residual_noise());
     // The distance left is taken as the last correction's size (no contraction estimate).
-    if (it > 0 && ConvergenceTest::met(rn, target, dn,
-                                       test.distance_target(sys_.norm(du), sys_.norm(cand_u_))))
+    if (it > 0 && ConvergenceTest::met(
+                      rn, target, dn,
+                      test.distance_target(sys_.norm(du),
+                                           sys_.norm(cand_u_) + sys_.reference_position_norm())))
       break;
     if (it == newton_.max_iterations) {
       rep.reason =

@@ -13,6 +13,7 @@ and after the restart, valid pieces (per frame a .pvtu naming two pieces that ho
 once and every node) with the one-process frame's values (mpi_cases.frame_errors).
 """
 import os
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -49,6 +50,15 @@ def main():
     errors += mpi_cases.compare(mpi_cases.history(os.path.join(one, "history.csv")), got,
                                 "restarted on 2 processes vs one process")
     errors += mpi_cases.frame_errors(one, cont, 2)
+    # A one-process checkpoint restarted on two processes would name frames (.pvtu) that do not
+    # exist: refused, exit 1, nothing changed (issue 47).
+    before = open(os.path.join(one, "history.csv"), "rb").read()
+    p = subprocess.run(mpirun + [full, "--restart", one, "-q", "--threads", "1"], env=env,
+                       capture_output=True, text=True, timeout=300)
+    if p.returncode != 1 or "written by a run on 1 process, this one has 2" not in p.stderr:
+        errors.append(f"one-process checkpoint on 2 processes: exit {p.returncode}: {p.stderr}")
+    if open(os.path.join(one, "history.csv"), "rb").read() != before:
+        errors.append("one-process checkpoint on 2 processes: history.csv changed")
     if errors:
         sys.exit("FAIL:\n" + "\n".join(errors))
     print(f"ok: restart on 2 processes: {len(got[1])} history rows ({len(stopped[1])} before the "

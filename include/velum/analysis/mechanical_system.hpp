@@ -29,6 +29,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   const VecX& lumped_mass() const override { return lumped_eq_; }
   double force_scale() const override { return force_scale_; }
   double residual_noise() const override { return residual_noise_; }
+  double reference_position_norm() const override { return reference_position_norm_; }
   std::string diagnose_singular(const SparseMatrix& J) const override;
   bool stiffen_stress_free(SparseMatrix& J) const override;
   void complete(VecX& from_jacobian) const override;
@@ -139,6 +140,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   std::vector<double> block_pressure_;      ///< whole-block pressures at the evaluated time
   VecX fred_, mv_, mvv_, x_eq_, noise_eq_;  ///< mv_ = M a, mvv_ = M v (evaluate)
   double force_scale_ = 0, residual_noise_ = 0;
+  double reference_position_norm_ = 0;
 };
 
 }  // namespace velum

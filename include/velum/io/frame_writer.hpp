@@ -46,6 +46,8 @@ class FrameWriter {
   void write(int index, const FrameValues& v) const;
   /// The file of frame `index` that results.pvd names, relative to the results folder.
   std::string file(int index) const;
+  /// The same for a run on `pieces` processes (1: one .vtu per frame, more: a .pvtu each).
+  static std::string file(int index, int pieces);
 
  private:
   const ModelInput& input_;

@@ -78,7 +78,8 @@ struct ModelInput {
   std::vector<std::vector<long>> element_ids;  ///< per block of model.blocks: the user's ids
   std::vector<std::string> block_materials;    ///< per block: the name of its section's material
   std::vector<std::string> warnings;           ///< "file:line: key: text", not fatal
-  std::string yaml;                ///< the model's YAML text (DIR/form.yaml is written from it)
+  std::string yaml;            ///< the model's YAML text (DIR/form.yaml is written from it)
+  std::string materials_yaml;  ///< `materials` and `sections` as read (a restart must match them)
   std::filesystem::path base_dir;  ///< what relative paths in it start from
   /// A staged model's steps, in order (model, analysis and output above are the first
   /// step's); empty for a model without `steps:`.
@@ -94,6 +95,7 @@ inline constexpr double kMaxOutputTimes = 1e6;      ///< time.end / output.inter
 inline constexpr double kMaxFrames = 1e4;           ///< ... with fields on: ParaView frames
 inline constexpr size_t kMaxHistoryNameBytes = 64;  ///< a history column name
 inline constexpr size_t kMaxSuggestionChars = 64;   ///< "did you mean": characters compared
+inline constexpr int kMaxYamlDepth = 32;            ///< nesting of mappings and lists
 
 /// Bad input: the list of "file:line: key: problem" messages, all of them.
 class InputError : public std::runtime_error {

@@ -82,7 +82,8 @@ class ConvergenceTest {
     return std::max({tolerance_ * scale, abs_residual_, noise});
   }
   /// The distance to the solution an iterate may leave: `change` the norm of the step's
-  /// change of u so far, `position` the norm of u.
+  /// change of u so far, `position` the norm of the positions (u and the reference positions
+  /// it moves, SecondOrderSystem::reference_position_norm).
   double distance_target(double change, double position) const {
     return std::max(tolerance_ * change, 1e-14 * (1 + position));
   }

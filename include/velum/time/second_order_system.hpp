@@ -41,6 +41,11 @@ class SecondOrderSystem {
   /// change when every coordinate moves by one unit in the last place (ε ‖|K|ᵀ |x|‖). No
   /// residual below it can be told from zero. 0 when unknown.
   virtual double residual_noise() const { return 0; }
+  /// The norm of the positions that u = 0 stands for (the reference configuration's
+  /// coordinates, over the equations): a displacement is resolved only to ε times the
+  /// position it moves, so far from the origin no iterate settles closer than that. 0 when
+  /// the unknowns are not displacements from positions.
+  virtual double reference_position_norm() const { return 0; }
   /// Equations that move together (the components of one node), as a group index per
   /// equation; empty when every equation stands alone. Dynamic relaxation gives each group
   /// one fictitious mass, so that a direction without stiffness yet (the normal of a flat,

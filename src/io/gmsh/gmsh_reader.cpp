@@ -257,6 +257,17 @@ MeshData read_gmsh(const std::filesystem::path& file) {
     throw MeshFileError(fmt::format("{}: not a regular file (a device or a pipe?)", name));
   std::ifstream in(file, std::ios::binary);
   if (!in) throw MeshFileError(fmt::format("{}: cannot open the mesh file", name));
+  // The first line before the rest: a file of gigabytes that is no mesh is refused at once,
+  // not after it has been read whole.
+  {
+    char head[11] = {};
+    in.read(head, sizeof head);
+    if (std::string_view(head, static_cast<size_t>(in.gcount())) != "$MeshFormat")
+      throw MeshFileError(
+          fmt::format("{}: not a Gmsh mesh file (it must start with $MeshFormat)", name));
+    in.clear();
+    in.seekg(0);
+  }
   std::string bytes;
   try {
     const auto size = fs::file_size(file, ec);

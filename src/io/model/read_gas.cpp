@@ -31,6 +31,17 @@ std::optional<std::vector<GasLoad::Part>> Reader::gas_parts(const Node& l, const
     ok = false;
   }
   for (const auto& [set, at] : sets) {
+    // A surface bounds one chamber: a second gas load on it would apply its pressure again.
+    const std::string here =
+        line_of(at) > 0 ? fmt::format("{} (line {})", p, line_of(at)) : std::string(p);
+    if (auto [g, fresh] = gas_sets_.emplace(set, here); !fresh) {
+      error(at, sub(p, "elements"),
+            fmt::format("element set '{}' already bounds the gas of {}: a surface bounds one "
+                        "chamber, and a second gas load would apply its pressure twice",
+                        set, g->second));
+      ok = false;
+      continue;
+    }
     auto sit = element_sets_.find(set);
     if (sit == element_sets_.end()) {
       if (mesh_ok_)
@@ -71,9 +82,23 @@ void Reader::parse_gas_load(const Node& l, const std::string& p) {
   auto gamma = positive(l, "gamma", p, false, "gamma");
   if (auto o = vec3(l, "origin", p, false)) gas.origin = *o;
   if (auto f = text(l, "amount", p, false)) {
-    if (auto it = functions_.find(*f); it != functions_.end())
+    if (auto it = functions_.find(*f); it != functions_.end()) {
       gas.amount = it->second;
-    else if (*f != "step") {
+      // p = p0 m (V0/V)^gamma: no gas (m = 0) is no chamber, and the pressure's derivatives
+      // divide by m. A ramp starts at 0; a constant or a table (held outside its points,
+      // linear between them) stays positive where its values are.
+      const TimeFunction& fn = in_.model.functions[static_cast<size_t>(it->second)];
+      bool positive_amount = fn.kind != TimeFunction::Kind::kRamp;
+      if (fn.kind == TimeFunction::Kind::kConstant) positive_amount = fn.value > 0;
+      for (const auto& [t, v] : fn.points) positive_amount = positive_amount && v > 0;
+      if (!positive_amount) {
+        error(l["amount"], sub(p, "amount"),
+              fmt::format("function '{}' is not positive at every time (a ramp starts at 0): "
+                          "the amount of gas, relative to the initial one, must stay above 0",
+                          *f));
+        ok = false;
+      }
+    } else if (*f != "step") {
       auto names = keys_of(functions_);
       names.push_back("step");
       error(l["amount"], sub(p, "amount"),

@@ -137,6 +137,9 @@ void Reader::parse_sections(const Node& ss) {
           law_ok = false;
         } else {
           law.prestress = *v;
+          const double c = 0.5 * ((*v)[0] + (*v)[1]);
+          const double r = std::hypot(0.5 * ((*v)[0] - (*v)[1]), (*v)[2]);
+          prestresses_.push_back({ps, pp, c - r, c + r, true});
         }
       } else {
         const auto n = number(ps, pp);
@@ -149,6 +152,7 @@ void Reader::parse_sections(const Node& ss) {
           law_ok = false;
         } else {
           law.cable_prestress = *n;
+          prestresses_.push_back({ps, pp, *n, *n, false});
         }
       }
     }

@@ -64,6 +64,7 @@ class Reader : public ReaderContext {
   // read_steps.cpp: a model with `steps:`, read once per step.
   ModelInput read_steps(const Node& root);
   void final_checks(const Node& root);
+  void check_form_prestress(const Node& root);
 
   // read_mesh.cpp
   void add_node(long id, const Vec3& x, const Node& at, const std::string& path);
@@ -143,6 +144,17 @@ class Reader : public ReaderContext {
   std::map<std::string, std::vector<long>> file_node_sets_;
   std::map<std::string, std::vector<int>> node_sets_;
   std::map<std::string, std::vector<int>> set_blocks_;
+  /// Each section's prestress as given (its node and path) with its least and greatest
+  /// principal value (a cable's force twice): form finding needs tension.
+  struct PrestressSite {
+    Node at;
+    std::string path;
+    double least = 0, greatest = 0;
+    bool membrane = true;
+  };
+  std::vector<PrestressSite> prestresses_;
+  /// Element sets that bound a gas chamber: the gas load's path and line (one chamber each).
+  std::map<std::string, std::string> gas_sets_;
   struct LoadAt {
     const Load* load;
     Node at;

@@ -9,10 +9,9 @@
 #include <string>
 #include <vector>
 
-namespace velum::io::model_file {
+#include "velum/io/model_reader.hpp"  // kMaxYamlDepth
 
-/// Deepest nesting of mappings and lists a model file may have.
-inline constexpr int kMaxYamlDepth = 32;
+namespace velum::io::model_file {
 
 /// "file:line: key: problem" for each duplicate key (naming both lines) and the first node
 /// nested deeper than kMaxYamlDepth.
