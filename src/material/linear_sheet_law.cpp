@@ -62,29 +62,33 @@ void LinearSheetLaw::evaluate(const Vec3& E, SheetResponse& out) const {
     out.C = Q;
     return;
   }
-  out.S = (1 - kappa_) * tf.S + kappa_ * St;
-  out.C = (1 - kappa_) * tf.C + kappa_ * Q;
+  // The stress is the tension field's alone: a share of the trial stress would put a
+  // compression κ S_trial into every wrinkled and slack point, whose forces Newton must then
+  // balance on a stiffness of κ Q (docs/wrinkling.md, "Residual stiffness"). The residual
+  // stiffness regularises the tangent only.
+  out.S = tf.S;
+  out.C = tf.C + kappa_ * Q;
 }
 
 void LinearSheetLaw::fiber_tension_field(const Vec3& E, SheetResponse& out) const {
   // A sheet of fibre families has no stiffness across its fibres, so its tension field is
-  // each family going slack on its own (a fibre carries no compression), plus the residual
-  // fraction κ of the elastic law.
-  const Mat3& Q = elastic_.Q();
-  out.S = kappa_ * (Q * E);
-  out.C = kappa_ * Q;
+  // each family going slack on its own (a fibre carries no compression); the residual
+  // fraction κ of the elastic law is added to the tangent only, as for other sheets.
+  out.S.setZero();
+  out.C.setZero();
   int taut = 0;
   for (const auto& f : elastic_.families()) {
     const Vec3 v = fiber_vector(f);
     const double eps = v.dot(E);
     if (eps > 0) {
-      out.S += (1 - kappa_) * f.E * eps * v;
-      out.C += (1 - kappa_) * f.E * v * v.transpose();
+      out.S += f.E * eps * v;
+      out.C += f.E * v * v.transpose();
       ++taut;
       out.angle = f.angle_deg * std::numbers::pi / 180;
     }
   }
   const int n = static_cast<int>(elastic_.families().size());
+  if (taut < n) out.C += kappa_ * elastic_.Q();
   out.state = taut == n   ? WrinkleState::kTaut
               : taut == 0 ? WrinkleState::kSlack
                           : WrinkleState::kWrinkled;
@@ -101,19 +105,19 @@ double LinearSheetLaw::energy(const Vec3& E) const {
       const double eps = fiber_vector(f).dot(E);
       if (eps > 0) Wf += 0.5 * f.E * eps * eps;
     }
-    return (1 - kappa_) * Wf + kappa_ * W;
+    return Wf;
   }
   const TensionField tf = tension_field(Q, Q * E + S0_);
   switch (tf.state) {
     case WrinkleState::kTaut:
       return W;
     case WrinkleState::kSlack:
-      return (1 - kappa_) * slack_energy_ + kappa_ * W;
+      return slack_energy_;
     case WrinkleState::kWrinkled: {
       // W(E − β v_t) = W(E) − ½ β² v_tᵀQv_t at the root (tension_field.cpp).
       const double c = std::cos(tf.angle), s = std::sin(tf.angle);
       const Vec3 vt(s * s, c * c, -2 * s * c);
-      return W - (1 - kappa_) * 0.5 * tf.beta * tf.beta * vt.dot(Q * vt);
+      return W - 0.5 * tf.beta * tf.beta * vt.dot(Q * vt);
     }
   }
   return W;

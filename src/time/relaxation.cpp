@@ -42,6 +42,12 @@ void DynamicRelaxation::update_masses(SecondOrderSystem& sys, double t, const Ve
   for (int k = 0; k < J_.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(J_, k); it; ++it) rows[it.row()] += std::abs(it.value());
   sys.complete(rows);  // J may be this process's share
+  // The low-rank part of the Jacobian (an enclosed gas: (γ p / V) a aᵀ) belongs to the row
+  // sums as much as the sparse part: without it the masses are too light for the gas's
+  // stiffness of the volume, and a chamber started far from its volume oscillates.
+  const LowRankJacobian& low = sys.jacobian_low_rank();
+  for (Eigen::Index j = 0; j < low.U.cols(); ++j)
+    rows += low.U.col(j).cwiseAbs() * sys.sum(low.W.col(j).cwiseAbs());
   const auto& groups = sys.equation_groups();
   if (!groups.empty()) {
     const int ng = *std::max_element(groups.begin(), groups.end()) + 1;
