@@ -41,6 +41,8 @@ bool out_of_time(std::chrono::steady_clock::time_point start, double max_seconds
   return max_seconds > 0 &&
          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
              max_seconds;
+}
+
 // Why the updates found no shape, and what helps. A residual that still falls wants more
 // updates; one that has levelled off (the mesh sliding along the surface) does not: with a
 // warp ≠ fill prestress there is in general no shape that carries it, with an isotropic one
