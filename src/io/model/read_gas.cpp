@@ -9,7 +9,8 @@
 
 namespace velum::io::model_file {
 
-std::optional<std::vector<GasLoad::Part>> Reader::gas_parts(const Node& l, const std::string& p) {
+std::optional<std::vector<GasLoad::Part>> Reader::gas_parts(const Node& l, const std::string& p,
+                                                           bool walls) {
   std::vector<GasLoad::Part> parts;
   bool ok = true;
   // elements: one set name or a list of them.
@@ -34,7 +35,8 @@ std::optional<std::vector<GasLoad::Part>> Reader::gas_parts(const Node& l, const
     // A surface bounds one chamber: a second gas load on it would apply its pressure again.
     const std::string here =
         line_of(at) > 0 ? fmt::format("{} (line {})", p, line_of(at)) : std::string(p);
-    if (auto [g, fresh] = gas_sets_.emplace(set, here); !fresh) {
+    if (auto [g, fresh] = walls ? gas_sets_.emplace(set, here) : std::pair{gas_sets_.end(), true};
+        !fresh) {
       error(at, sub(p, "elements"),
             fmt::format("element set '{}' already bounds the gas of {}: a surface bounds one "
                         "chamber, and a second gas load would apply its pressure twice",
@@ -281,7 +283,7 @@ bool Reader::parse_gas_flow(const Node& l, const std::string& p, GasLoad& gas) {
           continue;
         }
         GasLoad::Leakage leak;
-        auto parts = gas_parts(ls[k], q);
+        auto parts = gas_parts(ls[k], q, false);
         auto kp = non_negative(ls[k], "permeability", q, "the permeability");
         auto b = non_negative(ls[k], "quadratic", q, "the quadratic coefficient");
         if (!require(ls[k], "permeability", q) || !parts || !kp ||
