@@ -10,7 +10,7 @@
 namespace velum::io::model_file {
 
 std::optional<std::vector<GasLoad::Part>> Reader::gas_parts(const Node& l, const std::string& p,
-                                                           bool walls) {
+                                                            bool walls) {
   std::vector<GasLoad::Part> parts;
   bool ok = true;
   // elements: one set name or a list of them.

@@ -108,9 +108,10 @@ class Reader : public ReaderContext {
   // read_gas.cpp
   void parse_gas_load(const Node& l, const std::string& path);
   /// The membrane element sets of `elements` (one name or a list); nullopt when invalid.
-  /// `walls`: the sets bound the chamber (each set may bound one); false: a subset of them (leakage).
+  /// `walls`: the sets bound the chamber (each set may bound one); false: a subset of them
+  /// (leakage).
   std::optional<std::vector<GasLoad::Part>> gas_parts(const Node& l, const std::string& path,
-                                                    bool walls = true);
+                                                      bool walls = true);
   /// The gas-flow keys (temperature, gas_constant, inflator, vents, leakage, orifices).
   bool parse_gas_flow(const Node& l, const std::string& path, GasLoad& gas);
   /// A time function by name (-1: step; -2: invalid, reported); inflator curves are kept for
