@@ -9,6 +9,8 @@
 // one low-rank column per chamber (U = −a_i, W = ∂p_i/∂x).
 #include "gas_flow_term.hpp"
 
+#include "chamber_surface.hpp"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -26,81 +28,6 @@ namespace velum {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// Listed membrane elements of a model: their volume with an origin, their area, and the
-// derivatives of both, summed over the processes.
-class Surface {
- public:
-  Surface(const std::vector<GasLoad::Part>& parts, const LoadSite& site)
-      : parts_(parts), site_(site) {
-    for (const auto& part : parts) {
-      Own& p = own_.emplace_back();
-      const ElementBlock& b = *site.model.blocks[static_cast<size_t>(part.block)];
-      for (int e : part.elements)
-        if (site.assembler.owns(part.block, e)) p.elements.push_back(e);
-      p.colors = site.assembler.own_colors(part.block, part.elements);
-      p.kernel = make_surface_volume_kernel(b.type_name());
-    }
-  }
-  double volume(const NodePositions& x, const Vec3& o) const {
-    double V = 0;
-    for (size_t k = 0; k < own_.size(); ++k)
-      V += own_[k].kernel->volume(own_[k].elements, connectivity(k), x, o);
-    if (site_.model.piece) processes::sum(&V, 1);
-    return V;
-  }
-  double area(const NodePositions& x) const {
-    double A = 0;
-    for (size_t k = 0; k < own_.size(); ++k)
-      A += own_[k].kernel->area(own_[k].elements, connectivity(k), x);
-    if (site_.model.piece) processes::sum(&A, 1);
-    return A;
-  }
-  // a = ∂V/∂x (overwritten) and, when K != null, scale ∂²V/∂x² subtracted from K.
-  void volume_derivatives(const NodePositions& x, const Vec3& o, double scale, NodePositions& a,
-                          SparseMatrix* K) const {
-    a.setZero(3, site_.model.num_nodes());
-    for (size_t k = 0; k < own_.size(); ++k) {
-      const Own& p = own_[k];
-      const auto conn = connectivity(k);
-      site_.assembler.add_element_loads(
-          parts_[k].block, p.colors,
-          [&](std::span<const int> elems, double* f, double* H) {
-            p.kernel->derivatives(elems, conn, x, o, scale, f, H);
-          },
-          a, K);
-    }
-    site_.assembler.sum_shares(a);
-  }
-  // b = ∂A/∂x (overwritten).
-  void area_gradient(const NodePositions& x, NodePositions& b) const {
-    b.setZero(3, site_.model.num_nodes());
-    for (size_t k = 0; k < own_.size(); ++k) {
-      const Own& p = own_[k];
-      const auto conn = connectivity(k);
-      site_.assembler.add_element_loads(
-          parts_[k].block, p.colors,
-          [&](std::span<const int> elems, double* f, double*) {
-            p.kernel->area_gradient(elems, conn, x, f);
-          },
-          b, nullptr);
-    }
-    site_.assembler.sum_shares(b);
-  }
-
- private:
-  std::span<const int> connectivity(size_t k) const {
-    return site_.model.blocks[static_cast<size_t>(parts_[k].block)]->connectivity();
-  }
-  struct Own {
-    std::vector<int> elements;
-    Assembler::ElementColors colors;
-    std::unique_ptr<SurfaceVolumeKernel> kernel;
-  };
-  std::vector<GasLoad::Part> parts_;
-  LoadSite site_;
-  std::vector<Own> own_;
-};
 
 class GasFlowTerm;
 
@@ -217,6 +144,10 @@ class GasFlowTerm final : public LoadTerm {
       if (jacobian) gradients(s.x);
     }
     const double p = g.solution.ok ? g.solution.p[index_] : kNaN;
+    if (s.at_supports) {  // the reactions: the traction, not ∂V/∂x (LoadState::at_supports)
+      walls_.add_traction(s.x, p - load_.ambient, gradient_, out.F);
+      return;
+    }
     walls_.volume_derivatives(s.x, load_.origin, p - load_.ambient, gradient_, out.K);
     out.F += (p - load_.ambient) * gradient_;
     if (!jacobian) return;
@@ -253,7 +184,7 @@ class GasFlowTerm final : public LoadTerm {
       for (size_t j = 0; j < group_->members.size(); ++j)
         copy.V[j] = group_->members[j]->walls_.volume(x, group_->members[j]->load_.origin);
       for (GasFlowTerm* m : group_->members)
-        for (const Surface& l : m->leaks_) copy.A.push_back(l.area(x));
+        for (const ChamberSurface& l : m->leaks_) copy.A.push_back(l.area(x));
       for (GasFlowTerm* m : group_->members) m->inflow(t, copy.inflow, copy.inflow_T);
       group_->net->solve(t, copy.inputs(), false, here);
       s = &here;
@@ -338,7 +269,7 @@ class GasFlowTerm final : public LoadTerm {
     g.V.clear(), g.A.clear(), g.inflow.clear(), g.inflow_T.clear();
     for (GasFlowTerm* m : g.members) {
       g.V.push_back(m->walls_.volume(x, m->load_.origin));
-      for (const Surface& l : m->leaks_) g.A.push_back(l.area(x));
+      for (const ChamberSurface& l : m->leaks_) g.A.push_back(l.area(x));
       m->inflow(t, g.inflow, g.inflow_T);
     }
   }
@@ -357,7 +288,7 @@ class GasFlowTerm final : public LoadTerm {
       }
     g.b_eq.clear();
     for (GasFlowTerm* m : g.members)
-      for (const Surface& l : m->leaks_) {
+      for (const ChamberSurface& l : m->leaks_) {
         l.area_gradient(x, work_);
         VecX& b = g.b_eq.emplace_back();
         site_.dofs.gather(work_, b);
@@ -367,8 +298,8 @@ class GasFlowTerm final : public LoadTerm {
 
   const GasLoad& load_;
   LoadSite site_;
-  Surface walls_;
-  std::vector<Surface> leaks_;
+  ChamberSurface walls_;
+  std::vector<ChamberSurface> leaks_;
   std::shared_ptr<Group> group_;
   int index_ = 0, gas_index_ = 0;
   NodePositions gradient_, work_;

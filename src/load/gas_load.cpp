@@ -2,6 +2,8 @@
 // p(V) − ambient with the load stiffness, and the rank-one term of p(V) in the Jacobian.
 #include "velum/load/gas_load.hpp"
 
+#include "chamber_surface.hpp"
+
 #include "gas_flow_term.hpp"
 
 #include <fmt/format.h>
@@ -61,15 +63,8 @@ class GasChamber final : public Load, public GasLoad {
 
 class GasChamberTerm final : public LoadTerm {
  public:
-  GasChamberTerm(const GasChamber& load, const LoadSite& site) : load_(load), site_(site) {
-    for (const auto& part : load.parts) {
-      Part& p = parts_.emplace_back();
-      const ElementBlock& b = *site.model.blocks[static_cast<size_t>(part.block)];
-      for (int e : part.elements)
-        if (site.assembler.owns(part.block, e)) p.own.push_back(e);
-      p.colors = site.assembler.own_colors(part.block, part.elements);
-      p.kernel = make_surface_volume_kernel(b.type_name());
-    }
+  GasChamberTerm(const GasChamber& load, const LoadSite& site)
+      : load_(load), site_(site), walls_(load.parts, site) {
     volume_ = load.V0;
     pressure_ = load.pressure(load.V0, site.model.function_value(load.amount, 0.0));
   }
@@ -85,10 +80,10 @@ class GasChamberTerm final : public LoadTerm {
     volume_ = V;
     pressure_ = p;
     if (s.at_supports) {  // the reactions: the traction, not ∂V/∂x (LoadState::at_supports)
-      traction(s.x, p - load_.ambient, out.F);
+      walls_.add_traction(s.x, p - load_.ambient, gradient_, out.F);
       return;
     }
-    derivatives(s.x, p - load_.ambient, gradient_, out.K);
+    walls_.volume_derivatives(s.x, load_.origin, p - load_.ambient, gradient_, out.K);
     out.F += (p - load_.ambient) * gradient_;
     if (!out.K) return;
     site_.dofs.gather(gradient_, gradient_eq_);
@@ -118,67 +113,17 @@ class GasChamberTerm final : public LoadTerm {
   }
 
  private:
-  struct Part {
-    Assembler::ElementColors colors;
-    std::vector<int> own;  // its elements this process computes
-    std::unique_ptr<SurfaceVolumeKernel> kernel;
-  };
-
   double pressure_at(double t, const NodePositions& x) const {
     return load_.pressure(volume(x), site_.model.function_value(load_.amount, t));
   }
   // The chamber's volume at x (summed over the processes: p(V) is not linear).
-  double volume(const NodePositions& x) const {
-    double V = 0;
-    for (size_t k = 0; k < parts_.size(); ++k)
-      V += parts_[k].kernel->volume(
-          parts_[k].own, site_.model.blocks[load_.parts[k].block]->connectivity(), x, load_.origin);
-    if (site_.model.piece) processes::sum(&V, 1);  // even in a LocalShare
-    return V;
-  }
-  // A = ∂V/∂x (overwritten) and, when K != null, scale ∂²V/∂x² subtracted from K.
-  void derivatives(const NodePositions& x, double scale, NodePositions& A, SparseMatrix* K) const {
-    A.setZero(3, site_.model.num_nodes());
-    for (size_t k = 0; k < parts_.size(); ++k) {
-      const int block = load_.parts[k].block;
-      const auto& conn = site_.model.blocks[block]->connectivity();
-      const Part& part = parts_[k];
-      site_.assembler.add_element_loads(
-          block, part.colors,
-          [&](std::span<const int> elems, double* a, double* H) {
-            part.kernel->derivatives(elems, conn, x, load_.origin, scale, a, H);
-          },
-          A, K);
-    }
-    site_.assembler.sum_shares(A);
-  }
-
-  // F += the follower pressure `gauge` on the chamber's sheet, f_N = gauge ∫ N (g1 x g2) dξ:
-  // ∂V/∂x on every component a symmetry plane leaves free, but without the part normal to the
-  // planes at their nodes that the cone volume's open edges add (the octant: −⅔ p A_z).
-  void traction(const NodePositions& x, double gauge, NodePositions& F) {
-    NodePositions& T = traction_;
-    T.setZero(3, site_.model.num_nodes());
-    for (size_t k = 0; k < parts_.size(); ++k) {
-      const int block = load_.parts[k].block;
-      const ElementBlock& b = *site_.model.blocks[static_cast<size_t>(block)];
-      site_.assembler.add_element_loads(
-          block, parts_[k].colors,
-          [&](std::span<const int> elems, double* f, double*) {
-            b.pressure(elems, x, gauge, f, nullptr);
-          },
-          T, nullptr);
-    }
-    site_.assembler.sum_shares(T);
-    F += T;
-  }
+  double volume(const NodePositions& x) const { return walls_.volume(x, load_.origin); }
 
   const GasChamber& load_;
   LoadSite site_;
-  std::vector<Part> parts_;
+  ChamberSurface walls_;
   double volume_ = 0, pressure_ = 0;
   NodePositions gradient_;
-  NodePositions traction_;
   VecX gradient_eq_;
 };
 
