@@ -74,6 +74,13 @@ FrameFields evaluate_cells(const Model& model, const NodePositions& x,
                        s.averaged});
   }
   if (wrinkling) f.wrinkle_state.assign(ne, 0);
+  // The current thickness, only where a law thins the sheet (an incompressible one): the
+  // frames of the other models stay as they were.
+  const bool thinning = std::any_of(model.blocks.begin(), model.blocks.end(), [](const auto& b) {
+    return b->surface() && b->surface()->thins();
+  });
+  const size_t thickness_at = f.cells.size();
+  if (thinning) f.cells.push_back({"thickness", 1, std::vector<double>(ne, kAbsent), true});
   auto& c = f.cells;
   size_t base = 0;
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
@@ -121,6 +128,7 @@ FrameFields evaluate_cells(const Model& model, const NodePositions& x,
         put(c[kWrinkleDir], k, s.wrinkle_dir);
         f.wrinkle_state[k] = s.wrinkle_state;
       }
+      if (thinning) put(c[thickness_at], k, o.current_thickness);
     }
     base += static_cast<size_t>(count);
   }

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "velum/material/sheet_law_wrappers.hpp"
+
 namespace velum {
 
 SheetLaw::SheetLaw(std::unique_ptr<SheetLawBase> law) : law_(std::move(law)) {
@@ -17,18 +19,39 @@ LinearSheetLaw& SheetLaw::linear_or_throw(const char* what) {
 }
 
 SheetLaw& SheetLaw::with_prestress(const Vec3& S0) {
-  linear_or_throw("a sheet prestress").with_prestress(S0);
+  if (linear()) {
+    linear_or_throw("a sheet prestress").with_prestress(S0);
+    return *this;
+  }
+  // Any other law: its stress plus S0, under the tension field when it wrinkles (the
+  // prestress is part of the stress the tension field relieves).
+  if (auto* tf = dynamic_cast<const TensionFieldSheetLaw*>(law_.get())) {
+    const double kappa = tf->slack_stiffness();
+    law_ = std::make_unique<TensionFieldSheetLaw>(
+        std::make_unique<PrestressedSheetLaw>(tf->law().clone(), S0), kappa);
+    return *this;
+  }
+  law_ = std::make_unique<PrestressedSheetLaw>(std::move(law_), S0);
   return *this;
 }
 
 SheetLaw& SheetLaw::with_wrinkling(double kappa) {
-  linear_or_throw("wrinkling").with_wrinkling(kappa);
+  if (linear()) {
+    linear_or_throw("wrinkling").with_wrinkling(kappa);
+    return *this;
+  }
+  if (auto* tf = dynamic_cast<const TensionFieldSheetLaw*>(law_.get())) {
+    law_ = std::make_unique<TensionFieldSheetLaw>(tf->law().clone(), kappa);
+    return *this;
+  }
+  law_ = std::make_unique<TensionFieldSheetLaw>(std::move(law_), kappa);
   return *this;
 }
 
 double SheetLaw::slack_stiffness() const {
-  const LinearSheetLaw* l = linear();
-  return l ? l->slack_stiffness() : 0.0;
+  if (const LinearSheetLaw* l = linear()) return l->slack_stiffness();
+  if (auto* tf = dynamic_cast<const TensionFieldSheetLaw*>(law_.get())) return tf->slack_stiffness();
+  return 0.0;
 }
 
 SheetLaw form_finding_law(const SheetLaw& law, double stabilizer) {

@@ -110,6 +110,7 @@ class MembraneBlock final : public SurfaceBlock {
     return out;
   }
   bool tension_field() const override { return law_->wrinkling(); }
+  bool thins() const override { return law_->thins(); }
 
   void internal(std::span<const int> elements, const NodePositions& x, double* r,
                 double* Kout) const override {
@@ -198,6 +199,8 @@ class MembraneBlock final : public SurfaceBlock {
     ElementOutput out;
     out.stress = output_at(e, c, x);
     out.thickness = t0_;
+    const Vec3& E = out.stress.strain;  // tensor E12: the law takes 2 E12
+    out.current_thickness = t0_ * law_->thickness_ratio(Vec3(E[0], E[1], 2 * E[2]));
     return out;
   }
 

@@ -244,6 +244,13 @@ CASES = [
     ("ortho_not_admissible", mutate(materials__iso={"type": "orthotropic", "E1": 1, "E2": 100, "nu12": 3.0, "G12": 1, "density": 1}), {}, [], 1, ["materials.iso", "must be below E1/E2"]),
     ("aniso_eta_too_large", mutate(materials__iso={"type": "anisotropic", "E1": 1, "E2": 1, "nu12": 0.3, "G12": 0.4, "eta1": 3, "eta2": 3, "density": 1}), {}, [], 1, ["material 'iso'", "not admissible"]),
     ("matrix_unsymmetric", mutate(materials__iso={"type": "matrix", "Q": [[1, 0.3, 0], [0.1, 1, 0], [0, 0, 0.3]], "density": 1}), {}, [], 1, ["must be symmetric"]),
+    # Issue 43: incompressible hyperelastic sheets, each condition of stability on its key.
+    ("neo_hookean_mu_zero", mutate(materials__iso={"type": "neo_hookean", "mu": 0, "density": 1}), {}, [], 1, ["model.yaml:", "materials.iso.mu", "must be positive"]),
+    ("neo_hookean_unknown_key", mutate(materials__iso={"type": "neo_hookean", "mu": 1e5, "E": 3, "density": 1}), {}, [], 1, ["materials.iso", "E"]),
+    ("mooney_rivlin_sum", mutate(materials__iso={"type": "mooney_rivlin", "C1": 1e5, "C2": -2e5, "density": 1}), {}, [], 1, ["model.yaml:", "materials.iso.C1", "C1 + C2 = -100000 must be positive"]),
+    ("mooney_rivlin_C2_negative", mutate(materials__iso={"type": "mooney_rivlin", "C1": 1e5, "C2": -0.25e5, "density": 1}), {}, [], 1, ["materials.iso.C2", "C2 = -25000 must not be negative", "equibiaxial stretch of sqrt(-C1/C2) = 2"]),
+    ("mooney_rivlin_C1_negative", mutate(materials__iso={"type": "mooney_rivlin", "C1": -1e5, "C2": 2e5, "density": 1}), {}, [], 1, ["materials.iso.C1", "C1 = -100000 must not be negative", "uniaxial stretch of -C2/C1 = 2"]),
+    ("mooney_rivlin_missing_C2", mutate(materials__iso={"type": "mooney_rivlin", "C1": 1e5, "density": 1}), {}, [], 1, ["materials.iso.C2: required key is missing"]),
     ("matrix_indefinite", mutate(materials__iso={"type": "matrix", "Q": [[1, 2, 0], [2, 1, 0], [0, 0, 0.3]], "density": 1}), {}, [], 1, ["semi-definite"]),
     ("unknown_material_type", mutate(materials__iso__type="isotropik"), {}, [], 1, ["unknown material type", "did you mean 'isotropic'"]),
     ("fibers_empty", mutate(materials__iso={"type": "fibers", "fibers": [], "density": 1}), {}, [], 1, ["expected a list of {E, angle}"]),

@@ -57,13 +57,17 @@ class SheetLaw {
   bool has_prestress() const { return prestress().squaredNorm() > 0; }
   bool wrinkling() const { return law_->wrinkling(); }
   int state_size() const { return law_->state_size(); }
+  /// The current thickness over the reference thickness at E (1 unless the law thins).
+  double thickness_ratio(const Vec3& E) const { return law_->thickness_ratio(E, {}); }
+  bool thins() const { return law_->thins(); }
 
-  // The linear law's additions; a MaterialError for any other law.
+  // What a section adds: the linear law's own closed forms, or for any other law its wrappers
+  // (sheet_law_wrappers.hpp).
   /// Prestress S0 = [S11, S22, S12] (2nd PK, sheet axes, force/area).
   SheetLaw& with_prestress(const Vec3& S0);
   /// Tension field with residual stiffness fraction kappa in [0, 1).
   SheetLaw& with_wrinkling(double kappa = kDefaultSlackStiffness);
-  /// The linear law's residual stiffness fraction where it wrinkles (0 for other laws).
+  /// The residual stiffness fraction where the sheet wrinkles (0 without wrinkling).
   double slack_stiffness() const;
 
  private:

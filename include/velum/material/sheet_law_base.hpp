@@ -55,6 +55,17 @@ class SheetLawBase {
   /// Whether the sheet carries no compression (its points report a WrinkleState).
   virtual bool wrinkling() const { return false; }
 
+  /// The current thickness over the reference thickness at E (1: a law that keeps the
+  /// thickness, as the linear law does; 1/√det C for an incompressible sheet). Output only:
+  /// the stresses are per unit reference volume whatever the thickness does.
+  virtual double thickness_ratio(const Vec3& E, std::span<const double> h) const {
+    (void)E;
+    (void)h;
+    return 1.0;
+  }
+  /// Whether thickness_ratio() can differ from 1.
+  virtual bool thins() const { return false; }
+
   /// Doubles of history kept at each integration point (0: none).
   virtual int state_size() const { return 0; }
   /// The history of a point in the reference state.

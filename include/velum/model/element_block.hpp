@@ -29,6 +29,7 @@ struct ElementOutput {
   MembraneStress stress;   ///< membranes: at the element centre (ξ of the centroid)
   double thickness = 0;    ///< membranes: the reference thickness t0 (σ t0 = force per length)
   double cable_force = 0;  ///< cables: true axial force, mean over the points
+  double current_thickness = 0;  ///< membranes: the thickness as deformed (t0 unless the law thins)
 };
 
 class SurfaceBlock;
@@ -165,6 +166,8 @@ class SurfaceBlock : public ElementBlock {
   const SurfaceBlock* surface() const final { return this; }
   /// True when the law is a tension field (wrinkling): outputs carry its state.
   virtual bool tension_field() const { return false; }
+  /// True when the law changes the thickness (outputs carry the current thickness).
+  virtual bool thins() const { return false; }
   /// Follower pressure forces and (when K non-null) load stiffness df/dx.
   virtual void pressure(std::span<const int> elements, const NodePositions& x, double p, double* f,
                         double* K) const = 0;

@@ -4,7 +4,10 @@
 
 #include <fmt/format.h>
 
+#include "velum/material/incompressible_sheet_law.hpp"
+
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace velum::io::model_file {
@@ -123,9 +126,48 @@ std::optional<SheetLaw> matrix(ReaderContext& r, const Node& m, const std::strin
   return std::nullopt;
 }
 
+// Incompressible hyperelastic sheets (incompressible_sheet_law.hpp): each condition of
+// stability reported on the key that breaks it.
+std::optional<SheetLaw> neo_hookean(ReaderContext& r, const Node& m, const std::string& name,
+                                    const std::string& p) {
+  r.check_map(m, p, {"type", "mu", "density"});
+  if (auto mu = r.positive(m, "mu", p, true, "the shear modulus mu"))
+    return SheetLaw(IncompressibleSheetLaw::neo_hookean(name, *mu));
+  return std::nullopt;
+}
+
+std::optional<SheetLaw> mooney_rivlin(ReaderContext& r, const Node& m, const std::string& name,
+                                      const std::string& p) {
+  r.check_map(m, p, {"type", "C1", "C2", "density"});
+  auto C1 = r.number(m, "C1", p, true), C2 = r.number(m, "C2", p, true);
+  if (!C1 || !C2) return std::nullopt;
+  if (!(*C1 + *C2 > 0)) {
+    r.error(m["C1"], ReaderContext::sub(p, "C1"),
+            fmt::format("C1 + C2 = {} must be positive (the small-strain shear modulus is "
+                        "2 (C1 + C2))",
+                        *C1 + *C2));
+  } else if (!(*C1 >= 0)) {
+    r.error(m["C1"], ReaderContext::sub(p, "C1"),
+            fmt::format("C1 = {} must not be negative: the sheet would lose stability at a "
+                        "uniaxial stretch of -C2/C1 = {:.4g} (stable at every stretch: C1 >= 0, "
+                        "C2 >= 0, C1 + C2 > 0)",
+                        *C1, -*C2 / *C1));
+  } else if (!(*C2 >= 0)) {
+    r.error(m["C2"], ReaderContext::sub(p, "C2"),
+            fmt::format("C2 = {} must not be negative: the sheet would lose stability at an "
+                        "equibiaxial stretch of sqrt(-C1/C2) = {:.4g} (stable at every "
+                        "stretch: C1 >= 0, C2 >= 0, C1 + C2 > 0)",
+                        *C2, std::sqrt(-*C1 / *C2)));
+  } else {
+    return SheetLaw(IncompressibleSheetLaw::mooney_rivlin(name, *C1, *C2));
+  }
+  return std::nullopt;
+}
+
 constexpr SheetLawEntry kTable[] = {
     {"isotropic", isotropic}, {"orthotropic", orthotropic}, {"anisotropic", anisotropic},
     {"fibers", fibers},       {"matrix", matrix},
+    {"neo_hookean", neo_hookean}, {"mooney_rivlin", mooney_rivlin},
 };
 
 }  // namespace

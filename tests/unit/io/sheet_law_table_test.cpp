@@ -33,6 +33,16 @@ TEST(SheetLawTable, RowsBuildTheirLaws) {
   ASSERT_TRUE(mat);
   EXPECT_EQ(mat->reference_stiffness()(0, 1), 1.0);
   EXPECT_FALSE(parse(r, "{type: isotropic, E: -1, nu: 0.3}"));
+  const auto nh = parse(r, "{type: neo_hookean, mu: 3.0e5, density: 1100}");
+  ASSERT_TRUE(nh);
+  EXPECT_EQ(nh->reference_stiffness()(2, 2), 3.0e5);  // the shear modulus
+  EXPECT_FALSE(nh->affine());
+  const auto mr = parse(r, "{type: mooney_rivlin, C1: 1.0e5, C2: 0.5e5, density: 1100}");
+  ASSERT_TRUE(mr);
+  EXPECT_EQ(mr->reference_stiffness()(2, 2), 3.0e5);
+  EXPECT_FALSE(parse(r, "{type: neo_hookean, mu: 0}"));
+  EXPECT_FALSE(parse(r, "{type: mooney_rivlin, C1: 1.0e5, C2: -0.2e5}"));
+  EXPECT_FALSE(parse(r, "{type: mooney_rivlin, C1: -1.0e5, C2: 0.5e5}"));
   EXPECT_EQ(find_sheet_law("cable"), nullptr);  // not a sheet law
   EXPECT_EQ(find_sheet_law("neo-hookean"), nullptr);
   for (const auto& row : sheet_law_table()) EXPECT_EQ(find_sheet_law(row.type), &row);
