@@ -156,6 +156,9 @@ void MechanicalSystem::accept(double t, const VecX& u, const VecX& v) {
   if (velocity_) V_ = velocities(v);
   const LoadState s{.t = t, .x = x_, .V = V_};
   for (const auto& term : terms_) term->commit(s);
+  // The laws' history per integration point (plasticity), at the accepted positions.
+  for (const auto& b : model_.blocks)
+    if (b->history_size() > 0) b->commit_history(x_);
 }
 
 std::vector<double> MechanicalSystem::save_load_state() const {
@@ -166,6 +169,10 @@ std::vector<double> MechanicalSystem::save_load_state() const {
     term->save_state(out);
     out[at] = static_cast<double>(out.size() - at - 1);
   }
+  // Then the laws' history of the blocks that keep one (none: nothing is added, so the state
+  // of a model without such laws is as it was).
+  const std::vector<double> h = save_law_history();
+  out.insert(out.end(), h.begin(), h.end());
   return out;
 }
 
@@ -179,6 +186,42 @@ void MechanicalSystem::restore_load_state(const std::vector<double>& in) {
     if (term->restore_state(in, at) != at + n)
       throw std::invalid_argument("the loads' saved state does not fit this model's loads");
     at += n;
+  }
+  if (at < in.size()) restore_law_history(in, at);  // none saved: the blocks keep theirs
+}
+
+std::vector<double> MechanicalSystem::save_law_history() const {
+  // Its count of blocks, then each one's index, length and values; empty when no law keeps one.
+  std::vector<double> out;
+  std::vector<int> with;
+  for (size_t b = 0; b < model_.blocks.size(); ++b)
+    if (model_.blocks[b]->history_size() > 0) with.push_back(static_cast<int>(b));
+  if (with.empty()) return out;
+  if (distributed())
+    throw std::invalid_argument(
+        "laws with a history per point (plasticity) cannot yet be saved from a run on several "
+        "processes");
+  out.push_back(static_cast<double>(with.size()));
+  for (int b : with) {
+    const ElementBlock& blk = *model_.blocks[static_cast<size_t>(b)];
+    out.push_back(b);
+    out.push_back(static_cast<double>(blk.history_size()));
+    blk.save_history(out);
+  }
+  return out;
+}
+
+void MechanicalSystem::restore_law_history(const std::vector<double>& in, size_t at) {
+  if (at >= in.size()) return;
+  const auto count = static_cast<size_t>(in[at++]);
+  for (size_t k = 0; k < count; ++k) {
+    if (at + 2 > in.size()) throw std::invalid_argument("the laws' saved history is cut short");
+    const auto b = static_cast<size_t>(in[at]);
+    const auto n = static_cast<size_t>(in[at + 1]);
+    at += 2;
+    if (b >= model_.blocks.size() || model_.blocks[b]->history_size() != n)
+      throw std::invalid_argument("the laws' saved history does not fit this model's blocks");
+    at = model_.blocks[b]->restore_history(in, at);
   }
 }
 

@@ -175,6 +175,8 @@ class StageRunner {
     // The loads' state integrated in time (a gas chamber's) goes on when the step holds the
     // loads before it; loads of its own start afresh.
     const bool carry_loads = have_state_ && !step.loads_given && !carried_loads_.empty();
+    // The laws' history per point (plasticity) goes on whatever the step's loads.
+    if (have_state_ && !carried_history_.empty()) sys.restore_law_history(carried_history_);
     const auto observe = [&](const StepSnapshot& snap) {
       last = snap.state;
       if (k > 0 && snap.step.step == 0) return true;  // the end of the step before
@@ -217,6 +219,7 @@ class StageRunner {
     before_.damping = out_.energy.damping;
     carried_ = nodal(sys, t_, last);
     carried_loads_ = sys.save_load_state();
+    carried_history_ = sys.save_law_history();
     if (settings.equilibrium()) {  // an equilibrium is at rest, whatever came before it
       carried_.V.setZero();
       carried_.A.setZero();
@@ -234,6 +237,7 @@ class StageRunner {
   Energies before_;  ///< work and damping of the steps done (since the last form finding)
   NodalState carried_;
   std::vector<double> carried_loads_;  ///< MechanicalSystem::save_load_state at the end
+  std::vector<double> carried_history_;  ///< MechanicalSystem::save_law_history at the end
   bool have_state_ = false;            ///< false: the step starts at rest on its reference
   std::optional<NodePositions> found_;
 };

@@ -334,7 +334,8 @@ template struct Membrane<shape::Quad9>;
 #define VELUM_MEMBRANE_LAWS(Shape)             \
   VELUM_MEMBRANE_LAW(Shape, ElasticPoints)     \
   VELUM_MEMBRANE_LAW(Shape, PrestressedPoints) \
-  VELUM_MEMBRANE_LAW(Shape, LawPoints)
+  VELUM_MEMBRANE_LAW(Shape, LawPoints)         \
+  VELUM_MEMBRANE_LAW(Shape, HistoryLawPoints)
 VELUM_MEMBRANE_LAWS(shape::Tri3)
 VELUM_MEMBRANE_LAWS(shape::Tri6)
 VELUM_MEMBRANE_LAWS(shape::Quad4)

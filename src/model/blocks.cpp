@@ -47,6 +47,7 @@ template <class Shape, class Law>
 class MembraneBlock final : public SurfaceBlock {
   using K = Membrane<Shape>;
   static constexpr int kN = Shape::kNodes;
+  static constexpr bool kHistory = std::is_same_v<Law, HistoryLawPoints>;
 
  public:
   MembraneBlock(std::string set, std::vector<int> conn, const NodePositions& X, const SheetLaw& law,
@@ -59,6 +60,9 @@ class MembraneBlock final : public SurfaceBlock {
         integration_(integration) {
     if constexpr (std::is_same_v<Law, LawPoints>) {
       policy_.law = law_.get();
+    } else if constexpr (kHistory) {
+      policy_.law = law_.get();
+      policy_.size = law.state_size();
     } else {
       policy_ = points_policy<Law>(law);
     }
@@ -84,9 +88,44 @@ class MembraneBlock final : public SurfaceBlock {
         report.worst_element = e;
       }
     }
+    if constexpr (kHistory) {
+      const size_t n = static_cast<size_t>(policy_.size);
+      history_.resize(static_cast<size_t>(ne) * Shape::kPoints * n);
+      for (size_t k = 0; k < history_.size(); k += n)
+        law_->base().initial_state(std::span<double>(history_.data() + k, n));
+    }
   }
 
   bool prestressed() const override { return law_->has_prestress(); }
+
+  size_t history_size() const override { return history_.size(); }
+  void commit_history(const NodePositions& x) override {
+    if constexpr (kHistory) {
+      const size_t n = static_cast<size_t>(policy_.size);
+      for (int e = 0; e < size(); ++e) {
+        if (!holds(e)) continue;
+        const auto& pts = points_[slot(e)];
+        const auto xe = gather<kN>(x, nodes(e));
+        double* h = history_.data() + static_cast<size_t>(slot(e)) * Shape::kPoints * n;
+        for (int q = 0; q < Shape::kPoints; ++q) {
+          const Eigen::Matrix<double, 3, 2> g = xe * pts.shapes->dN[q];
+          const Vec3 E = sheet_strain_map(pts[q].T) * K::strain(pts[q], g);
+          law_->base().update_state(E, std::span<double>(h + q * n, n));
+        }
+      }
+    }
+  }
+  void save_history(std::vector<double>& out) const override {
+    out.insert(out.end(), history_.begin(), history_.end());
+  }
+  size_t restore_history(const std::vector<double>& in, size_t at) override {
+    if (at + history_.size() > in.size())
+      throw std::invalid_argument(
+          fmt::format("the saved history of set '{}' is cut short", set_name()));
+    std::copy(in.begin() + static_cast<std::ptrdiff_t>(at),
+              in.begin() + static_cast<std::ptrdiff_t>(at + history_.size()), history_.begin());
+    return at + history_.size();
+  }
   Vec3 sheet_prestress() const override { return law_->prestress(); }
   std::unique_ptr<ElementBlock> rebuilt(std::vector<int> connectivity, const NodePositions& X,
                                         double stabilizer,
@@ -173,7 +212,8 @@ class MembraneBlock final : public SurfaceBlock {
     double U = 0;
     for (size_t i = 0; i < elements.size(); ++i) {
       if (i + 1 < elements.size()) prefetch(points_[slot(elements[i + 1])]);
-      U += K::strain_energy(points_[slot(elements[i])], policy_, gather<kN>(x, nodes(elements[i])));
+      U += K::strain_energy(points_[slot(elements[i])], policy_at(slot(elements[i])),
+                            gather<kN>(x, nodes(elements[i])));
     }
     return U;
   }
@@ -187,6 +227,16 @@ class MembraneBlock final : public SurfaceBlock {
   }
 
   void keep_only(std::span<const int> elements) override {
+    if constexpr (kHistory) {
+      const size_t n = Shape::kPoints * static_cast<size_t>(policy_.size);
+      std::vector<double> h;
+      h.reserve(elements.size() * n);
+      for (int e : elements) {
+        const auto from = history_.begin() + static_cast<std::ptrdiff_t>(slot(e) * n);
+        h.insert(h.end(), from, from + static_cast<std::ptrdiff_t>(n));
+      }
+      history_ = std::move(h);
+    }
     points_ = kept(points_, elements);  // the others' storage freed
     Xref_ = kept(Xref_, elements);
     set_kept(elements);
@@ -254,7 +304,26 @@ class MembraneBlock final : public SurfaceBlock {
                       0.5 * (g.col(1).squaredNorm() - Gm[1]), g.col(0).dot(g.col(1)) - Gm[2]);
     const Mat3 A = sheet_strain_map(T);
     SheetResponse r;
-    law_->evaluate(A * strain, r);
+    if constexpr (kHistory) {
+      // The history of the integration point nearest to xi (on the reference surface).
+      const auto& shapes = PointShapes<Shape>::of(integration_);
+      const Vec3 P = Xref_cols(e) * N;
+      int nearest = 0;
+      for (int q = 1; q < Shape::kPoints; ++q)
+        if ((Xref_cols(e) * shapes.N[q] - P).squaredNorm() <
+            (Xref_cols(e) * shapes.N[nearest] - P).squaredNorm())
+          nearest = q;
+      const size_t n = static_cast<size_t>(policy_.size);
+      law_->evaluate(A * strain,
+                     std::span<const double>(history_.data() + (static_cast<size_t>(slot(e)) *
+                                                                    Shape::kPoints +
+                                                                static_cast<size_t>(nearest)) *
+                                                                   n,
+                                             n),
+                     r);
+    } else {
+      law_->evaluate(A * strain, r);
+    }
     MembraneStress out = membrane_stress(g, A.transpose() * r.S, Gm, T);
     out.wrinkle_state = static_cast<int>(r.state);
     if (r.state == WrinkleState::kWrinkled) {
@@ -275,21 +344,36 @@ class MembraneBlock final : public SurfaceBlock {
     for (size_t i = 0; i < elements.size(); ++i) {
       if (i + 1 < elements.size()) prefetch(points_[slot(elements[i + 1])]);
       const auto& pts = points_[slot(elements[i])];
+      const auto& law = policy_at(slot(elements[i]));
       const auto xe = gather<kN>(x, nodes(elements[i]));
       using Matrix = typename K::Matrix;
       if (Kout) {
-        K::force_tangent(pts, policy_, xe, re,
+        K::force_tangent(pts, law, xe, re,
                          *reinterpret_cast<Matrix*>(Kout + i * K::kDofs * K::kDofs));
         if constexpr (kPressure)
           K::pressure_force_tangent(pts, xe, p, fe,
                                     *reinterpret_cast<Matrix*>(Kp + i * K::kDofs * K::kDofs));
       } else if constexpr (kPressure) {
-        K::force_and_pressure(pts, policy_, xe, p, re, fe);
+        K::force_and_pressure(pts, law, xe, p, re, fe);
       } else {
-        K::force(pts, policy_, xe, re);
+        K::force(pts, law, xe, re);
       }
       Eigen::Map<typename K::Vector>(r + i * K::kDofs) = re;
       if constexpr (kPressure) Eigen::Map<typename K::Vector>(f + i * K::kDofs) = fe;
+    }
+  }
+
+  // The law's policy at the element of slot s: the block's own, or (a law with history) a copy
+  // pointing at that element's points and history.
+  decltype(auto) policy_at(int s) const {
+    if constexpr (kHistory) {
+      Law p = policy_;
+      p.first = &points_[static_cast<size_t>(s)].at[0];
+      p.history = history_.data() + static_cast<size_t>(s) * Shape::kPoints *
+                                        static_cast<size_t>(policy_.size);
+      return p;
+    } else {
+      return static_cast<const Law&>(policy_);
     }
   }
 
@@ -299,6 +383,7 @@ class MembraneBlock final : public SurfaceBlock {
   std::optional<SheetAxes> axes_;  // the section's axes; none: the default per element
   std::unique_ptr<SheetLaw> law_;  // owned here: the policy points to it (stable address)
   Law policy_;
+  std::vector<double> history_;  // a law with history: committed, per held element and point
   shape::Integration integration_;  // kept for on_reference (form finding)
   std::vector<typename K::Points> points_;
   std::vector<Eigen::Matrix<double, 3, kN>, Eigen::aligned_allocator<Eigen::Matrix<double, 3, kN>>>
@@ -448,10 +533,6 @@ std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::st
                                                   const SheetAxes* axes,
                                                   shape::Integration integration,
                                                   BlockSetupReport& report) {
-  if (law.state_size() > 0)
-    throw std::invalid_argument("material '" + law.name() +
-                                "' keeps a history per point, which membrane blocks do not "
-                                "store yet");
   auto build = [&]<class S>(S) -> std::unique_ptr<ElementBlock> {
     if (integration == shape::Integration::kNodal && !S::kNodalRule)
       throw std::invalid_argument(fmt::format(
@@ -460,6 +541,7 @@ std::unique_ptr<ElementBlock> make_membrane_block(std::string_view type, std::st
       return std::make_unique<MembraneBlock<S, Law>>(std::move(set), std::move(conn), X, law,
                                                      density, t0, axes, integration, report);
     };
+    if (law.state_size() > 0) return make(HistoryLawPoints{});
     if (!law.affine()) return make(LawPoints{});
     if (law.has_prestress()) return make(PrestressedPoints{});
     return make(ElasticPoints{});

@@ -84,10 +84,15 @@ class MechanicalSystem final : public SecondOrderSystem {
   /// (t, u), and a step ending at (t, u, v) accepted. The same bits on every process.
   void start_loads(double t, const VecX& u, const VecX& v);
   void accept(double t, const VecX& u, const VecX& v);
-  /// Their committed state as numbers (checkpoints, staged runs), and back (throws
-  /// std::invalid_argument when it does not fit these loads).
+  /// Their committed state as numbers (checkpoints, staged runs), followed by the history of
+  /// the laws that keep one per point (ElementBlock::history_size; nothing when none does),
+  /// and back (throws std::invalid_argument when it does not fit these loads and blocks).
   std::vector<double> save_load_state() const;
   void restore_load_state(const std::vector<double>& state);
+  /// The laws' history alone (the tail of save_load_state; empty when no law keeps one), and
+  /// back from `in` at `at`: a staged step whose loads start afresh keeps its sheets' history.
+  std::vector<double> save_law_history() const;
+  void restore_law_history(const std::vector<double>& in, size_t at = 0);
 
   /// A history quantity (gas_volume, gas_pressure) of the i-th load that has it, at the last
   /// evaluation of the loads; none when fewer loads have it.

@@ -111,6 +111,42 @@ struct LawPoints {
   }
 };
 
+/// A sheet law with a history per point (plasticity): LawPoints with each point's committed
+/// history. The kernels pass a point by reference into its element's array, so a point's
+/// index is its offset from `first` (the element's first point); `history` points at the
+/// element's first point's history, `size` doubles a point. The block sets both per element.
+struct HistoryLawPoints {
+  const SheetLaw* law = nullptr;
+  const double* history = nullptr;
+  const void* first = nullptr;
+  int size = 0;
+  template <class Point>
+  std::span<const double> h(const Point& p) const {
+    const auto q = &p - static_cast<const Point*>(first);
+    return {history + q * size, static_cast<size_t>(size)};
+  }
+  template <class Point>
+  void stress(const Point& p, const Vec3& e, Vec3& S) const {
+    const Mat3 A = sheet_strain_map(p.T);
+    SheetResponse r;
+    law->evaluate(A * e, h(p), r);
+    S.noalias() = p.t0dA * (A.transpose() * r.S);
+  }
+  template <class Point>
+  const Mat3& tangent(const Point& p, const Vec3& e, Vec3& S, Mat3& D) const {
+    const Mat3 A = sheet_strain_map(p.T);
+    SheetResponse r;
+    law->evaluate(A * e, h(p), r);
+    S.noalias() = p.t0dA * (A.transpose() * r.S);
+    D.noalias() = p.t0dA * (A.transpose() * r.C * A);
+    return D;
+  }
+  template <class Point>
+  double energy(const Point& p, const Vec3& e) const {
+    return p.t0dA * law->energy(sheet_strain_map(p.T) * e, h(p));
+  }
+};
+
 /// An element's integration points and the rule they belong to.
 template <class Shape>
 struct MembranePoints {

@@ -97,6 +97,19 @@ class ElementBlock {
   std::unique_ptr<ElementBlock> on_reference(const NodePositions& X, double stabilizer) const;
   /// Whether the section carries a prestress.
   virtual bool prestressed() const = 0;
+
+  // A law with a history per integration point (SheetLawBase::state_size: plasticity). The
+  // forces are evaluated from the history committed at the last accepted step (a trial state
+  // never stored: a step that fails leaves it as it was); MechanicalSystem::accept commits it
+  // at the accepted positions; checkpoints and staged runs carry it as numbers.
+  /// Doubles of history held (0: the law keeps none).
+  virtual size_t history_size() const { return 0; }
+  /// Advances each held point's history to the positions x of an accepted step.
+  virtual void commit_history(const NodePositions& /*x*/) {}
+  /// The held history, appended to `out`; and read back from `in` at `at` (returns the position
+  /// after it; std::invalid_argument when it does not fit).
+  virtual void save_history(std::vector<double>& /*out*/) const {}
+  virtual size_t restore_history(const std::vector<double>& /*in*/, size_t at) { return at; }
   /// The section's prestress in the sheet axes [s11, s22, s12] (membranes; zero for cables):
   /// form finding names a warp ≠ fill one when it finds no equilibrium shape.
   virtual Vec3 sheet_prestress() const { return Vec3::Zero(); }

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "velum/material/incompressible_sheet_law.hpp"
+#include "velum/material/plastic_sheet_law.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -164,10 +165,56 @@ std::optional<SheetLaw> mooney_rivlin(ReaderContext& r, const Node& m, const std
   return std::nullopt;
 }
 
+// Elastic-plastic sheet (plastic_sheet_law.hpp): von Mises, bilinear or tabulated hardening.
+std::optional<SheetLaw> elastoplastic(ReaderContext& r, const Node& m, const std::string& name,
+                                      const std::string& p) {
+  r.check_map(m, p,
+              {"type", "E", "nu", "yield_stress", "hardening_modulus", "hardening_curve",
+               "density"});
+  auto E = r.positive(m, "E", p, true, "Young's modulus E");
+  auto nu = r.number(m, "nu", p, true);
+  if (nu && (*nu <= -1 || *nu >= 0.5)) {
+    r.error(m["nu"], ReaderContext::sub(p, "nu"),
+            fmt::format("Poisson's ratio must lie in (-1, 0.5) (got {})", *nu));
+    nu.reset();
+  }
+  const bool tabulated = r.has(m, "hardening_curve");
+  if (tabulated && (r.has(m, "yield_stress") || r.has(m, "hardening_modulus"))) {
+    r.error(m["hardening_curve"], ReaderContext::sub(p, "hardening_curve"),
+            "give either yield_stress (and hardening_modulus) or hardening_curve, not both");
+    return std::nullopt;
+  }
+  if (tabulated) {
+    const Node c = m["hardening_curve"];
+    const std::string cp = ReaderContext::sub(p, "hardening_curve");
+    std::vector<std::pair<double, double>> curve;
+    bool ok = c.IsSequence() && c.size() > 0;
+    for (size_t i = 0; ok && i < c.size(); ++i) {
+      ok = c[i].IsSequence() && c[i].size() == 2;
+      if (!ok) break;
+      auto a = r.number(c[i][0], ReaderContext::item(cp, i));
+      auto s = r.number(c[i][1], ReaderContext::item(cp, i));
+      if (!a || !s) return std::nullopt;
+      curve.emplace_back(*a, *s);
+    }
+    if (!ok) {
+      r.error(c, cp, "expected a list of [plastic strain, yield stress] points");
+      return std::nullopt;
+    }
+    if (E && nu) return SheetLaw(PlasticSheetLaw::tabulated(name, *E, *nu, std::move(curve)));
+    return std::nullopt;
+  }
+  auto sy = r.positive(m, "yield_stress", p, true, "the yield stress");
+  auto H = r.non_negative(m, "hardening_modulus", p, "the hardening modulus");
+  if (E && nu && sy) return SheetLaw(PlasticSheetLaw::bilinear(name, *E, *nu, *sy, H.value_or(0)));
+  return std::nullopt;
+}
+
 constexpr SheetLawEntry kTable[] = {
     {"isotropic", isotropic}, {"orthotropic", orthotropic}, {"anisotropic", anisotropic},
     {"fibers", fibers},       {"matrix", matrix},
     {"neo_hookean", neo_hookean}, {"mooney_rivlin", mooney_rivlin},
+    {"elastoplastic", elastoplastic},
 };
 
 }  // namespace

@@ -3,8 +3,8 @@
 // law with a prestress and with wrinkling; a toy law that is not affine (stress quadratic in
 // E), written against the interface alone, passes the membrane patch test through the kernels
 // and through a block, with a consistent element tangent; an affine law other than the linear
-// one takes the blocks' fast path with the same bits; the handle clones, and wraps other laws
-// in a prestress and a tension field.
+// one takes the blocks' fast path with the same bits; a block keeps the history of a law that
+// has one; the handle clones, and wraps other laws in a prestress and a tension field.
 #include <gtest/gtest.h>
 
 #include <numbers>
@@ -328,11 +328,26 @@ TEST(SheetLawInterface, BlocksEvaluateAGeneralLawAndTakeTheFastPathForAnAffineOn
   block_forces(SheetLaw(AffineLaw(anisotropic().Q(), S0)), r_affine, K_affine);
   EXPECT_EQ(r_affine, r_linear);
   EXPECT_EQ(K_affine, K_linear);
-  // A law with history is refused until blocks keep one per point.
+  // A law with history: the block keeps state_size() doubles per integration point, saved and
+  // restored as numbers (checkpoints, staged runs).
   BlockSetupReport report;
-  EXPECT_THROW(make_membrane_block("quad4", "s", conn, X, SheetLaw(HistoryLaw{}), 1.0, 0.02, &axes,
-                                   shape::Integration::kGauss, report),
-               std::invalid_argument);
+  auto blk = make_membrane_block("quad4", "s", conn, X, SheetLaw(HistoryLaw{}), 1.0, 0.02, &axes,
+                                 shape::Integration::kGauss, report);
+  EXPECT_EQ(blk->history_size(), static_cast<size_t>(blk->size() * 4));
+  std::vector<double> saved{7.0};
+  blk->save_history(saved);
+  EXPECT_EQ(saved.size(), 1 + blk->history_size());
+  saved[1] = 3.0;
+  EXPECT_EQ(blk->restore_history(saved, 1), saved.size());
+  std::vector<double> again;
+  blk->save_history(again);
+  EXPECT_EQ(again[0], 3.0);
+  EXPECT_THROW(blk->restore_history(saved, 2), std::invalid_argument);  // cut short
+  // Laws without history keep none.
+  EXPECT_EQ(make_membrane_block("quad4", "s", conn, X, SheetLaw(anisotropic()), 1.0, 0.02, &axes,
+                                shape::Integration::kGauss, report)
+                ->history_size(),
+            0u);
 }
 
 }  // namespace
