@@ -47,7 +47,7 @@ SheetLaw law_of(int k) {
       return SheetLaw(PlasticSheetLaw::bilinear("etfe", 1100, 0.45, 16, 60));
   }
 }
-const char* kNames[] = {"linear (fast path)", "linear, wrinkling", "neo_hookean",
+const char* kNames[] = {"linear (fast path)", "linear, wrinkling",        "neo_hookean",
                         "mooney_rivlin",      "mooney_rivlin, wrinkling", "elastoplastic"};
 
 struct Case {

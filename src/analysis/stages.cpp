@@ -236,9 +236,9 @@ class StageRunner {
   double t_ = 0;
   Energies before_;  ///< work and damping of the steps done (since the last form finding)
   NodalState carried_;
-  std::vector<double> carried_loads_;  ///< MechanicalSystem::save_load_state at the end
+  std::vector<double> carried_loads_;    ///< MechanicalSystem::save_load_state at the end
   std::vector<double> carried_history_;  ///< MechanicalSystem::save_law_history at the end
-  bool have_state_ = false;            ///< false: the step starts at rest on its reference
+  bool have_state_ = false;              ///< false: the step starts at rest on its reference
   std::optional<NodePositions> found_;
 };
 

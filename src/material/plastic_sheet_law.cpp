@@ -46,9 +46,9 @@ PlasticSheetLaw PlasticSheetLaw::tabulated(const std::string& name, double E, do
   if (curve.empty())
     throw MaterialError(fmt::format("material '{}': the hardening curve has no points", name));
   if (curve[0].first != 0)
-    throw MaterialError(fmt::format(
-        "material '{}': the hardening curve must start at plastic strain 0 (got {})", name,
-        curve[0].first));
+    throw MaterialError(
+        fmt::format("material '{}': the hardening curve must start at plastic strain 0 (got {})",
+                    name, curve[0].first));
   for (size_t i = 0; i < curve.size(); ++i) {
     if (!(curve[i].second > 0))
       throw MaterialError(fmt::format(
@@ -155,8 +155,7 @@ PlasticSheetLaw::Return PlasticSheetLaw::return_map(const Vec3& E,
   return out;
 }
 
-void PlasticSheetLaw::evaluate(const Vec3& E, std::span<const double> h,
-                               SheetResponse& out) const {
+void PlasticSheetLaw::evaluate(const Vec3& E, std::span<const double> h, SheetResponse& out) const {
   static constexpr double kVirgin[kStateSize] = {0, 0, 0, 0};
   const Return r = return_map(E, h.empty() ? std::span<const double>(kVirgin) : h);
   out.S = r.S;

@@ -50,7 +50,8 @@ SheetLaw& SheetLaw::with_wrinkling(double kappa) {
 
 double SheetLaw::slack_stiffness() const {
   if (const LinearSheetLaw* l = linear()) return l->slack_stiffness();
-  if (auto* tf = dynamic_cast<const TensionFieldSheetLaw*>(law_.get())) return tf->slack_stiffness();
+  if (auto* tf = dynamic_cast<const TensionFieldSheetLaw*>(law_.get()))
+    return tf->slack_stiffness();
   return 0.0;
 }
 

@@ -67,8 +67,7 @@ TensionFieldSheetLaw::TensionFieldSheetLaw(std::unique_ptr<SheetLawBase> law, do
   slack_energy_ = -0.5 * S0.dot(Qplus * S0);
 }
 
-TensionFieldSheetLaw::Solution TensionFieldSheetLaw::solve(const Vec3& E,
-                                                           std::span<const double> h,
+TensionFieldSheetLaw::Solution TensionFieldSheetLaw::solve(const Vec3& E, std::span<const double> h,
                                                            SheetResponse& out) const {
   Solution sol;
   SheetResponse r;
@@ -79,7 +78,8 @@ TensionFieldSheetLaw::Solution TensionFieldSheetLaw::solve(const Vec3& E,
     out.angle = 0;
     return sol;
   }
-  const double scale = std::max(r.C.cwiseAbs().maxCoeff(), reference_stiffness().cwiseAbs().maxCoeff());
+  const double scale =
+      std::max(r.C.cwiseAbs().maxCoeff(), reference_stiffness().cwiseAbs().maxCoeff());
 
   // Newton on (β, θ) from a guess; true when it converged to an admissible root.
   SheetResponse re;

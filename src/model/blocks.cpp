@@ -314,13 +314,9 @@ class MembraneBlock final : public SurfaceBlock {
             (Xref_cols(e) * shapes.N[nearest] - P).squaredNorm())
           nearest = q;
       const size_t n = static_cast<size_t>(policy_.size);
-      law_->evaluate(A * strain,
-                     std::span<const double>(history_.data() + (static_cast<size_t>(slot(e)) *
-                                                                    Shape::kPoints +
-                                                                static_cast<size_t>(nearest)) *
-                                                                   n,
-                                             n),
-                     r);
+      const size_t at =
+          (static_cast<size_t>(slot(e)) * Shape::kPoints + static_cast<size_t>(nearest)) * n;
+      law_->evaluate(A * strain, std::span<const double>(history_.data() + at, n), r);
     } else {
       law_->evaluate(A * strain, r);
     }
@@ -369,8 +365,8 @@ class MembraneBlock final : public SurfaceBlock {
     if constexpr (kHistory) {
       Law p = policy_;
       p.first = &points_[static_cast<size_t>(s)].at[0];
-      p.history = history_.data() + static_cast<size_t>(s) * Shape::kPoints *
-                                        static_cast<size_t>(policy_.size);
+      p.history = history_.data() +
+                  static_cast<size_t>(s) * Shape::kPoints * static_cast<size_t>(policy_.size);
       return p;
     } else {
       return static_cast<const Law&>(policy_);
@@ -383,7 +379,7 @@ class MembraneBlock final : public SurfaceBlock {
   std::optional<SheetAxes> axes_;  // the section's axes; none: the default per element
   std::unique_ptr<SheetLaw> law_;  // owned here: the policy points to it (stable address)
   Law policy_;
-  std::vector<double> history_;  // a law with history: committed, per held element and point
+  std::vector<double> history_;     // a law with history: committed, per held element and point
   shape::Integration integration_;  // kept for on_reference (form finding)
   std::vector<typename K::Points> points_;
   std::vector<Eigen::Matrix<double, 3, kN>, Eigen::aligned_allocator<Eigen::Matrix<double, 3, kN>>>

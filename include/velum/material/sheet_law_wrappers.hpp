@@ -29,9 +29,7 @@ class PrestressedSheetLaw final : public SheetLawBase {
   bool thins() const override { return law_->thins(); }
   int state_size() const override { return law_->state_size(); }
   void initial_state(std::span<double> h) const override { law_->initial_state(h); }
-  void update_state(const Vec3& E, std::span<double> h) const override {
-    law_->update_state(E, h);
-  }
+  void update_state(const Vec3& E, std::span<double> h) const override { law_->update_state(E, h); }
   std::unique_ptr<SheetLawBase> clone() const override {
     return std::make_unique<PrestressedSheetLaw>(*this);
   }
@@ -69,9 +67,7 @@ class TensionFieldSheetLaw final : public SheetLawBase {
   bool thins() const override { return law_->thins(); }
   int state_size() const override { return law_->state_size(); }
   void initial_state(std::span<double> h) const override { law_->initial_state(h); }
-  void update_state(const Vec3& E, std::span<double> h) const override {
-    law_->update_state(E, h);
-  }
+  void update_state(const Vec3& E, std::span<double> h) const override { law_->update_state(E, h); }
   std::unique_ptr<SheetLawBase> clone() const override {
     return std::make_unique<TensionFieldSheetLaw>(*this);
   }

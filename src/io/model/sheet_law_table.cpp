@@ -168,9 +168,8 @@ std::optional<SheetLaw> mooney_rivlin(ReaderContext& r, const Node& m, const std
 // Elastic-plastic sheet (plastic_sheet_law.hpp): von Mises, bilinear or tabulated hardening.
 std::optional<SheetLaw> elastoplastic(ReaderContext& r, const Node& m, const std::string& name,
                                       const std::string& p) {
-  r.check_map(m, p,
-              {"type", "E", "nu", "yield_stress", "hardening_modulus", "hardening_curve",
-               "density"});
+  r.check_map(
+      m, p, {"type", "E", "nu", "yield_stress", "hardening_modulus", "hardening_curve", "density"});
   auto E = r.positive(m, "E", p, true, "Young's modulus E");
   auto nu = r.number(m, "nu", p, true);
   if (nu && (*nu <= -1 || *nu >= 0.5)) {
@@ -211,9 +210,13 @@ std::optional<SheetLaw> elastoplastic(ReaderContext& r, const Node& m, const std
 }
 
 constexpr SheetLawEntry kTable[] = {
-    {"isotropic", isotropic}, {"orthotropic", orthotropic}, {"anisotropic", anisotropic},
-    {"fibers", fibers},       {"matrix", matrix},
-    {"neo_hookean", neo_hookean}, {"mooney_rivlin", mooney_rivlin},
+    {"isotropic", isotropic},
+    {"orthotropic", orthotropic},
+    {"anisotropic", anisotropic},
+    {"fibers", fibers},
+    {"matrix", matrix},
+    {"neo_hookean", neo_hookean},
+    {"mooney_rivlin", mooney_rivlin},
     {"elastoplastic", elastoplastic},
 };
 

@@ -43,13 +43,15 @@ TEST(SheetLawTable, RowsBuildTheirLaws) {
   EXPECT_FALSE(parse(r, "{type: neo_hookean, mu: 0}"));
   EXPECT_FALSE(parse(r, "{type: mooney_rivlin, C1: 1.0e5, C2: -0.2e5}"));
   EXPECT_FALSE(parse(r, "{type: mooney_rivlin, C1: -1.0e5, C2: 0.5e5}"));
-  const auto ep = parse(r, "{type: elastoplastic, E: 1.1e9, nu: 0.45, yield_stress: 16e6, "
-                           "hardening_modulus: 6e7}");
+  const auto ep = parse(r,
+                        "{type: elastoplastic, E: 1.1e9, nu: 0.45, yield_stress: 16e6, "
+                        "hardening_modulus: 6e7}");
   ASSERT_TRUE(ep);
   EXPECT_EQ(ep->state_size(), 4);
   EXPECT_EQ(ep->reference_stiffness(), PlaneStressLaw::isotropic("mat", 1.1e9, 0.45).Q());
-  EXPECT_TRUE(parse(r, "{type: elastoplastic, E: 1.1e9, nu: 0.45, "
-                       "hardening_curve: [[0, 16e6], [0.05, 23e6]]}"));
+  EXPECT_TRUE(parse(r,
+                    "{type: elastoplastic, E: 1.1e9, nu: 0.45, "
+                    "hardening_curve: [[0, 16e6], [0.05, 23e6]]}"));
   EXPECT_FALSE(parse(r, "{type: elastoplastic, E: 1.1e9, nu: 0.45}"));
   EXPECT_EQ(find_sheet_law("cable"), nullptr);  // not a sheet law
   EXPECT_EQ(find_sheet_law("neo-hookean"), nullptr);

@@ -57,8 +57,8 @@ FdError fd_error(const SheetLaw& law, const Vec3& E, double h = 1e-6) {
 
 TEST(IncompressibleSheetLaw, TangentAndStressMatchFiniteDifferencesAtFiniteStretches) {
   for (const SheetLaw& law : {SheetLaw(neo()), SheetLaw(mooney())}) {
-    for (const Vec3& E : {Vec3(0.3, -0.1, 0.4), Vec3(1.2, 0.05, -0.3), stretch_strain(2.5, 0.8, 0.7),
-                          Vec3(-0.2, -0.15, 0.1)}) {
+    for (const Vec3& E : {Vec3(0.3, -0.1, 0.4), Vec3(1.2, 0.05, -0.3),
+                          stretch_strain(2.5, 0.8, 0.7), Vec3(-0.2, -0.15, 0.1)}) {
       const FdError err = fd_error(law, E);
       EXPECT_LT(err.tangent, 1e-7) << law.name() << " at " << E.transpose();
       EXPECT_LT(err.stress, 1e-7) << law.name() << " at " << E.transpose();
@@ -171,15 +171,18 @@ TEST(IncompressibleSheetLaw, UnstableConstantsAreRefusedNamingTheCondition) {
     }
     return std::string();
   };
-  EXPECT_NE(message([] { IncompressibleSheetLaw::neo_hookean("r", 0); }).find("mu must be positive"),
-            std::string::npos);
+  EXPECT_NE(
+      message([] { IncompressibleSheetLaw::neo_hookean("r", 0); }).find("mu must be positive"),
+      std::string::npos);
   EXPECT_NE(message([] { IncompressibleSheetLaw::neo_hookean("r", -1); }).find("'r'"),
             std::string::npos);
   EXPECT_NE(message([] { IncompressibleSheetLaw::mooney_rivlin("r", 1, -2); }).find("C1 + C2"),
             std::string::npos);
   EXPECT_NE(message([] { IncompressibleSheetLaw::mooney_rivlin("r", -1, 2); }).find("C1 = -1"),
             std::string::npos);
-  EXPECT_NE(message([] { IncompressibleSheetLaw::mooney_rivlin("r", 1, -0.25); }).find("sqrt(-C1/C2) = 2"),
+  EXPECT_NE(message([] {
+              IncompressibleSheetLaw::mooney_rivlin("r", 1, -0.25);
+            }).find("sqrt(-C1/C2) = 2"),
             std::string::npos);
   EXPECT_NO_THROW(IncompressibleSheetLaw::mooney_rivlin("r", 1, 0));
   EXPECT_NO_THROW(IncompressibleSheetLaw::mooney_rivlin("r", 0, 1));

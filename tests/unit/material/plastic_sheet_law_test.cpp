@@ -63,9 +63,9 @@ TEST(PlasticSheetLaw, AlgorithmicTangentMatchesFiniteDifferences) {
     EXPECT_GT(h[3], 0.0);
     const double virgin[4] = {0, 0, 0, 0};
     for (const double* hist : {static_cast<const double*>(virgin), static_cast<const double*>(h)}) {
-      for (const Vec3& E : {Vec3(0.004, -0.002, 0.003), Vec3(0.03, 0.01, 0.02),
-                            Vec3(0.05, -0.01, -0.03), Vec3(0.002, 0.001, 0.0005),
-                            Vec3(0.08, 0.07, 0.01)}) {
+      for (const Vec3& E :
+           {Vec3(0.004, -0.002, 0.003), Vec3(0.03, 0.01, 0.02), Vec3(0.05, -0.01, -0.03),
+            Vec3(0.002, 0.001, 0.0005), Vec3(0.08, 0.07, 0.01)}) {
         const std::span<const double> hs(hist, 4);
         const PlasticSheetLaw::Return ret = law.return_map(E, hs);
         const FdError err = fd_error(law, E, hs);
@@ -142,9 +142,10 @@ TEST(PlasticSheetLaw, UniaxialLoadUnloadCycleMatchesTheClosedForm) {
   // On, into compression and reverse yield.
   const double emin = eres - 0.03;
   for (int k = 1; k <= 30; ++k) drive(eres + (emin - eres) * k / 30, 1);
-  std::printf("uniaxial cycle: %d steps, worst stress error %.2e of the peak; residual strain "
-              "%.6f (closed form %.6f)\n",
-              steps, worst, eres, amax);
+  std::printf(
+      "uniaxial cycle: %d steps, worst stress error %.2e of the peak; residual strain "
+      "%.6f (closed form %.6f)\n",
+      steps, worst, eres, amax);
   EXPECT_LT(worst, 1e-9);
   EXPECT_GT(h[3], amax);  // yielded again in reverse
 }
@@ -160,17 +161,21 @@ TEST(PlasticSheetLaw, BadConstantsAndCurvesAreRefused) {
   };
   EXPECT_NE(message([] { PlasticSheetLaw::bilinear("f", kE, kNu, 0, kH); }).find("yield stress"),
             std::string::npos);
-  EXPECT_NE(message([] { PlasticSheetLaw::bilinear("f", kE, kNu, kYield, -1); })
-                .find("hardening modulus"),
+  EXPECT_NE(message([] {
+              PlasticSheetLaw::bilinear("f", kE, kNu, kYield, -1);
+            }).find("hardening modulus"),
             std::string::npos);
-  EXPECT_NE(message([] { PlasticSheetLaw::tabulated("f", kE, kNu, {{0, 1e6}, {0, 2e6}}); })
-                .find("must ascend"),
+  EXPECT_NE(message([] {
+              PlasticSheetLaw::tabulated("f", kE, kNu, {{0, 1e6}, {0, 2e6}});
+            }).find("must ascend"),
             std::string::npos);
-  EXPECT_NE(message([] { PlasticSheetLaw::tabulated("f", kE, kNu, {{0, 2e6}, {0.1, 1e6}}); })
-                .find("falls"),
+  EXPECT_NE(message([] {
+              PlasticSheetLaw::tabulated("f", kE, kNu, {{0, 2e6}, {0.1, 1e6}});
+            }).find("falls"),
             std::string::npos);
-  EXPECT_NE(message([] { PlasticSheetLaw::tabulated("f", kE, kNu, {{0.01, 2e6}}); })
-                .find("start at plastic strain 0"),
+  EXPECT_NE(message([] {
+              PlasticSheetLaw::tabulated("f", kE, kNu, {{0.01, 2e6}});
+            }).find("start at plastic strain 0"),
             std::string::npos);
   EXPECT_NE(message([] { PlasticSheetLaw::bilinear("f", -1, kNu, kYield, kH); }).find("'f'"),
             std::string::npos);
