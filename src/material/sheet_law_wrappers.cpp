@@ -11,6 +11,7 @@
 
 #include <Eigen/QR>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -83,12 +84,25 @@ TensionFieldSheetLaw::Solution TensionFieldSheetLaw::solve(const Vec3& E, std::s
 
   // Newton on (β, θ) from a guess; true when it converged to an admissible root.
   SheetResponse re;
+  // A step that raises |R| is halved (up to ten times): a law that stiffens or yields along t
+  // (plasticity) would otherwise make the full steps swing about the root.
   auto newton = [&](double beta, double theta, double& beta_out, double& theta_out) {
-    for (int it = 0; it < 60; ++it) {
+    double last = std::numeric_limits<double>::infinity(), alpha = 1;
+    Vec2 d = Vec2::Zero();
+    for (int it = 0; it < 100; ++it) {
       const Frame f(theta);
       law_->evaluate(E - beta * f.vt, h, re);
-      if (!re.S.allFinite()) return false;
       const Vec2 R(f.vt.dot(re.S), f.vnt.dot(re.S));
+      if (!re.S.allFinite() || R.norm() > last) {
+        if (it == 0 || alpha < 1e-3) return false;
+        beta -= alpha * d[0];  // back to the last point, then half the step
+        theta -= alpha * d[1];
+        alpha *= 0.5;
+        beta += alpha * d[0];
+        theta += alpha * d[1];
+        continue;
+      }
+      last = R.norm();
       const Vec3 Cvt = re.C * f.vt, Cvnt = re.C * f.vnt;
       Mat2 J;
       J << -f.vt.dot(Cvt), -2 * f.vnt.dot(re.S) + 2 * beta * f.vt.dot(Cvnt), -f.vnt.dot(Cvt),
@@ -101,11 +115,12 @@ TensionFieldSheetLaw::Solution TensionFieldSheetLaw::solve(const Vec3& E, std::s
       }
       const double det = J.determinant();
       if (!(std::abs(det) > 0)) return false;
-      Vec2 d = -J.inverse() * R;
+      d = -J.inverse() * R;
       if (std::abs(d[1]) > 0.25) d *= 0.25 / std::abs(d[1]);
+      alpha = 1;
       beta += d[0];
       theta += d[1];
-      if (std::abs(d[0]) < 1e-16 && std::abs(d[1]) < 1e-15) {
+      if (std::abs(d[0]) < 1e-13 * (std::abs(beta) + 1e-3) && std::abs(d[1]) < 1e-12) {
         const Frame g(theta);
         law_->evaluate(E - beta * g.vt, h, re);
         beta_out = beta;
@@ -185,6 +200,13 @@ double TensionFieldSheetLaw::energy(const Vec3& E, std::span<const double> h) co
       return slack_energy_;
   }
   return law_->energy(E, h);
+}
+
+void TensionFieldSheetLaw::update_state(const Vec3& E, std::span<double> h) const {
+  SheetResponse r;
+  const Solution sol = solve(E, h, r);
+  if (sol.state == WrinkleState::kSlack) return;
+  law_->update_state(sol.state == WrinkleState::kWrinkled ? sol.Ee : E, h);
 }
 
 double TensionFieldSheetLaw::thickness_ratio(const Vec3& E, std::span<const double> h) const {

@@ -67,7 +67,9 @@ class TensionFieldSheetLaw final : public SheetLawBase {
   bool thins() const override { return law_->thins(); }
   int state_size() const override { return law_->state_size(); }
   void initial_state(std::span<double> h) const override { law_->initial_state(h); }
-  void update_state(const Vec3& E, std::span<double> h) const override { law_->update_state(E, h); }
+  /// The law's history moves on at the strain it is evaluated at: E where taut, the elastic
+  /// strain E − β t⊗t where wrinkled; a slack point carries no stress and keeps its history.
+  void update_state(const Vec3& E, std::span<double> h) const override;
   std::unique_ptr<SheetLawBase> clone() const override {
     return std::make_unique<TensionFieldSheetLaw>(*this);
   }

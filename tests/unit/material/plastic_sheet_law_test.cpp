@@ -11,6 +11,7 @@
 
 #include "velum/material/plane_stress.hpp"
 #include "velum/material/plastic_sheet_law.hpp"
+#include "velum/material/sheet_law.hpp"
 
 namespace velum {
 namespace {
@@ -148,6 +149,41 @@ TEST(PlasticSheetLaw, UniaxialLoadUnloadCycleMatchesTheClosedForm) {
       steps, worst, eres, amax);
   EXPECT_LT(worst, 1e-9);
   EXPECT_GT(h[3], amax);  // yielded again in reverse
+}
+
+TEST(PlasticSheetLaw, WrinkledFoilYieldsInUniaxialTensionAlongTheWrinkles) {
+  // Stretched along θ past yield, pushed together across: the tension field of the plastic
+  // law is its uniaxial state along θ, S_nn = (σ_y0 + H e)/(1 + H/E), and the history moves on
+  // at the elastic strain (the uniaxial plastic strain e − S/E along θ).
+  const SheetLaw law = SheetLaw(bilinear()).with_wrinkling(0);
+  ASSERT_EQ(law.state_size(), 4);
+  const double theta = 0.6, c = std::cos(theta), s = std::sin(theta), e = 0.03, f = -0.05;
+  const Vec3 E(e * c * c + f * s * s, e * s * s + f * c * c, 2 * (e - f) * c * s);
+  double h[4];
+  law.base().initial_state(h);
+  SheetResponse r;
+  law.evaluate(E, h, r);
+  ASSERT_EQ(r.state, WrinkleState::kWrinkled);
+  const double S = (kYield + kH * e) / (1 + kH / kE);
+  EXPECT_NEAR((r.S - S * Vec3(c * c, s * s, c * s)).cwiseAbs().maxCoeff(), 0, 1e-8 * S);
+  // Its tangent against central differences.
+  Mat3 C_fd;
+  for (int j = 0; j < 3; ++j) {
+    Vec3 Ep = E, Em = E;
+    Ep[j] += 1e-8;
+    Em[j] -= 1e-8;
+    SheetResponse rp, rm;
+    law.evaluate(Ep, h, rp);
+    law.evaluate(Em, h, rm);
+    C_fd.col(j) = (rp.S - rm.S) / 2e-8;
+  }
+  const double err = (r.C - C_fd).cwiseAbs().maxCoeff() / r.C.cwiseAbs().maxCoeff();
+  std::printf("wrinkled plastic foil: relative FD error of the tangent %.2e\n", err);
+  EXPECT_LT(err, 1e-5);
+  law.base().update_state(E, h);
+  EXPECT_NEAR(h[3], e - S / kE, 1e-9);  // α = the uniaxial plastic strain along θ
+  const double ep_nn = h[0] * c * c + h[1] * s * s + h[2] * c * s;
+  EXPECT_NEAR(ep_nn, e - S / kE, 1e-9);
 }
 
 TEST(PlasticSheetLaw, BadConstantsAndCurvesAreRefused) {
