@@ -2,6 +2,8 @@
 
 #include "sheet_law_table.hpp"
 
+#include "read_stress_map.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -126,6 +128,7 @@ std::optional<SheetLaw> matrix(ReaderContext& r, const Node& m, const std::strin
 constexpr SheetLawEntry kTable[] = {
     {"isotropic", isotropic}, {"orthotropic", orthotropic}, {"anisotropic", anisotropic},
     {"fibers", fibers},       {"matrix", matrix},
+    {"stress_map", parse_stress_map},
 };
 
 }  // namespace
