@@ -16,7 +16,9 @@ namespace {
 
 using namespace velum;
 
-PlaneStressLaw linear_law() { return PlaneStressLaw::orthotropic("bench", 2000, 1000, 0.3, 400, false); }
+PlaneStressLaw linear_law() {
+  return PlaneStressLaw::orthotropic("bench", 2000, 1000, 0.3, 400, false);
+}
 
 /// The linear law on an 11 x 11 grid with a cubic stiffening, G12 as the linear law's.
 SheetLaw map_law() {
@@ -87,7 +89,9 @@ SheetLaw law_of(int which) {
   return which == 0 ? SheetLaw(PointwiseLinear(linear_law())) : map_law();
 }
 
-void label(benchmark::State& state) { state.SetLabel(state.range(0) == 0 ? "linear" : "stress_map"); }
+void label(benchmark::State& state) {
+  state.SetLabel(state.range(0) == 0 ? "linear" : "stress_map");
+}
 
 // The law alone, at strains spread over the grid.
 void BM_SheetLawEvaluate(benchmark::State& state) {

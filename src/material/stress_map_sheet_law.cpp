@@ -43,8 +43,8 @@ StressMapSheetLaw::StressMapSheetLaw(std::string name, StressMapData data)
       if (!(d.S22[(j + 1) * n1 + i] > d.S22[j * n1 + i]))
         fail(fmt::format("S22 must increase with E22 (at E11 = {}, E22 = {} to {})", d.e1[i],
                          d.e2[j], d.e2[j + 1]));
-  const size_t k0 = static_cast<size_t>(j0 - d.e2.begin()) * n1 +
-                    static_cast<size_t>(i0 - d.e1.begin());
+  const size_t k0 =
+      static_cast<size_t>(j0 - d.e2.begin()) * n1 + static_cast<size_t>(i0 - d.e1.begin());
   double smax = 0;
   for (size_t k = 0; k < n1 * n2; ++k)
     smax = std::max({smax, std::abs(d.S11[k]), std::abs(d.S22[k])});
@@ -66,9 +66,10 @@ StressMapSheetLaw::StressMapSheetLaw(std::string name, StressMapData data)
   evaluate(Vec3::Zero(), r);
   C0_ = r.C;
   if (!(C0_(0, 0) > 0) || !(C0_(1, 1) > 0) || !(C0_(2, 2) > 0))
-    fail(fmt::format("the slopes at zero strain must be positive (dS11/dE11 = {}, dS22/dE22 = "
-                     "{}, dS12/dgamma = {})",
-                     C0_(0, 0), C0_(1, 1), C0_(2, 2)));
+    fail(
+        fmt::format("the slopes at zero strain must be positive (dS11/dE11 = {}, dS22/dE22 = "
+                    "{}, dS12/dgamma = {})",
+                    C0_(0, 0), C0_(1, 1), C0_(2, 2)));
 }
 
 StressMapSheetLaw::Field StressMapSheetLaw::make_field(const std::vector<double>& values) const {
@@ -135,8 +136,7 @@ void StressMapSheetLaw::evaluate(const Vec3& E, SheetResponse& out) const {
   out.angle = 0;
 }
 
-void StressMapSheetLaw::evaluate(const Vec3& E, std::span<const double>,
-                                 SheetResponse& out) const {
+void StressMapSheetLaw::evaluate(const Vec3& E, std::span<const double>, SheetResponse& out) const {
   evaluate(E, out);
 }
 

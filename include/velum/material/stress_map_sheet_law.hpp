@@ -17,8 +17,8 @@ namespace velum {
 /// The data of a stress map. S11 and S22 are row-major over (E22, E11): value k = j n1 + i at
 /// (e1[i], e2[j]), n1 = e1.size().
 struct StressMapData {
-  std::vector<double> e1, e2;    ///< grid axes (warp, fill strain), strictly increasing
-  std::vector<double> S11, S22;  ///< warp and fill stress at the grid points
+  std::vector<double> e1, e2;      ///< grid axes (warp, fill strain), strictly increasing
+  std::vector<double> S11, S22;    ///< warp and fill stress at the grid points
   std::vector<double> gamma, S12;  ///< shear curve from γ = 0 (S12 = 0), or empty with G12
   double G12 = 0;                  ///< linear shear when no curve is given
 };

@@ -55,7 +55,8 @@ std::optional<CsvTable> read_csv(ReaderContext& r, const std::string& file, cons
     auto cells = split(line);
     if (!header) {
       for (auto& c : cells)
-        std::transform(c.begin(), c.end(), c.begin(), [](unsigned char ch) { return std::tolower(ch); });
+        std::transform(c.begin(), c.end(), c.begin(),
+                       [](unsigned char ch) { return std::tolower(ch); });
       if (cells != columns) {
         r.error_in_file(file, ln, key,
                         fmt::format("expected the header '{}'", fmt::join(columns, ",")));
@@ -100,7 +101,8 @@ std::optional<CsvTable> read_csv(ReaderContext& r, const std::string& file, cons
 /// strain_fill block holds the same strain_warp values (no holes).
 bool read_grid(ReaderContext& r, const std::string& file, const std::string& key,
                StressMapData& d) {
-  const auto t = read_csv(r, file, key, {"strain_warp", "strain_fill", "stress_warp", "stress_fill"});
+  const auto t =
+      read_csv(r, file, key, {"strain_warp", "strain_fill", "stress_warp", "stress_fill"});
   if (!t) return false;
   if (t->rows.empty()) {
     r.error_in_file(file, 0, key, "no grid points");
@@ -163,19 +165,19 @@ bool read_grid(ReaderContext& r, const std::string& file, const std::string& key
   // Monotone where the law needs it, named at the offending row.
   for (size_t k = 0; k < rows.size(); ++k) {
     if (k % n1 > 0 && !(rows[k][2] > rows[k - 1][2])) {
-      r.error_in_file(file, ln[k], key,
-                      fmt::format("stress_warp must increase with strain_warp (at strain_fill = "
-                                  "{}: {} at strain_warp {} after {} at {})",
-                                  rows[k][1], rows[k][2], rows[k][0], rows[k - 1][2],
-                                  rows[k - 1][0]));
+      r.error_in_file(
+          file, ln[k], key,
+          fmt::format("stress_warp must increase with strain_warp (at strain_fill = "
+                      "{}: {} at strain_warp {} after {} at {})",
+                      rows[k][1], rows[k][2], rows[k][0], rows[k - 1][2], rows[k - 1][0]));
       return false;
     }
     if (k >= n1 && !(rows[k][3] > rows[k - n1][3])) {
-      r.error_in_file(file, ln[k], key,
-                      fmt::format("stress_fill must increase with strain_fill (at strain_warp = "
-                                  "{}: {} at strain_fill {} after {} at {})",
-                                  rows[k][0], rows[k][3], rows[k][1], rows[k - n1][3],
-                                  rows[k - n1][1]));
+      r.error_in_file(
+          file, ln[k], key,
+          fmt::format("stress_fill must increase with strain_fill (at strain_warp = "
+                      "{}: {} at strain_fill {} after {} at {})",
+                      rows[k][0], rows[k][3], rows[k][1], rows[k - n1][3], rows[k - n1][1]));
       return false;
     }
   }
@@ -202,9 +204,9 @@ bool read_shear(ReaderContext& r, const std::string& file, const std::string& ke
   }
   for (size_t k = 1; k < rows.size(); ++k) {
     if (!(rows[k][0] > rows[k - 1][0])) {
-      r.error_in_file(file, t->lines[k], key,
-                      fmt::format("shear_strain must increase (got {} after {})", rows[k][0],
-                                  rows[k - 1][0]));
+      r.error_in_file(
+          file, t->lines[k], key,
+          fmt::format("shear_strain must increase (got {} after {})", rows[k][0], rows[k - 1][0]));
       return false;
     }
     if (!(rows[k][1] > rows[k - 1][1])) {

@@ -127,8 +127,7 @@ std::optional<SheetLaw> matrix(ReaderContext& r, const Node& m, const std::strin
 
 constexpr SheetLawEntry kTable[] = {
     {"isotropic", isotropic}, {"orthotropic", orthotropic}, {"anisotropic", anisotropic},
-    {"fibers", fibers},       {"matrix", matrix},
-    {"stress_map", parse_stress_map},
+    {"fibers", fibers},       {"matrix", matrix},           {"stress_map", parse_stress_map},
 };
 
 }  // namespace

@@ -16,8 +16,12 @@ namespace velum {
 namespace {
 
 /// A fabric-like response: stiffening in its own direction, coupled to the other.
-double s11(double e1, double e2) { return 600 * e1 + 9000 * e1 * e1 * e1 + 150 * e2 + 4000 * e1 * e2 * e2; }
-double s22(double e1, double e2) { return 400 * e2 + 20000 * e2 * e2 * e2 + 150 * e1 + 3000 * e1 * e1 * e2; }
+double s11(double e1, double e2) {
+  return 600 * e1 + 9000 * e1 * e1 * e1 + 150 * e2 + 4000 * e1 * e2 * e2;
+}
+double s22(double e1, double e2) {
+  return 400 * e2 + 20000 * e2 * e2 * e2 + 150 * e1 + 3000 * e1 * e1 * e2;
+}
 
 StressMapData fabric_data(bool shear_curve) {
   StressMapData d;
@@ -115,8 +119,9 @@ TEST(StressMapSheetLaw, TangentEqualsCentralDifferences) {
   const StressMapSheetLaw law("pvc", fabric_data(true));
   double worst = 0;
   SheetResponse r, rp, rm;
-  for (const Vec3& E : {Vec3(0.017, 0.008, 0.03), Vec3(0.033, -0.011, -0.07), Vec3(0.05, 0.04, 0.15),
-                       Vec3(0.075, 0.06, 0.25), Vec3(-0.03, 0.022, 0.011), Vec3(0.001, 0.0, 0.0)}) {
+  for (const Vec3& E :
+       {Vec3(0.017, 0.008, 0.03), Vec3(0.033, -0.011, -0.07), Vec3(0.05, 0.04, 0.15),
+        Vec3(0.075, 0.06, 0.25), Vec3(-0.03, 0.022, 0.011), Vec3(0.001, 0.0, 0.0)}) {
     law.evaluate(E, r);
     const double h = 1e-7;
     for (int c = 0; c < 3; ++c) {
@@ -129,7 +134,8 @@ TEST(StressMapSheetLaw, TangentEqualsCentralDifferences) {
     }
     EXPECT_GT(std::abs(r.C(0, 0) - r.C(1, 1)), 1);  // anisotropic
   }
-  std::cout << "[stress map] tangent vs central differences, max relative error = " << worst << "\n";
+  std::cout << "[stress map] tangent vs central differences, max relative error = " << worst
+            << "\n";
   EXPECT_LT(worst, 1e-6);
 }
 
