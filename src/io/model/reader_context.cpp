@@ -39,6 +39,11 @@ void ReaderContext::error_at(int line0, const std::string& key, const std::strin
                                 : fmt::format("{}: {}: {}", loc, key, text));
 }
 
+void ReaderContext::error_in_file(const std::string& file, int line, const std::string& key,
+                                  const std::string& text) {
+  errors_.push_back(fmt::format("{}:{}: {}: {}", file, line, key, text));
+}
+
 void ReaderContext::error(const Node& at, const std::string& key, const std::string& text) {
   error_at(at.Mark().is_null() ? -1 : at.Mark().line, key, text);
 }

@@ -46,6 +46,13 @@ class ReaderContext {
   void error_at(int line0, const std::string& key, const std::string& text);
   void error(const Node& at, const std::string& key, const std::string& text);
   void warn(const Node& at, const std::string& key, const std::string& text);
+  /// A problem in a data file the model names (a stress map's CSV): "file:line: key: text".
+  void error_in_file(const std::string& file, int line, const std::string& key,
+                     const std::string& text);
+  /// The problems found so far.
+  const std::vector<std::string>& errors() const { return errors_; }
+  /// Where relative paths of the model file start.
+  const std::filesystem::path& base_dir() const { return base_dir_; }
 
   static std::string sub(const std::string& path, std::string_view key);
   static std::string item(const std::string& path, size_t i);

@@ -2,6 +2,8 @@
 
 #include "sheet_law_table.hpp"
 
+#include "read_stress_map.hpp"
+
 #include <fmt/format.h>
 
 #include "velum/material/incompressible_sheet_law.hpp"
@@ -218,6 +220,7 @@ constexpr SheetLawEntry kTable[] = {
     {"neo_hookean", neo_hookean},
     {"mooney_rivlin", mooney_rivlin},
     {"elastoplastic", elastoplastic},
+    {"stress_map", parse_stress_map},
 };
 
 }  // namespace
