@@ -159,7 +159,7 @@ ModelInput Reader::read_one(const Node& root) {
 void Reader::parse(const Node& root) {
   check_map(root, "",
             {"title", "mesh", "materials", "sections", "masses", "boundary", "loads", "functions",
-             "analysis", "output", "steps"});
+             "analysis", "output", "steps", "rigid_bodies", "contact"});
   if (auto t = text(root, "title", "", false)) in_.title = *t;
   parse_functions(root["functions"]);
   if (require(root, "mesh", "")) parse_mesh(root["mesh"]);
@@ -168,6 +168,8 @@ void Reader::parse(const Node& root) {
   if (has(root, "masses")) parse_masses(root["masses"]);
   if (has(root, "boundary")) parse_boundary(root["boundary"]);
   if (has(root, "loads")) parse_loads(root["loads"]);
+  if (has(root, "rigid_bodies")) parse_rigid_bodies(root["rigid_bodies"]);
+  if (has(root, "contact")) parse_contact(root["contact"]);
   if (require(root, "analysis", "")) parse_analysis(root["analysis"]);
   parse_output(root["output"], root);
   check_gas_flow();

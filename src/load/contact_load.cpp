@@ -292,7 +292,7 @@ bool ContactTerm::node_field(std::string_view name, double t, const NodePosition
     double& v = per_node[static_cast<size_t>(n)];
     if (pressure) {
       const double a = area[static_cast<size_t>(n)];
-      v += a > 0 ? r.p / a : 0.0;
+      v = (std::isnan(v) ? 0.0 : v) + (a > 0 ? r.p / a : 0.0);
     } else {
       Vec3 nn;
       Mat3 H;
