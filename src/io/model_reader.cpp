@@ -171,6 +171,13 @@ void Reader::parse(const Node& root) {
   if (has(root, "rigid_bodies")) parse_rigid_bodies(root["rigid_bodies"]);
   if (has(root, "contact")) parse_contact(root["contact"]);
   if (require(root, "analysis", "")) parse_analysis(root["analysis"]);
+  // A contact's multipliers carry the last step's force to the next: in a dynamic analysis a
+  // node leaving the body would still be pushed (energy made), so there they are off unless
+  // asked for.
+  if (!in_.analysis.equilibrium())
+    for (auto& load : in_.model.loads)
+      if (auto* c = dynamic_cast<ContactLoad*>(load.get()); c && !contact_augmented_.count(c->index))
+        c->augmented = false;
   parse_output(root["output"], root);
   check_gas_flow();
   final_checks(root);

@@ -166,11 +166,15 @@ class ContactTerm final : public LoadTerm {
     }
   }
   void move_on(const LoadState& s, bool update_multipliers);
+  // The outputs (history, fields) at the state accepted last: its forces as the residual
+  // had them (before the multipliers moved on).
+  Vec3 accepted_force(size_t i) const { return f_accepted_[i]; }
 
   const Contact& load_;
   LoadSite site_;
   std::vector<double> k_, lambda_;
   std::vector<Vec3> anchor_;  // friction: the body's point (at s = 0) each node sticks to
+  std::vector<Vec3> f_accepted_;  // the force on each node at the state accepted last
   double k_min_ = 0, k_max_ = 0;
   double penetration_ratio_ = 0;  // the largest penetration / tolerance at the last accepted step
 };
@@ -203,6 +207,7 @@ ContactTerm::ContactTerm(const Contact& load, const LoadSite& site) : load_(load
   }
   lambda_.assign(N, 0.0);
   anchor_.resize(N);
+  f_accepted_.assign(N, Vec3::Zero());
   for (size_t i = 0; i < N; ++i) anchor_[i] = site.model.X.col(load.nodes[i]);
 }
 
@@ -212,6 +217,7 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers) {
   for (size_t i = 0; i < load_.nodes.size(); ++i) {
     const Vec3 x = s.x.col(load_.nodes[i]);
     const contact::NodeResult r = evaluate(i, x, sf, false);
+    f_accepted_[i] = r.f;
     if (r.status == contact::Status::kOpen) {
       if (update_multipliers) lambda_[i] = 0;
       anchor_[i] = load_.body.unmoved(x, sf);
@@ -229,7 +235,7 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers) {
 }
 
 std::optional<double> ContactTerm::quantity_at(std::string_view name, double t,
-                                               const NodePositions& x) const {
+                                               const NodePositions& /*x*/) const {
   // contact_force:body=NAME:c, contact_force:contact=I:c, rigid_position:NAME:c,
   // rigid_velocity:NAME:c (c = 0, 1, 2; 3: magnitude).
   const auto last = name.rfind(':');
@@ -253,7 +259,7 @@ std::optional<double> ContactTerm::quantity_at(std::string_view name, double t,
   Vec3 sum = Vec3::Zero();
   for (size_t i = 0; i < load_.nodes.size(); ++i)
     if (site_.assembler.keeps_node(load_.nodes[i]))
-      sum -= evaluate(i, x.col(load_.nodes[i]), sf, false).f;
+      sum -= accepted_force(i);
   return c == 3 ? sum.norm() : sum[c];  // a magnitude of one process's share: see the reader
 }
 
@@ -288,11 +294,15 @@ bool ContactTerm::node_field(std::string_view name, double t, const NodePosition
   }
   for (size_t i = 0; i < load_.nodes.size(); ++i) {
     const int n = load_.nodes[i];
-    const contact::NodeResult r = evaluate(i, x.col(n), sf, false);
     double& v = per_node[static_cast<size_t>(n)];
     if (pressure) {
+      // The normal part of the accepted force (the tangential one is friction).
+      Vec3 nn;
+      Mat3 H;
+      load_.body.gap(x.col(n), sf, nn, H);
+      const double p = std::max(0.0, accepted_force(i).dot(nn));
       const double a = area[static_cast<size_t>(n)];
-      v = (std::isnan(v) ? 0.0 : v) + (a > 0 ? r.p / a : 0.0);
+      v = (std::isnan(v) ? 0.0 : v) + (a > 0 ? p / a : 0.0);
     } else {
       Vec3 nn;
       Mat3 H;

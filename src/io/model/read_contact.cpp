@@ -166,7 +166,7 @@ void Reader::parse_contact(const Node& cs) {
       else
         ok = false;
     }
-    if (auto a = boolean(c, "augmented", p)) load.augmented = *a;
+    if (auto a = boolean(c, "augmented", p)) load.augmented = *a, contact_augmented_.insert(load.index);
     if (ok) add_load(make_load(std::move(load)), c, p);
   }
 }

@@ -144,6 +144,7 @@ class Reader : public ReaderContext {
   std::map<std::string, RigidBody> rigid_bodies_;
   std::set<std::string> contact_bodies_;
   int contact_count_ = 0;
+  std::set<int> contact_augmented_;  ///< contacts that give `augmented`
 
   // read_analysis.cpp
   void parse_analysis(const Node& a);

@@ -1,0 +1,133 @@
+#!/usr/bin/python3
+"""Contact with rigid bodies through the command line (issue 41): a prestressed square sheet
+pushed by a sphere that moves down (static and implicit dynamic), its contact force in the
+history balancing the reactions of the held edges, the frames carrying contact_pressure and
+contact_gap; bad contact input is exit 1 with a message naming the file, the line and the key.
+
+usage: contact_cases.py VELUM WORK_DIR
+"""
+import copy
+import csv
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+import yaml
+
+VELUM, WORK = sys.argv[1], sys.argv[2]
+shutil.rmtree(WORK, ignore_errors=True)
+os.makedirs(WORK)
+
+N, A = 8, 1.0  # cells per side, side
+nodes, elems, edge = [], [], []
+for j in range(N + 1):
+    for i in range(N + 1):
+        nid = j * (N + 1) + i + 1
+        nodes.append([nid, A * i / N - A / 2, A * j / N - A / 2, 0.0])
+        if i in (0, N) or j in (0, N):
+            edge.append(nid)
+for j in range(N):
+    for i in range(N):
+        a = j * (N + 1) + i + 1
+        elems.append([a, a + 1, a + N + 2, a + N + 1])
+
+BASE = {
+    "mesh": {"nodes": nodes, "elements": [{"set": "sheet", "type": "quad4",
+                                           "connectivity": elems}]},
+    "materials": {"pvc": {"type": "isotropic", "E": 1.0e9, "nu": 0.3, "density": 1000}},
+    "sections": [{"elements": "sheet", "material": "pvc", "thickness": 0.001,
+                  "prestress": [2.0e6, 2.0e6, 0]}],
+    "boundary": [{"nodes": edge, "fix": ["x", "y", "z"]}],
+    "functions": {"ramp": {"type": "ramp", "duration": 1.0}},
+    "rigid_bodies": [{"name": "ball", "shape": "sphere", "center": [0, 0, 0.3005],
+                      "radius": 0.3, "motion": {"displacement": [0, 0, -0.05],
+                                                 "function": "ramp"}}],
+    "contact": [{"surfaces": ["sheet", "ball"], "penalty_scale": 3}],
+    "analysis": {"type": "static", "time": {"end": 1.0, "step": 0.25}},
+    "output": {"fields": True, "history": [
+        {"name": "fz", "quantity": "contact_force", "body": "ball", "component": "z"},
+        {"name": "f0", "quantity": "contact_force", "contact": 0, "component": "magnitude"},
+        {"name": "rz", "quantity": "reaction", "nodes": edge, "component": "z"},
+        {"name": "bz", "quantity": "rigid_position", "body": "ball", "component": "z"},
+        {"name": "vz", "quantity": "rigid_velocity", "body": "ball", "component": "z"}]},
+}
+failures = []
+
+
+def run(name, m):
+    path = os.path.join(WORK, name + ".yaml")
+    with open(path, "w") as f:
+        yaml.safe_dump(m, f, default_flow_style=None, sort_keys=False)
+    out = os.path.join(WORK, name)
+    p = subprocess.run([VELUM, "run", path, "-o", out, "--quiet"], capture_output=True,
+                       text=True, timeout=120)
+    return p, out, path
+
+
+def check(ok, what):
+    print(("ok   " if ok else "FAIL ") + what)
+    if not ok:
+        failures.append(what)
+
+
+for kind in ("static", "dynamic"):
+    m = copy.deepcopy(BASE)
+    if kind == "dynamic":
+        m["analysis"] = {"type": "dynamic", "time": {"end": 1.0, "step": 0.05}}
+        m["contact"][0]["penalty_scale"] = 6  # no multipliers in dynamics: a stiffer penalty
+    p, out, _ = run(kind, m)
+    check(p.returncode == 0, f"{kind}: a sheet pushed by a moving sphere runs "
+                             f"(exit {p.returncode}: {p.stderr.strip()[-300:]})")
+    if p.returncode != 0:
+        continue
+    last = list(csv.DictReader(open(os.path.join(out, "history.csv"))))[-1]
+    fz, f0, rz = float(last["fz"]), float(last["f0"]), float(last["rz"])
+    check(fz > 0, f"{kind}: the sheet pushes the ball up ({fz:.4g} N)")
+    check(abs(f0 - abs(fz)) < 1e-6 * abs(fz), f"{kind}: magnitude by contact index = |fz|")
+    check(abs(fz - rz) < 0.01 * fz, f"{kind}: the edges carry the ball's push (reaction {rz:.4g})")
+    check(abs(float(last["bz"]) - 0.2505) < 1e-12, "the ball's centre followed its motion")
+    rows = list(csv.DictReader(open(os.path.join(out, "history.csv"))))
+    check(abs(float(rows[2]["vz"]) + 0.05) < 1e-6, "the ball's velocity")
+    frames = sorted(os.listdir(os.path.join(out, "frames")))
+    text = open(os.path.join(out, "frames", frames[-1]), "rb").read()
+    check(b'Name="contact_pressure"' in text and b'Name="contact_gap"' in text,
+          f"{kind}: frames carry contact_pressure and contact_gap")
+    summary = json.load(open(os.path.join(out, "summary.json")))
+    check(summary.get("contact", [{}])[0].get("kept") is True,
+          f"{kind}: penetration within its tolerance ({summary.get('contact')})")
+
+# Bad input: exit 1, the file, the line and the key named.
+BAD = [
+    ("unknown_body", lambda m: m["contact"][0].update(surfaces=["sheet", "bal"]),
+     "undefined rigid body 'bal'", "contact[0].surfaces"),
+    ("unknown_set", lambda m: m["contact"][0].update(surfaces=["shet", "ball"]),
+     "undefined element set 'shet'", "contact[0].surfaces"),
+    ("negative_friction", lambda m: m["contact"][0].update(friction=-0.1),
+     "friction", "contact[0].friction"),
+    ("free_body", lambda m: m["rigid_bodies"][0].update(mass=5.0),
+     "not implemented yet", "rigid_bodies[0].mass"),
+    ("bad_shape", lambda m: m["rigid_bodies"][0].update(shape="cone"),
+     "unknown shape 'cone'", "rigid_bodies[0].shape"),
+    ("zero_normal", lambda m: m["rigid_bodies"].append(
+        {"name": "floor", "shape": "plane", "point": [0, 0, 0], "normal": [0, 0, 0]}),
+     "non-zero", "rigid_bodies[1].normal"),
+    ("history_body", lambda m: m["output"]["history"][0].update(body="wall"),
+     "undefined rigid body 'wall'", "output.history[0].body"),
+    ("bad_key", lambda m: m["contact"][0].update(frition=0.2), "frition", "contact[0]"),
+]
+for name, edit, message, key in BAD:
+    m = copy.deepcopy(BASE)
+    edit(m)
+    p, _, path = run(name, m)
+    err = p.stderr
+    check(p.returncode == 1 and message in err and key in err
+          and re.search(re.escape(os.path.basename(path)) + r":\d+: ", err) is not None,
+          f"bad input {name}: {err.strip()[:200]}")
+
+if failures:
+    print(f"{len(failures)} failures")
+    sys.exit(1)
+print("all contact cases passed")
