@@ -20,7 +20,9 @@ namespace {
 
 constexpr double kR = 0.5, kT = 1e-3, kN = 1000.0, kW = 0.1, kTheta = 0.5236, kStraight = 0.3;
 
-std::unique_ptr<Model> strip_on_cylinder(int along) {
+// The strip over the drum; with friction mu the right end is pulled along its tangent by
+// `pull` (a ramp over t in [0, 1]) instead of loaded, so that the strip slides.
+std::unique_ptr<Model> strip_on_cylinder(int along, double mu = 0, double pull = 0) {
   auto m = std::make_unique<Model>();
   test::NodeCache nodes(*m, 1e-9);
   std::vector<int> conn;
@@ -43,17 +45,21 @@ std::unique_ptr<Model> strip_on_cylinder(int along) {
   std::vector<int> all(static_cast<size_t>(m->num_nodes()));
   for (int n = 0; n < m->num_nodes(); ++n) all[static_cast<size_t>(n)] = n;
   m->fixed.push_back({all, {false, true, false}});
-  m->fixed.push_back({{test::nearest_node(*m, Vec3(0, 0, Rm))}, {true, false, false}});
+  if (mu == 0) m->fixed.push_back({{test::nearest_node(*m, Vec3(0, 0, Rm))}, {true, false, false}});
   // The end tensions, shared as a linear edge's consistent loads (w/4, w/2, w/4).
   for (int side : {-1, 1}) {
     const Vec3 dir(side * std::cos(kTheta), 0, -std::sin(kTheta));
     const double Rm2 = kR + 0.5 * kT;
     const double x = side * (Rm2 * std::sin(kTheta) + kStraight * std::cos(kTheta));
     const double z = Rm2 * std::cos(kTheta) - kStraight * std::sin(kTheta);
-    for (int j = 0; j < 3; ++j) {
-      const int n = test::nearest_node(*m, Vec3(x, 0.5 * kW * j, z));
-      m->point_loads.push_back({{n}, kN * kW * (j == 1 ? 0.5 : 0.25) * dir, -1});
+    std::vector<int> end;
+    for (int j = 0; j < 3; ++j) end.push_back(test::nearest_node(*m, Vec3(x, 0.5 * kW * j, z)));
+    if (mu > 0 && side > 0) {
+      m->prescribed.push_back({end, pull * dir, test::add_ramp(*m, 1.0)});
+      continue;
     }
+    for (int j = 0; j < 3; ++j)
+      m->point_loads.push_back({{end[static_cast<size_t>(j)]}, kN * kW * (j == 1 ? 0.5 : 0.25) * dir, -1});
   }
   ContactLoad cl;
   cl.body.name = "drum";
@@ -61,6 +67,7 @@ std::unique_ptr<Model> strip_on_cylinder(int along) {
   cl.body.point = Vec3::Zero();
   cl.body.direction = Vec3::UnitY();
   cl.body.radius = kR;
+  cl.friction = mu;
   cl.parts.push_back({0, {}});
   for (int e = 0; e < m->blocks[0]->size(); ++e) cl.parts[0].elements.push_back(e);
   m->loads.add(make_load(cl));
@@ -120,6 +127,43 @@ TEST(Contact, StripOverCylinderCarriesTensionOverRadius) {
   EXPECT_GT(least_gap, -std::max(0.01 * kT, 1e-3 * h));
   // Newton converges in few iterations once the active set holds (the later steps).
   EXPECT_LE(reports.back().iterations, 4);
+}
+
+// F2: the capstan. The left end held by its tension N, the right end pulled on so that the
+// strip slides over the drum: the right end's force is N e^(μ 2θ).
+TEST(Contact, CapstanEndForcesInTheRatioOfFriction) {
+  const double mu = 0.3;
+  auto m = strip_on_cylinder(48, mu, 0.01);
+  MechanicalSystem sys(*m);
+  State s = test::state_from(sys, NodePositions::Zero(3, m->num_nodes()));
+  sys.start_loads(0, s.u, s.v);
+  StaticNewton integrator;
+  auto solver = make_linear_solver(SolverKind::kAuto);
+  TimeLoopSettings loop;
+  loop.t0 = 0, loop.t_end = 1, loop.step = 0.1;
+  std::vector<StepReport> reports;
+  const TimeLoopResult r =
+      run_time_loop(sys, integrator, *solver, loop, s, [&](const AcceptedStep& st, const State& c) {
+        sys.accept(st.t, c.u, c.v);
+        reports.push_back(*st.report);
+        return true;
+      });
+  ASSERT_TRUE(r.completed) << r.reason;
+  std::cout << "Newton residuals of the last step:";
+  for (double v : reports.back().residuals) std::cout << " " << v;
+  std::cout << "\n";
+  // The pulled end's force: its nodes' internal forces along the strip.
+  const NodePositions x = m->X + sys.displacements(1, s.u);
+  NodePositions Fint;
+  sys.assembler().internal(x, Fint, nullptr);
+  const Vec3 dir(std::cos(kTheta), 0, -std::sin(kTheta));
+  double T2 = 0;
+  for (int n : m->prescribed[0].nodes) T2 += Fint.col(n).dot(dir);
+  T2 /= kW;
+  const double ratio = T2 / kN, exact = std::exp(mu * 2 * kTheta);
+  std::cout << "capstan: T2/T1 " << ratio << " exact " << exact << " ("
+            << test::percent(ratio, exact) << "%)\n";
+  EXPECT_LT(test::percent(ratio, exact), 1.5);
 }
 
 }  // namespace
