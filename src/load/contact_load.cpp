@@ -12,6 +12,7 @@
 #include "velum/assembly/assembler.hpp"
 #include "velum/load/contact_load.hpp"
 #include "velum/model/model.hpp"
+#include "velum/time/second_order_system.hpp"
 
 namespace velum {
 namespace {
@@ -35,6 +36,9 @@ class Contact final : public Load, public ContactLoad {
   void set_up(const Model& model, const ElementNamer&) override;
   bool keep_piece(const Model&, const std::vector<std::vector<int>>&,
                   const std::vector<int>& local_of) override {
+    if (body_node >= 0)
+      throw std::invalid_argument(fmt::format(
+          "contact {}: a free rigid body ({}) runs on one process only", index, body.name));
     std::vector<int> kept;
     std::vector<double> t, h;
     for (size_t i = 0; i < nodes.size(); ++i)
@@ -88,15 +92,37 @@ class ContactTerm final : public LoadTerm {
   void add(const LoadState& s, LoadOutput& out) override {
     const double sf = site_.model.function_value(load_.body.function, s.t);
     const bool share = site_.assembler.local_share();
+    const int b = load_.body_node;
+    const Vec3 d = translation(s.x);
+    // A free body: its node takes the opposite forces; its coupling with the contact nodes
+    // (outside the mesh's pattern) is the low-rank part U Wᵀ = Σ P_i D_i P_bᵀ + P_b D_i P_iᵀ.
+    MatX* U = b >= 0 && out.K && out.low_rank ? &out.low_rank->U : nullptr;
+    MatX* W = U ? &out.low_rank->W : nullptr;
+    if (U)
+      for (int c = 0; c < 6; ++c) U->col(out.column + c).setZero(), W->col(out.column + c).setZero();
     for (size_t i = 0; i < load_.nodes.size(); ++i) {
       const int n = load_.nodes[i];
       if (share && !site_.assembler.keeps_node(n)) continue;
-      const contact::NodeResult r = evaluate(i, s.x.col(n), sf, out.K != nullptr);
+      const contact::NodeResult r = evaluate(i, s.x.col(n) - d, sf, out.K != nullptr);
       if (r.status == contact::Status::kOpen) continue;
       out.F.col(n) += r.f;
       if (out.K) add_block(n, r.D, *out.K);
+      if (b < 0) continue;
+      out.F.col(b) -= r.f;
+      if (out.K) add_block(b, r.D, *out.K);  // f_b = −f(x_n − x_b): ∂f_b/∂x_b = D
+      if (U)
+        for (int c = 0; c < 3; ++c) {
+          put(n, r.D.col(c), U->col(out.column + c));
+          put(n, r.D.row(c).transpose(), W->col(out.column + 3 + c));
+        }
     }
+    if (U)
+      for (int c = 0; c < 3; ++c) {
+        put(b, Vec3::Unit(c), W->col(out.column + c));
+        put(b, Vec3::Unit(c), U->col(out.column + 3 + c));
+      }
   }
+  int low_rank_columns() const override { return load_.body_node >= 0 ? 6 : 0; }
 
   void start(const LoadState& s) override { move_on(s, false); }
   void commit(const LoadState& s) override { move_on(s, load_.augmented); }
@@ -166,6 +192,18 @@ class ContactTerm final : public LoadTerm {
     }
   }
   void move_on(const LoadState& s, bool update_multipliers);
+  // A free body's translation at positions x (0 for a fixed or moved one).
+  Vec3 translation(const NodePositions& x) const {
+    const int b = load_.body_node;
+    return b >= 0 ? Vec3(x.col(b) - site_.model.X.col(b)) : Vec3::Zero();
+  }
+  // Adds the global vector v at node n into the equation vector `to` (in n's frame).
+  template <class Column>
+  void put(int n, const Vec3& v, Column&& to) const {
+    const Vec3 l = site_.dofs.to_local(n, v);
+    for (int c = 0; c < 3; ++c)
+      if (const int eq = site_.dofs.equation(n, c); eq >= 0) to[eq] += l[c];
+  }
   // The outputs (history, fields) at the state accepted last: its forces as the residual
   // had them (before the multipliers moved on).
   Vec3 accepted_force(size_t i) const { return f_accepted_[i]; }
@@ -214,8 +252,9 @@ ContactTerm::ContactTerm(const Contact& load, const LoadSite& site) : load_(load
 void ContactTerm::move_on(const LoadState& s, bool update_multipliers) {
   const double sf = site_.model.function_value(load_.body.function, s.t);
   penetration_ratio_ = 0;
+  const Vec3 d = translation(s.x);
   for (size_t i = 0; i < load_.nodes.size(); ++i) {
-    const Vec3 x = s.x.col(load_.nodes[i]);
+    const Vec3 x = s.x.col(load_.nodes[i]) - d;  // relative to a free body
     const contact::NodeResult r = evaluate(i, x, sf, false);
     f_accepted_[i] = r.f;
     if (r.status == contact::Status::kOpen) {
@@ -292,21 +331,23 @@ bool ContactTerm::node_field(std::string_view name, double t, const NodePosition
       }
     }
   }
+  const Vec3 d = translation(x);
   for (size_t i = 0; i < load_.nodes.size(); ++i) {
     const int n = load_.nodes[i];
+    const Vec3 y = x.col(n) - d;
     double& v = per_node[static_cast<size_t>(n)];
     if (pressure) {
       // The normal part of the accepted force (the tangential one is friction).
       Vec3 nn;
       Mat3 H;
-      load_.body.gap(x.col(n), sf, nn, H);
+      load_.body.gap(y, sf, nn, H);
       const double p = std::max(0.0, accepted_force(i).dot(nn));
       const double a = area[static_cast<size_t>(n)];
       v = (std::isnan(v) ? 0.0 : v) + (a > 0 ? p / a : 0.0);
     } else {
       Vec3 nn;
       Mat3 H;
-      const double g = load_.body.gap(x.col(n), sf, nn, H) - load_.node_thickness[i];
+      const double g = load_.body.gap(y, sf, nn, H) - load_.node_thickness[i];
       v = std::isnan(v) ? g : std::min(v, g);
     }
   }

@@ -54,6 +54,9 @@ struct ContactLoad {
   double friction = 0;       ///< Coulomb coefficient
   double penalty_scale = 1;  ///< times the automatic penalty (docs/contact.md)
   bool augmented = true;     ///< Lagrange multiplier updated at every accepted step
+  /// A free body (mass): the model's node that carries it (a point mass at body.point, its
+  /// displacement the body's translation); -1: the body moves as prescribed.
+  int body_node = -1;
 };
 
 std::unique_ptr<Load> make_load(ContactLoad p);

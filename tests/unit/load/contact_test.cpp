@@ -77,7 +77,7 @@ TEST(Contact, NodeLawMatchesFiniteDifferences) {
 }
 
 // A 3 x 3 quad4 sheet held at its edges, above a sphere it is pushed onto.
-std::unique_ptr<Model> sheet_on_sphere(double mu) {
+std::unique_ptr<Model> sheet_on_sphere(double mu, bool free = false) {
   auto m = std::make_unique<Model>();
   test::NodeCache nodes(*m, 1e-9);
   std::vector<int> conn;
@@ -96,6 +96,10 @@ std::unique_ptr<Model> sheet_on_sphere(double mu) {
   cl.body.radius = 0.65;  // some middle nodes are inside by up to 2 cm
   cl.friction = mu;
   cl.parts.push_back({0, {0, 1, 2, 3, 4, 5, 6, 7, 8}});
+  if (free) {  // the ball's node, with its mass
+    cl.body_node = m->add_node(1000, cl.body.point);
+    m->masses.push_back({cl.body_node, 5.0});
+  }
   m->loads.add(make_load(cl));
   for (auto& l : m->loads) l->set_up(*m);
   return m;
@@ -108,18 +112,26 @@ VecX term_forces(MechanicalSystem& sys, const VecX& u, MatX* J) {
   const NodePositions x = m.X + U, V = NodePositions::Zero(3, m.num_nodes());
   NodePositions F = NodePositions::Zero(3, m.num_nodes());
   SparseMatrix K;
-  if (J) sys.assembler().make_matrix(K);
-  LoadOutput out{.F = F, .K = J ? &K : nullptr};
+  LowRankJacobian L;
+  const int cols = sys.loads()[0]->low_rank_columns();
+  if (J) {
+    sys.assembler().make_matrix(K);
+    L.U.setConstant(sys.size(), cols, 7.0);  // the term zeroes its own columns
+    L.W.setConstant(sys.size(), cols, 7.0);
+  }
+  LoadOutput out{.F = F, .K = J ? &K : nullptr, .low_rank = &L, .column = 0};
   sys.loads()[0]->add(LoadState{.t = 0, .x = x, .V = V}, out);
-  if (J) *J = MatX(K);
+  if (J) *J = MatX(K) + L.U * L.W.transpose();
   VecX f;
   sys.dofs().gather(F, f);
   return f;
 }
 
 TEST(Contact, TermMatrixMatchesFiniteDifferences) {
-  for (double mu : {0.0, 0.4}) {
-    auto m = sheet_on_sphere(mu);
+  for (int kind = 0; kind < 4; ++kind) {
+    const double mu = kind % 2 ? 0.4 : 0.0;
+    const bool free = kind >= 2;
+    auto m = sheet_on_sphere(mu, free);
     MechanicalSystem sys(*m);
     const int n = sys.size();
     std::srand(3);
@@ -139,8 +151,14 @@ TEST(Contact, TermMatrixMatchesFiniteDifferences) {
       fd.col(k) = (term_forces(sys, u + e, nullptr) - term_forces(sys, u - e, nullptr)) / (2 * h);
     }
     const double err = (J + fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
-    std::cout << "friction " << mu << ": relative error " << err << "\n";
-    EXPECT_LT(err, 1e-5) << mu;
+    std::cout << "friction " << mu << (free ? ", free ball" : "") << ": relative error " << err
+              << "\n";
+    EXPECT_LT(err, 1e-5) << kind;
+    if (free) {  // the ball takes the opposite of the sheet's forces: they sum to zero
+      NodePositions Fn = NodePositions::Zero(3, m->num_nodes());
+      sys.dofs().scatter(f, Fn);
+      EXPECT_LT(Fn.rowwise().sum().norm(), 1e-9 * f.norm());
+    }
   }
 }
 
