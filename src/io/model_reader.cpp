@@ -174,6 +174,7 @@ void Reader::parse(const Node& root) {
   // A contact's multipliers carry the last step's force to the next: in a dynamic analysis a
   // node leaving the body would still be pushed (energy made), so there they are off unless
   // asked for.
+  check_free_bodies();
   if (!in_.analysis.equilibrium())
     for (auto& load : in_.model.loads)
       if (auto* c = dynamic_cast<ContactLoad*>(load.get()); c && !contact_augmented_.count(c->index))
@@ -224,6 +225,7 @@ void Reader::final_checks(const Node& root) {
   std::vector<char> used(static_cast<size_t>(in_.model.num_nodes()), 0);
   for (const auto& b : in_.model.blocks)
     for (int n : b->connectivity()) used[static_cast<size_t>(n)] = 1;
+  for (const auto& [name, f] : free_bodies_) used[static_cast<size_t>(f.node)] = 1;  // a body
   int unused = 0;
   long first = 0;
   for (size_t n = 0; n < used.size(); ++n)

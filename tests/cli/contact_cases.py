@@ -113,6 +113,44 @@ for kind in ("static", "relaxation", "dynamic", "explicit"):
     check(summary.get("contact", [{}])[0].get("kept") is True,
           f"{kind}: penetration within its tolerance ({summary.get('contact')})")
 
+# F5: a free ball (no gravity, no damping) dropped onto the prestressed sheet bounces back:
+# implicit generalized-alpha with rho_inf = 1 and explicit central differences.
+for kind in ("implicit", "explicit"):
+    m = copy.deepcopy(BASE)
+    m["materials"]["pvc"]["density"] = 100
+    m["rigid_bodies"] = [{"name": "ball", "shape": "sphere", "center": [0, 0, 0.1605],
+                          "radius": 0.15, "mass": 5.0, "velocity": [0, 0, -1.0]}]
+    m["contact"] = [{"surfaces": ["sheet", "ball"]}]
+    m["analysis"] = {"type": "dynamic", "time": {"end": 0.25, "step": 1.0e-3},
+                     "integrator": {"scheme": "generalized-alpha", "rho_inf": 1.0}}
+    if kind == "explicit":
+        m["analysis"]["integrator"] = {"scheme": "central-difference"}
+    m["output"] = {"fields": False, "interval": 2.0e-3, "history": [
+        {"name": "vz", "quantity": "rigid_velocity", "body": "ball", "component": "z"},
+        {"name": "z", "quantity": "rigid_position", "body": "ball", "component": "z"},
+        {"name": "fz", "quantity": "contact_force", "body": "ball", "component": "z"},
+        {"name": "ke", "quantity": "kinetic_energy"},
+        {"name": "se", "quantity": "strain_energy"}]}
+    p, out, _ = run("bounce_" + kind, m)
+    check(p.returncode == 0, f"F5 {kind}: the ball bounces (exit {p.returncode}: "
+                             f"{p.stderr.strip()[-300:]})")
+    if p.returncode != 0:
+        continue
+    rows = list(csv.DictReader(open(os.path.join(out, "history.csv"))))
+    touched = [r for r in rows if float(r["fz"]) != 0]
+    after = [r for r in rows if touched and float(r["time"]) > float(touched[-1]["time"])]
+    check(bool(touched) and bool(after), f"F5 {kind}: the ball touches and leaves the sheet")
+    if not (touched and after):
+        continue
+    v_out = float(after[-1]["vz"])
+    e0 = float(rows[0]["ke"]) + float(rows[0]["se"])
+    e1 = float(after[-1]["ke"]) + float(after[-1]["se"])
+    print(f"F5 {kind}: rebound {v_out:.4f} m/s of 1, energy {e1:.5f} J of {e0:.5f} J "
+          f"(peak force {max(float(r['fz']) for r in rows):.1f} N)")
+    check(v_out >= 0.95, f"F5 {kind}: rebound speed {v_out:.4f} >= 0.95 of the impact speed")
+    check(abs(e1 - e0) <= 0.05 * abs(e0 - float(rows[0]["se"])),
+          f"F5 {kind}: energy within 5% ({e1 - e0:.3g} J)")
+
 # Bad input: exit 1, the file, the line and the key named.
 BAD = [
     ("unknown_body", lambda m: m["contact"][0].update(surfaces=["sheet", "bal"]),
@@ -121,8 +159,18 @@ BAD = [
      "undefined element set 'shet'", "contact[0].surfaces"),
     ("negative_friction", lambda m: m["contact"][0].update(friction=-0.1),
      "friction", "contact[0].friction"),
-    ("free_body", lambda m: m["rigid_bodies"][0].update(mass=5.0),
-     "not implemented yet", "rigid_bodies[0].mass"),
+    ("free_body_static", lambda m: (m["rigid_bodies"][0].pop("motion"),
+                                    m["rigid_bodies"][0].update(mass=5.0)),
+     "needs a dynamic analysis", "rigid_bodies[0].mass"),
+    ("free_body_moved", lambda m: m["rigid_bodies"][0].update(mass=5.0),
+     "not both", "rigid_bodies[0].motion"),
+    ("velocity_without_mass", lambda m: m["rigid_bodies"][0].update(velocity=[0, 0, 1]),
+     "needs a 'mass'", "rigid_bodies[0].velocity"),
+    ("inertia", lambda m: m["rigid_bodies"][0].update(mass=1.0, inertia=[1, 1, 1]),
+     "inertia", "rigid_bodies[0].inertia"),
+    ("zero_mass", lambda m: (m["rigid_bodies"][0].pop("motion"),
+                             m["rigid_bodies"][0].update(mass=0.0)),
+     "mass", "rigid_bodies[0].mass"),
     ("bad_shape", lambda m: m["rigid_bodies"][0].update(shape="cone"),
      "unknown shape 'cone'", "rigid_bodies[0].shape"),
     ("zero_normal", lambda m: m["rigid_bodies"].append(

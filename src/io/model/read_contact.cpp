@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
 
 #include "reader.hpp"
 #include "velum/load/contact_load.hpp"
@@ -69,12 +70,30 @@ void Reader::parse_rigid_bodies(const Node& bs) {
                               suggestion(*shape, {"plane", "sphere", "cylinder", "mesh"})));
       continue;
     }
-    if (has(b, "mass") || has(b, "velocity") || has(b, "inertia")) {
-      error(has(b, "mass") ? b["mass"] : (has(b, "velocity") ? b["velocity"] : b["inertia"]),
-            sub(p, "mass"),
-            "free rigid bodies (mass, velocity, inertia) are not implemented yet: give the "
-            "body a prescribed 'motion' or none (fixed)");
+    std::optional<double> mass;
+    if (has(b, "inertia")) {
+      error(b["inertia"], sub(p, "inertia"),
+            "the rotation of free rigid bodies (inertia) is not implemented yet: a free body "
+            "translates only");
       ok = false;
+    }
+    if (has(b, "mass")) {
+      mass = positive(b, "mass", p, true, "the mass");
+      ok = ok && mass.has_value();
+      if (has(b, "motion")) {
+        error(b["motion"], sub(p, "motion"),
+              "a body is free (mass) or moved (motion), not both");
+        ok = false;
+      }
+    } else if (has(b, "velocity")) {
+      error(b["velocity"], sub(p, "velocity"),
+            "a free rigid body needs a 'mass' (an initial velocity without one moves nothing)");
+      ok = false;
+    }
+    std::optional<Vec3> velocity;
+    if (has(b, "velocity")) {
+      velocity = vec3(b, "velocity", p, true);
+      ok = ok && velocity.has_value();
     }
     if (has(b, "motion")) {
       const Node m = b["motion"];
@@ -89,7 +108,18 @@ void Reader::parse_rigid_bodies(const Node& bs) {
         ok = false;
       }
     }
-    if (ok) rigid_bodies_.emplace(*name, body);
+    if (!ok) continue;
+    rigid_bodies_.emplace(*name, body);
+    if (mass && mesh_ok_) {
+      // A free body is a node of its own at its point, with its mass: its displacement is the
+      // body's translation, moved by the contact forces, gravity and its initial velocity.
+      long id = 0;
+      for (long i : in_.model.node_ids) id = std::max(id, i);
+      const int node = in_.model.add_node(id + 1, body.point);
+      in_.model.masses.push_back({node, *mass});
+      if (velocity) in_.model.initial_velocities.push_back({{node}, *velocity});
+      free_bodies_[*name] = {node, b["mass"], sub(p, "mass")};
+    }
   }
 }
 
@@ -147,6 +177,7 @@ void Reader::parse_contact(const Node& cs) {
     } else {
       load.body = bit->second;
       contact_bodies_.insert(body);
+      if (auto f = free_bodies_.find(body); f != free_bodies_.end()) load.body_node = f->second.node;
     }
     if (has(c, "friction")) {
       if (auto mu = non_negative(c, "friction", p, "the friction coefficient"))
@@ -169,6 +200,15 @@ void Reader::parse_contact(const Node& cs) {
     if (auto a = boolean(c, "augmented", p)) load.augmented = *a, contact_augmented_.insert(load.index);
     if (ok) add_load(make_load(std::move(load)), c, p);
   }
+}
+
+void Reader::check_free_bodies() {
+  if (in_.analysis.equilibrium())
+    for (const auto& [name, f] : free_bodies_)
+      error(f.at, f.path,
+            fmt::format("rigid body '{}' is free (mass): it needs a dynamic analysis (in a "
+                        "static one nothing holds it)",
+                        name));
 }
 
 bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryEntry& he) {
@@ -207,6 +247,17 @@ bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryE
     error(e["body"], sub(p, "body"),
           fmt::format("rigid body '{}' is in no contact entry", *body));
     return false;
+  }
+  if (auto f = free_bodies_.find(*body); f != free_bodies_.end() && he.quantity != Q::kContactForce) {
+    // A free body's motion is its node's.
+    if (ci == 3) {
+      error(e["component"], sub(p, "component"),
+            "a free body's position and velocity have components x, y and z");
+      return false;
+    }
+    he.quantity = he.quantity == Q::kRigidPosition ? Q::kPosition : Q::kVelocity;
+    he.node = f->second.node, he.component = static_cast<int>(ci);
+    return true;
   }
   he.flow = he.quantity == Q::kContactForce ? fmt::format("{}:body={}:{}", what, *body, ci)
                                             : fmt::format("{}:{}:{}", what, *body, ci);

@@ -145,6 +145,14 @@ class Reader : public ReaderContext {
   std::set<std::string> contact_bodies_;
   int contact_count_ = 0;
   std::set<int> contact_augmented_;  ///< contacts that give `augmented`
+  struct FreeBody {
+    int node = -1;  ///< the node that carries it
+    Node at;
+    std::string path;
+  };
+  std::map<std::string, FreeBody> free_bodies_;
+  /// Free bodies need inertia: refused in static, relaxation and form finding.
+  void check_free_bodies();
 
   // read_analysis.cpp
   void parse_analysis(const Node& a);
