@@ -177,7 +177,8 @@ void Reader::parse(const Node& root) {
   check_free_bodies();
   if (!in_.analysis.equilibrium())
     for (auto& load : in_.model.loads)
-      if (auto* c = dynamic_cast<ContactLoad*>(load.get()); c && !contact_augmented_.count(c->index))
+      if (auto* c = dynamic_cast<ContactLoad*>(load.get());
+          c && !contact_augmented_.count(c->index))
         c->augmented = false;
   parse_output(root["output"], root);
   check_gas_flow();

@@ -452,15 +452,14 @@ void ResultsWriter::write_frame(double t, const NodePositions& U, const NodePosi
                                 const NodePositions& R, const FrameFields& f,
                                 const std::vector<std::vector<double>>& averaged,
                                 const std::vector<double>& gas) {
-  frames_->write(static_cast<int>(frame_times_.size()),
-                 {.t = t,
-                  .U = U,
-                  .V = V,
-                  .R = R,
-                  .f = f,
-                  .averaged = averaged,
-                  .gas = gas,
-                  .node_fields = &node_fields_});
+  frames_->write(static_cast<int>(frame_times_.size()), {.t = t,
+                                                         .U = U,
+                                                         .V = V,
+                                                         .R = R,
+                                                         .f = f,
+                                                         .averaged = averaged,
+                                                         .gas = gas,
+                                                         .node_fields = &node_fields_});
   frame_times_.push_back(t);
   if (records_) write_pvd();
 }

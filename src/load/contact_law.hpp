@@ -23,9 +23,9 @@ struct NodeInput {
 };
 
 struct NodeResult {
-  Vec3 f = Vec3::Zero();  ///< the force on the node
-  Mat3 D = Mat3::Zero();  ///< ∂f/∂x (filled when asked)
-  double p = 0;           ///< the normal force
+  Vec3 f = Vec3::Zero();     ///< the force on the node
+  Mat3 D = Mat3::Zero();     ///< ∂f/∂x (filled when asked)
+  double p = 0;              ///< the normal force
   Vec3 slip = Vec3::Zero();  ///< the elastic slip the tangential force stands for (f_T = −k slip)
   Status status = Status::kOpen;
 };

@@ -99,7 +99,8 @@ class ContactTerm final : public LoadTerm {
     MatX* U = b >= 0 && out.K && out.low_rank ? &out.low_rank->U : nullptr;
     MatX* W = U ? &out.low_rank->W : nullptr;
     if (U)
-      for (int c = 0; c < 6; ++c) U->col(out.column + c).setZero(), W->col(out.column + c).setZero();
+      for (int c = 0; c < 6; ++c)
+        U->col(out.column + c).setZero(), W->col(out.column + c).setZero();
     for (size_t i = 0; i < load_.nodes.size(); ++i) {
       const int n = load_.nodes[i];
       if (share && !site_.assembler.keeps_node(n)) continue;
@@ -181,8 +182,8 @@ class ContactTerm final : public LoadTerm {
   // K −= ∂f/∂x in the node's equations (its frame where it has one).
   void add_block(int n, const Mat3& D, SparseMatrix& K) const {
     const int f = site_.dofs.frame(n);
-    const Mat3 A = f < 0 ? Mat3(-D) : Mat3(-site_.dofs.rotation(f) * D *
-                                           site_.dofs.rotation(f).transpose());
+    const Mat3 A =
+        f < 0 ? Mat3(-D) : Mat3(-site_.dofs.rotation(f) * D * site_.dofs.rotation(f).transpose());
     for (int j = 0; j < 3; ++j) {
       const int cj = site_.dofs.equation(n, j);
       if (cj < 0) continue;
@@ -211,7 +212,7 @@ class ContactTerm final : public LoadTerm {
   const Contact& load_;
   LoadSite site_;
   std::vector<double> k_, lambda_;
-  std::vector<Vec3> anchor_;  // friction: the body's point (at s = 0) each node sticks to
+  std::vector<Vec3> anchor_;      // friction: the body's point (at s = 0) each node sticks to
   std::vector<Vec3> f_accepted_;  // the force on each node at the state accepted last
   double k_min_ = 0, k_max_ = 0;
   double penetration_ratio_ = 0;  // the largest penetration / tolerance at the last accepted step
@@ -236,8 +237,9 @@ ContactTerm::ContactTerm(const Contact& load, const LoadSite& site) : load_(load
   }
   const double mean = count ? sum / count : 0.0;
   if (N && mean <= 0)
-    throw std::invalid_argument(fmt::format(
-        "contact {}: the set has no stiffness at its reference to scale the penalty on", load.index));
+    throw std::invalid_argument(
+        fmt::format("contact {}: the set has no stiffness at its reference to scale the penalty on",
+                    load.index));
   for (double& k : k_) k = load.penalty_scale * (k > 0 ? k : mean);
   if (N) {
     k_min_ = *std::min_element(k_.begin(), k_.end());
@@ -265,8 +267,7 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers) {
     Vec3 n;
     Mat3 H;
     const double g = load_.body.gap(x, sf, n, H) - load_.node_thickness[i];
-    const double tol =
-        std::max(0.01 * 2 * load_.node_thickness[i], 1e-3 * load_.node_size[i]);
+    const double tol = std::max(0.01 * 2 * load_.node_thickness[i], 1e-3 * load_.node_size[i]);
     if (tol > 0) penetration_ratio_ = std::max(penetration_ratio_, -g / tol);
     if (update_multipliers) lambda_[i] = r.p;
     anchor_[i] = load_.body.unmoved(x - r.slip, sf);
@@ -297,8 +298,7 @@ std::optional<double> ContactTerm::quantity_at(std::string_view name, double t,
   // The force the sheet exerts on the body: minus the contact forces on its nodes.
   Vec3 sum = Vec3::Zero();
   for (size_t i = 0; i < load_.nodes.size(); ++i)
-    if (site_.assembler.keeps_node(load_.nodes[i]))
-      sum -= accepted_force(i);
+    if (site_.assembler.keeps_node(load_.nodes[i])) sum -= accepted_force(i);
   return c == 3 ? sum.norm() : sum[c];  // a magnitude of one process's share: see the reader
 }
 

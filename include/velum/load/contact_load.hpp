@@ -20,13 +20,13 @@ struct RigidBody {
   enum class Shape { kPlane, kSphere, kCylinder };
   std::string name;
   Shape shape = Shape::kPlane;
-  Vec3 point = Vec3::Zero();             ///< plane point, sphere centre, point on the axis
-  Vec3 direction = Vec3::UnitZ();        ///< plane normal (out of the solid), cylinder axis; unit
-  double radius = 0;                     ///< sphere, cylinder
-  Vec3 displacement = Vec3::Zero();      ///< motion: translation at s = 1
-  Vec3 rotation = Vec3::Zero();          ///< motion: rotation vector at s = 1 (radians)
-  Vec3 pivot = Vec3::Zero();             ///< motion: the point the rotation turns about
-  int function = -1;                     ///< motion: time function s(t), -1: s = 1
+  Vec3 point = Vec3::Zero();         ///< plane point, sphere centre, point on the axis
+  Vec3 direction = Vec3::UnitZ();    ///< plane normal (out of the solid), cylinder axis; unit
+  double radius = 0;                 ///< sphere, cylinder
+  Vec3 displacement = Vec3::Zero();  ///< motion: translation at s = 1
+  Vec3 rotation = Vec3::Zero();      ///< motion: rotation vector at s = 1 (radians)
+  Vec3 pivot = Vec3::Zero();         ///< motion: the point the rotation turns about
+  int function = -1;                 ///< motion: time function s(t), -1: s = 1
 
   /// Signed distance of x from the surface with the body moved by s (positive outside), its
   /// outward unit normal n = ∇g and the Hessian H = ∇∇g (the normal's rate).

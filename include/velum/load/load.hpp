@@ -128,9 +128,7 @@ class LoadTerm {
   }
   /// The largest stiffness the load may add at a node over the node's mass (a contact
   /// penalty, active or not), for the stable step of explicit time integration; 0: none.
-  virtual double max_stiffness_over_mass(std::span<const double> /*node_mass*/) const {
-    return 0;
-  }
+  virtual double max_stiffness_over_mass(std::span<const double> /*node_mass*/) const { return 0; }
 };
 
 /// Names element e of block b for messages (the user's id).

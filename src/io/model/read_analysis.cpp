@@ -390,9 +390,9 @@ void Reader::parse_output(const Node& o, const Node& root) {
     return;
   }
   const std::vector<std::string> quantities = {
-      "displacement", "velocity",        "position",      "reaction",      "fiber_angle_change",
-      "stress",       "kinetic_energy",  "strain_energy", "external_work", "gas_volume",
-      "gas_pressure", "gas_temperature", "gas_mass",      "gas_mass_flow", "contact_force",
+      "displacement",   "velocity",        "position",      "reaction",      "fiber_angle_change",
+      "stress",         "kinetic_energy",  "strain_energy", "external_work", "gas_volume",
+      "gas_pressure",   "gas_temperature", "gas_mass",      "gas_mass_flow", "contact_force",
       "rigid_position", "rigid_velocity"};
   std::set<std::string> names;
   for (size_t i = 0; i < h.size(); ++i) {

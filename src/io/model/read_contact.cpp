@@ -81,8 +81,7 @@ void Reader::parse_rigid_bodies(const Node& bs) {
       mass = positive(b, "mass", p, true, "the mass");
       ok = ok && mass.has_value();
       if (has(b, "motion")) {
-        error(b["motion"], sub(p, "motion"),
-              "a body is free (mass) or moved (motion), not both");
+        error(b["motion"], sub(p, "motion"), "a body is free (mass) or moved (motion), not both");
         ok = false;
       }
     } else if (has(b, "velocity")) {
@@ -132,7 +131,8 @@ void Reader::parse_contact(const Node& cs) {
   for (size_t i = 0; i < cs.size(); ++i) {
     const Node c = cs[i];
     const std::string p = item("contact", i);
-    if (!check_map(c, p, {"surfaces", "self", "friction", "thickness", "penalty_scale", "augmented"}))
+    if (!check_map(c, p,
+                   {"surfaces", "self", "friction", "thickness", "penalty_scale", "augmented"}))
       continue;
     ContactLoad load;
     load.index = static_cast<int>(i);
@@ -160,7 +160,8 @@ void Reader::parse_contact(const Node& cs) {
       ok = false;
     } else {
       for (int b : set_blocks_[set]) {
-        ContactLoad::Part part{b, std::vector<int>(static_cast<size_t>(in_.model.blocks[b]->size()))};
+        ContactLoad::Part part{b,
+                               std::vector<int>(static_cast<size_t>(in_.model.blocks[b]->size()))};
         for (size_t e = 0; e < part.elements.size(); ++e) part.elements[e] = static_cast<int>(e);
         load.parts.push_back(std::move(part));
       }
@@ -177,7 +178,8 @@ void Reader::parse_contact(const Node& cs) {
     } else {
       load.body = bit->second;
       contact_bodies_.insert(body);
-      if (auto f = free_bodies_.find(body); f != free_bodies_.end()) load.body_node = f->second.node;
+      if (auto f = free_bodies_.find(body); f != free_bodies_.end())
+        load.body_node = f->second.node;
     }
     if (has(c, "friction")) {
       if (auto mu = non_negative(c, "friction", p, "the friction coefficient"))
@@ -197,7 +199,8 @@ void Reader::parse_contact(const Node& cs) {
       else
         ok = false;
     }
-    if (auto a = boolean(c, "augmented", p)) load.augmented = *a, contact_augmented_.insert(load.index);
+    if (auto a = boolean(c, "augmented", p))
+      load.augmented = *a, contact_augmented_.insert(load.index);
     if (ok) add_load(make_load(std::move(load)), c, p);
   }
 }
@@ -240,15 +243,16 @@ bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryE
   if (!body) return false;
   if (!rigid_bodies_.count(*body)) {
     error(e["body"], sub(p, "body"),
-          fmt::format("undefined rigid body '{}'{}", *body, suggestion(*body, keys_of(rigid_bodies_))));
+          fmt::format("undefined rigid body '{}'{}", *body,
+                      suggestion(*body, keys_of(rigid_bodies_))));
     return false;
   }
   if (!contact_bodies_.count(*body)) {
-    error(e["body"], sub(p, "body"),
-          fmt::format("rigid body '{}' is in no contact entry", *body));
+    error(e["body"], sub(p, "body"), fmt::format("rigid body '{}' is in no contact entry", *body));
     return false;
   }
-  if (auto f = free_bodies_.find(*body); f != free_bodies_.end() && he.quantity != Q::kContactForce) {
+  if (auto f = free_bodies_.find(*body);
+      f != free_bodies_.end() && he.quantity != Q::kContactForce) {
     // A free body's motion is its node's.
     if (ci == 3) {
       error(e["component"], sub(p, "component"),

@@ -31,9 +31,10 @@ std::unique_ptr<Model> cushion_under_plate() {
         return Vec3(x, y, kBump * std::cos(pi * x / (2 * kA)) * std::cos(pi * y / (2 * kA)));
       },
       12, 12, "quad4", conn);
-  test::add_membrane(*m, "quad4", std::move(conn),
-                     SheetLaw(PlaneStressLaw::isotropic("iso", 1e8, 0.3)).with_prestress({1e5, 1e5, 0}),
-                     1000.0, 1e-3);
+  test::add_membrane(
+      *m, "quad4", std::move(conn),
+      SheetLaw(PlaneStressLaw::isotropic("iso", 1e8, 0.3)).with_prestress({1e5, 1e5, 0}), 1000.0,
+      1e-3);
   m->fixed.push_back({test::nodes_where(*m, [](const Vec3& X) { return std::abs(X.z()) < 1e-12; }),
                       {true, true, true}});
   GasLoad gas;

@@ -59,7 +59,8 @@ std::unique_ptr<Model> strip_on_cylinder(int along, double mu = 0, double pull =
       continue;
     }
     for (int j = 0; j < 3; ++j)
-      m->point_loads.push_back({{end[static_cast<size_t>(j)]}, kN * kW * (j == 1 ? 0.5 : 0.25) * dir, -1});
+      m->point_loads.push_back(
+          {{end[static_cast<size_t>(j)]}, kN * kW * (j == 1 ? 0.5 : 0.25) * dir, -1});
   }
   ContactLoad cl;
   cl.body.name = "drum";

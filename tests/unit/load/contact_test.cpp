@@ -63,8 +63,8 @@ TEST(Contact, NodeLawMatchesFiniteDifferences) {
       for (int c = 0; c < 3; ++c) {
         Vec3 e = Vec3::Zero();
         e[c] = h;
-        fd.col(c) = (force(b, s, x + e, A, mu, false).f - force(b, s, x - e, A, mu, false).f) /
-                    (2 * h);
+        fd.col(c) =
+            (force(b, s, x + e, A, mu, false).f - force(b, s, x - e, A, mu, false).f) / (2 * h);
       }
       const double err = (r.D - fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
       std::cout << "shape " << shape << " kind " << kind << ": relative error " << err << "\n";
@@ -81,11 +81,12 @@ std::unique_ptr<Model> sheet_on_sphere(double mu, bool free = false) {
   auto m = std::make_unique<Model>();
   test::NodeCache nodes(*m, 1e-9);
   std::vector<int> conn;
-  test::mesh_patch(nodes, [](double u, double v) { return Vec3(u - 0.5, v - 0.5, 0.0); }, 3, 3,
-                   "quad4", conn);
-  test::add_membrane(*m, "quad4", std::move(conn),
-                     SheetLaw(PlaneStressLaw::isotropic("iso", 1e9, 0.3)).with_prestress({1e6, 1e6, 0}),
-                     1000.0, 1e-3);
+  test::mesh_patch(
+      nodes, [](double u, double v) { return Vec3(u - 0.5, v - 0.5, 0.0); }, 3, 3, "quad4", conn);
+  test::add_membrane(
+      *m, "quad4", std::move(conn),
+      SheetLaw(PlaneStressLaw::isotropic("iso", 1e9, 0.3)).with_prestress({1e6, 1e6, 0}), 1000.0,
+      1e-3);
   m->fixed.push_back({test::nodes_where(*m, [](const Vec3& X) { return std::abs(X.x()) > 0.49; }),
                       {true, true, true}});
   m->symmetry.push_back(
