@@ -227,6 +227,12 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
   s.v = VecX::Zero(sys.size());
   s.a = VecX::Zero(sys.size());
   if (start) s = *start;
+  if (!start && !resume) {
+    NodePositions V0 = NodePositions::Zero(3, sys.model().num_nodes());
+    for (const InitialVelocity& iv : sys.model().initial_velocities)
+      for (int n : iv.nodes) V0.col(n) = iv.velocity;
+    if (!sys.model().initial_velocities.empty()) sys.dofs().gather(V0, s.v);
+  }
   if (resume) {
     s = resume->state;
     s.u = sys.to_local(s.u), s.v = sys.to_local(s.v), s.a = sys.to_local(s.a);

@@ -252,6 +252,23 @@ std::vector<double> MechanicalSystem::load_cell_field(std::string_view name, dou
   return per_cell;
 }
 
+std::vector<double> MechanicalSystem::load_node_field(std::string_view name, double t,
+                                                      const NodePositions& x) const {
+  std::vector<double> per_node(static_cast<size_t>(model_.num_nodes()),
+                               std::numeric_limits<double>::quiet_NaN());
+  bool any = false;
+  for (const auto& term : terms_) any = term->node_field(name, t, x, per_node) || any;
+  if (!any) per_node.clear();
+  return per_node;
+}
+
+double MechanicalSystem::load_stiffness_over_mass() const {
+  double most = 0;
+  const std::span<const double> m(lumped_nodes_.data(), static_cast<size_t>(lumped_nodes_.size()));
+  for (const auto& term : terms_) most = std::max(most, term->max_stiffness_over_mass(m));
+  return max_over_processes(most);
+}
+
 void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* Kload, bool fused,
                                          bool at_supports) {
   Fext_.setZero(3, model_.num_nodes());

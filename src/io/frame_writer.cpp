@@ -185,6 +185,9 @@ void FrameWriter::write(int index, const FrameValues& v) const {
     if (a.averaged)
       xml += app.add(fmt::format("type=\"Float64\" Name=\"{}\"", a.name),
                      at_nodes(v.averaged[averaged++]));
+  if (v.node_fields)
+    for (const auto& [name, values] : *v.node_fields)
+      xml += app.add(fmt::format("type=\"Float64\" Name=\"{}\"", name), at_nodes(values));
   const std::string point_arrays = app.declared();
   xml += "</PointData>\n<CellData>\n";
   for (const CellArray& a : v.f.cells)  // scalars without NumberOfComponents: (n,) in meshio

@@ -159,7 +159,7 @@ ModelInput Reader::read_one(const Node& root) {
 void Reader::parse(const Node& root) {
   check_map(root, "",
             {"title", "mesh", "materials", "sections", "masses", "boundary", "loads", "functions",
-             "analysis", "output", "steps"});
+             "analysis", "output", "steps", "rigid_bodies", "contact"});
   if (auto t = text(root, "title", "", false)) in_.title = *t;
   parse_functions(root["functions"]);
   if (require(root, "mesh", "")) parse_mesh(root["mesh"]);
@@ -168,7 +168,18 @@ void Reader::parse(const Node& root) {
   if (has(root, "masses")) parse_masses(root["masses"]);
   if (has(root, "boundary")) parse_boundary(root["boundary"]);
   if (has(root, "loads")) parse_loads(root["loads"]);
+  if (has(root, "rigid_bodies")) parse_rigid_bodies(root["rigid_bodies"]);
+  if (has(root, "contact")) parse_contact(root["contact"]);
   if (require(root, "analysis", "")) parse_analysis(root["analysis"]);
+  // A contact's multipliers carry the last step's force to the next: in a dynamic analysis a
+  // node leaving the body would still be pushed (energy made), so there they are off unless
+  // asked for.
+  check_free_bodies();
+  if (!in_.analysis.equilibrium())
+    for (auto& load : in_.model.loads)
+      if (auto* c = dynamic_cast<ContactLoad*>(load.get());
+          c && !contact_augmented_.count(c->index))
+        c->augmented = false;
   parse_output(root["output"], root);
   check_gas_flow();
   final_checks(root);
@@ -215,6 +226,7 @@ void Reader::final_checks(const Node& root) {
   std::vector<char> used(static_cast<size_t>(in_.model.num_nodes()), 0);
   for (const auto& b : in_.model.blocks)
     for (int n : b->connectivity()) used[static_cast<size_t>(n)] = 1;
+  for (const auto& [name, f] : free_bodies_) used[static_cast<size_t>(f.node)] = 1;  // a body
   int unused = 0;
   long first = 0;
   for (size_t n = 0; n < used.size(); ++n)

@@ -192,9 +192,12 @@ void ResultsWriter::write(const StepSnapshot& snap) {
   if (input_.output.fields || needs_reactions()) R = reactions(snap, x);
   // The accounts of loads that keep one (a gas chamber's first law), as of this output.
   accounts_.clear();
+  contact_accounts_.clear();
   for (const auto& term : system_->loads())
-    if (std::string a = term->account_json(); !a.empty())
-      accounts_ += (accounts_.empty() ? "    " : ",\n    ") + a;
+    if (std::string a = term->account_json(); !a.empty()) {
+      std::string& to = a.starts_with("{\"contact\"") ? contact_accounts_ : accounts_;
+      to += (to.empty() ? "    " : ",\n    ") + a;
+    }
   const std::vector<double> row = history_row(snap, U, V, x, R);
   const std::vector<std::vector<int>>& own = assembler.own_by_block();
   const FrameFields f = evaluate_cells(input_.model, x, own);
@@ -205,6 +208,10 @@ void ResultsWriter::write(const StepSnapshot& snap) {
   if (input_.output.fields) {
     averaged = frames_->average_to_nodes(f, assembler);
     gas = system_->load_cell_field("gas_pressure", t, x);  // collective
+    node_fields_.clear();
+    for (const char* name : {"contact_pressure", "contact_gap"})
+      if (auto v = system_->load_node_field(name, t, x); !v.empty())
+        node_fields_.emplace_back(name, std::move(v));
   }
   if (records_) write_history_row(snap, row);
   if (input_.output.fields) write_frame(t, U, V, R, f, averaged, gas);
@@ -385,6 +392,19 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
       const double q = system_->load_quantity_at(name, h.load, snap.step.t, x).value_or(0.0);
       return first ? q : 0.0;
     }
+    case Q::kContactForce:
+    case Q::kRigidPosition:
+    case Q::kRigidVelocity: {
+      // A contact force: the sum of this process's nodes over the contacts with the body
+      // (summed over processes with the row); a body's motion: from its first contact.
+      double sum = 0;
+      for (const auto& term : system_->loads())
+        if (auto q = term->quantity_at(h.flow, snap.step.t, x)) {
+          if (h.quantity != Q::kContactForce) return first ? *q : 0.0;
+          sum += *q;
+        }
+      return sum;
+    }
   }
   return 0;
 }
@@ -399,9 +419,12 @@ void ResultsWriter::write_history(const StepSnapshot& snap) {
   }
   // The accounts of loads that keep one (a gas chamber's first law), as of this output.
   accounts_.clear();
+  contact_accounts_.clear();
   for (const auto& term : system_->loads())
-    if (std::string a = term->account_json(); !a.empty())
-      accounts_ += (accounts_.empty() ? "    " : ",\n    ") + a;
+    if (std::string a = term->account_json(); !a.empty()) {
+      std::string& to = a.starts_with("{\"contact\"") ? contact_accounts_ : accounts_;
+      to += (to.empty() ? "    " : ",\n    ") + a;
+    }
   const std::vector<double> row = history_row(snap, U, V, x, R);
   if (records_) write_history_row(snap, row);
 }
@@ -429,8 +452,14 @@ void ResultsWriter::write_frame(double t, const NodePositions& U, const NodePosi
                                 const NodePositions& R, const FrameFields& f,
                                 const std::vector<std::vector<double>>& averaged,
                                 const std::vector<double>& gas) {
-  frames_->write(static_cast<int>(frame_times_.size()),
-                 {.t = t, .U = U, .V = V, .R = R, .f = f, .averaged = averaged, .gas = gas});
+  frames_->write(static_cast<int>(frame_times_.size()), {.t = t,
+                                                         .U = U,
+                                                         .V = V,
+                                                         .R = R,
+                                                         .f = f,
+                                                         .averaged = averaged,
+                                                         .gas = gas,
+                                                         .node_fields = &node_fields_});
   frame_times_.push_back(t);
   if (records_) write_pvd();
 }
@@ -511,6 +540,7 @@ void ResultsWriter::write_summary(const RunSummary& r) {
   for (const auto& w : r.warnings) warnings += (warnings.empty() ? "" : ", ") + json_string(w);
   s += fmt::format("  \"warnings\": [{}],\n", warnings);
   if (!accounts_.empty()) s += "  \"gas\": [\n" + accounts_ + "\n  ],\n";
+  if (!contact_accounts_.empty()) s += "  \"contact\": [\n" + contact_accounts_ + "\n  ],\n";
   s += fmt::format(
       "  \"energy\": {{\"kinetic\": {}, \"strain\": {}, \"external_work\": {}, \"damping\": {}}}\n",
       json_number(r.energy.kinetic), json_number(r.energy.strain),

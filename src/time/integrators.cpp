@@ -344,6 +344,8 @@ double stable_time_step(SecondOrderSystem& sys, double t, const State& s) {
     }
     lambda = l;
   }
+  // A penalty that is not active yet still bounds the step once it is (ω² at most the sum).
+  lambda += sys.load_stiffness_over_mass();
   return lambda > 0 ? 2.0 / std::sqrt(lambda) : INFINITY;
 }
 

@@ -27,6 +27,7 @@ class MechanicalSystem final : public SecondOrderSystem {
                 double ca, VecX& r, SparseMatrix* J) override;
   const LowRankJacobian& jacobian_low_rank() const override { return low_rank_; }
   const VecX& lumped_mass() const override { return lumped_eq_; }
+  double load_stiffness_over_mass() const override;
   double force_scale() const override { return force_scale_; }
   double residual_noise() const override { return residual_noise_; }
   double reference_position_norm() const override { return reference_position_norm_; }
@@ -100,6 +101,10 @@ class MechanicalSystem final : public SecondOrderSystem {
   /// The same at (t, x) (a collective call on several processes).
   std::optional<double> load_quantity_at(std::string_view name, int i, double t,
                                          const NodePositions& x) const;
+  /// A per-node field of the loads (LoadTerm::node_field), one value per node (NaN where no
+  /// load has one); empty when no load has the field.
+  std::vector<double> load_node_field(std::string_view name, double t,
+                                      const NodePositions& x) const;
   /// A per-element field of the loads that have the quantity `name` (cells through the
   /// blocks; 0 where none): empty when no load has it. A collective call.
   std::vector<double> load_cell_field(std::string_view name, double t,

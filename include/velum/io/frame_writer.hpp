@@ -28,6 +28,8 @@ struct FrameValues {
   /// Point values of f's averaged arrays, in their order (FrameWriter::average_to_nodes).
   const std::vector<std::vector<double>>& averaged;
   const std::vector<double>& gas;  ///< per cell: absolute gas pressure (empty: no gas)
+  /// Point fields of the loads (contact_pressure, contact_gap), one value per node; may be null.
+  const std::vector<std::pair<std::string, std::vector<double>>>* node_fields = nullptr;
 };
 
 class FrameWriter {

@@ -35,7 +35,10 @@ struct HistoryEntry {
     kGasPressure,
     kGasTemperature,
     kGasMass,
-    kGasMassFlow
+    kGasMassFlow,
+    kContactForce,
+    kRigidPosition,
+    kRigidVelocity
   };
   std::string name;
   Quantity quantity = Quantity::kDisplacement;
@@ -47,7 +50,8 @@ struct HistoryEntry {
   std::array<double, 2> xi{0, 0};  ///< natural coordinates of the point there
   bool degrees = true;             ///< fiber_angle_change unit
   int load = -1;                   ///< gas_*: index into Model::gases
-  std::string flow;                ///< gas_mass_flow: "vent:0" (inflator, vent, leakage, orifice)
+  std::string flow;                ///< gas_mass_flow: "vent:0" (inflator, vent, leakage, orifice);
+                                   ///< contact_force, rigid_*: the loads' quantity name
 };
 
 /// Components of the `stress` history quantity, in order.

@@ -112,6 +112,9 @@ class ResultsWriter {
 
  private:
   std::string accounts_;  ///< the loads' accounts (LoadTerm::account_json) at the last output
+  std::string contact_accounts_;  ///< the same of the contacts (a list of their own)
+  /// The loads' point fields of the frame being written (contact_pressure, contact_gap).
+  std::vector<std::pair<std::string, std::vector<double>>> node_fields_;
   /// This process's part of history entry h (history_row sums the parts; collective for gas).
   double history_value(const HistoryEntry& h, const StepSnapshot& snap, const NodePositions& U,
                        const NodePositions& V, const NodePositions& x, const NodePositions& R);

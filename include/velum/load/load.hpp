@@ -28,7 +28,7 @@ using NodePositions = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 
 /// Where a load's forces enter the sum of the external forces. Loads are kept in this order
 /// (and in the order given within one), so that the sum is made in one fixed order.
-enum class LoadOrder : int { kNodal = 0, kEdge, kBody, kSurface, kChamber, kVelocity };
+enum class LoadOrder : int { kNodal = 0, kEdge, kBody, kSurface, kChamber, kVelocity, kContact };
 
 /// What a bound load reaches: the model (its current piece on several processes), the
 /// assembler over its elements and the equations.
@@ -119,6 +119,16 @@ class LoadTerm {
                           std::vector<double>& /*per_cell*/) const {
     return false;
   }
+  /// A per-node field of the frames (contact_pressure, contact_gap): adds (the gap: takes
+  /// the least of) the load's values at its nodes into `per_node` (one per node, NaN where
+  /// none); false when the load has no such field.
+  virtual bool node_field(std::string_view /*name*/, double /*t*/, const NodePositions& /*x*/,
+                          std::vector<double>& /*per_node*/) const {
+    return false;
+  }
+  /// The largest stiffness the load may add at a node over the node's mass (a contact
+  /// penalty, active or not), for the stable step of explicit time integration; 0: none.
+  virtual double max_stiffness_over_mass(std::span<const double> /*node_mass*/) const { return 0; }
 };
 
 /// Names element e of block b for messages (the user's id).

@@ -52,6 +52,12 @@ struct PrescribedMotion {
   int function = -1;  ///< index into Model::functions, -1: constant 1
 };
 
+/// The velocity of the listed nodes at the start of a dynamic analysis (a free rigid body's).
+struct InitialVelocity {
+  std::vector<int> nodes;
+  Vec3 velocity = Vec3::Zero();
+};
+
 /// The model's loads (load/load.hpp): one list, and views of it by kind for code that reads
 /// or adds loads by their parameters. Copies and moves keep the views on their own list.
 struct ModelLoads {
@@ -89,6 +95,7 @@ struct Model : ModelLoads {
   std::vector<FixedDofs> fixed;
   std::vector<SymmetryPlane> symmetry;
   std::vector<PrescribedMotion> prescribed;
+  std::vector<InitialVelocity> initial_velocities;
 
   std::vector<TimeFunction> functions;
 

@@ -34,6 +34,9 @@ class SecondOrderSystem {
   }
   /// Lumped (diagonal) mass per equation, for explicit integration.
   virtual const VecX& lumped_mass() const = 0;
+  /// The largest stiffness over mass that loads may add at a node beyond the last Jacobian's
+  /// (a contact penalty not active yet), for the stable step of explicit integration.
+  virtual double load_stiffness_over_mass() const { return 0; }
   /// A force scale of the last evaluation (norms of internal and external forces), against
   /// which residuals are judged.
   virtual double force_scale() const = 0;

@@ -390,16 +390,17 @@ void Reader::parse_output(const Node& o, const Node& root) {
     return;
   }
   const std::vector<std::string> quantities = {
-      "displacement", "velocity",        "position",      "reaction",      "fiber_angle_change",
-      "stress",       "kinetic_energy",  "strain_energy", "external_work", "gas_volume",
-      "gas_pressure", "gas_temperature", "gas_mass",      "gas_mass_flow"};
+      "displacement",   "velocity",        "position",      "reaction",      "fiber_angle_change",
+      "stress",         "kinetic_energy",  "strain_energy", "external_work", "gas_volume",
+      "gas_pressure",   "gas_temperature", "gas_mass",      "gas_mass_flow", "contact_force",
+      "rigid_position", "rigid_velocity"};
   std::set<std::string> names;
   for (size_t i = 0; i < h.size(); ++i) {
     const Node e = h[i];
     const std::string p = item("output.history", i);
     if (!check_map(e, p,
                    {"name", "quantity", "node", "nodes", "component", "point", "unit", "load",
-                    "inflator", "vent", "leakage", "orifice"}))
+                    "inflator", "vent", "leakage", "orifice", "body", "contact"}))
       continue;
     auto name = text(e, "name", p, true);
     auto q = text(e, "quantity", p, true);
@@ -495,6 +496,11 @@ void Reader::parse_output(const Node& o, const Node& root) {
       case Q::kGasMass:
       case Q::kGasMassFlow:
         ok = parse_gas_history(e, p, he);
+        break;
+      case Q::kContactForce:
+      case Q::kRigidPosition:
+      case Q::kRigidVelocity:
+        ok = parse_contact_history(e, p, he);
         break;
       default:
         break;

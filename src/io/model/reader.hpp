@@ -16,6 +16,7 @@
 
 #include "reader_context.hpp"
 #include "velum/io/mesh_data.hpp"
+#include "velum/load/contact_load.hpp"
 
 namespace velum::io::model_file {
 
@@ -133,6 +134,25 @@ class Reader : public ReaderContext {
   std::vector<GasCurve> gas_curves_;
   /// The `load:` of a gas_volume or gas_pressure history entry; false when invalid.
   bool parse_gas_history(const Node& e, const std::string& path, HistoryEntry& he);
+
+  // read_contact.cpp
+  void parse_rigid_bodies(const Node& bs);
+  void parse_contact(const Node& cs);
+  /// The body (or contact index) and component of a contact_force, rigid_position or
+  /// rigid_velocity history entry, into he.flow; false when invalid.
+  bool parse_contact_history(const Node& e, const std::string& path, HistoryEntry& he);
+  std::map<std::string, RigidBody> rigid_bodies_;
+  std::set<std::string> contact_bodies_;
+  int contact_count_ = 0;
+  std::set<int> contact_augmented_;  ///< contacts that give `augmented`
+  struct FreeBody {
+    int node = -1;  ///< the node that carries it
+    Node at;
+    std::string path;
+  };
+  std::map<std::string, FreeBody> free_bodies_;
+  /// Free bodies need inertia: refused in static, relaxation and form finding.
+  void check_free_bodies();
 
   // read_analysis.cpp
   void parse_analysis(const Node& a);

@@ -1,0 +1,64 @@
+// Contact of membrane and cable nodes with a rigid body (the model's `contact:` entries against
+// its `rigid_bodies:`, docs/contact.md): a penalty on the penetration of each node of the set
+// beyond its contact thickness, augmented (Lagrange) at every accepted step, with Coulomb
+// friction regularised by a tangential penalty on the slip since the last accepted step.
+// Units the model's; positions and forces in the global frame.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "velum/load/load.hpp"
+
+namespace velum {
+
+/// A rigid surface: a plane (solid on the side opposite its normal), a sphere or a circular
+/// cylinder (solid inside), moved by a prescribed motion: y = pivot + R(s)(Y − pivot) +
+/// s·displacement at s = function(t), R(s) the rotation by s·rotation (a rotation vector, radians).
+struct RigidBody {
+  enum class Shape { kPlane, kSphere, kCylinder };
+  std::string name;
+  Shape shape = Shape::kPlane;
+  Vec3 point = Vec3::Zero();         ///< plane point, sphere centre, point on the axis
+  Vec3 direction = Vec3::UnitZ();    ///< plane normal (out of the solid), cylinder axis; unit
+  double radius = 0;                 ///< sphere, cylinder
+  Vec3 displacement = Vec3::Zero();  ///< motion: translation at s = 1
+  Vec3 rotation = Vec3::Zero();      ///< motion: rotation vector at s = 1 (radians)
+  Vec3 pivot = Vec3::Zero();         ///< motion: the point the rotation turns about
+  int function = -1;                 ///< motion: time function s(t), -1: s = 1
+
+  /// Signed distance of x from the surface with the body moved by s (positive outside), its
+  /// outward unit normal n = ∇g and the Hessian H = ∇∇g (the normal's rate).
+  double gap(const Vec3& x, double s, Vec3& n, Mat3& H) const;
+  /// The body's point (plane point, centre, axis point) moved by s.
+  Vec3 position(double s) const;
+  /// Where the body point that sits at Y when s = 0 is at s.
+  Vec3 moved(const Vec3& Y, double s) const;
+  /// Back from the body moved by s to its place at s = 0.
+  Vec3 unmoved(const Vec3& y, double s) const;
+};
+
+struct ContactLoad {
+  int index = 0;  ///< among the model's contact entries, from 0
+  RigidBody body;
+  struct Part {
+    int block = -1;
+    std::vector<int> elements;  ///< indices into the block
+  };
+  std::vector<Part> parts;  ///< the element set (membranes and cables)
+  std::vector<int> nodes;   ///< its nodes (set_up)
+  /// Contact thickness of every node; < 0: half the section thickness of its membranes
+  /// (0 for cables).
+  double thickness = -1;
+  double friction = 0;       ///< Coulomb coefficient
+  double penalty_scale = 1;  ///< times the automatic penalty (docs/contact.md)
+  bool augmented = true;     ///< Lagrange multiplier updated at every accepted step
+  /// A free body (mass): the model's node that carries it (a point mass at body.point, its
+  /// displacement the body's translation); -1: the body moves as prescribed.
+  int body_node = -1;
+};
+
+std::unique_ptr<Load> make_load(ContactLoad p);
+
+}  // namespace velum

@@ -1,0 +1,271 @@
+// The model's `rigid_bodies:` and `contact:` (docs/contact.md), and the history entries
+// `contact_force`, `rigid_position` and `rigid_velocity`: each contact entry becomes a
+// contact load (load/contact_load.hpp) holding its body.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <optional>
+
+#include "reader.hpp"
+#include "velum/load/contact_load.hpp"
+
+namespace velum::io::model_file {
+
+void Reader::parse_rigid_bodies(const Node& bs) {
+  if (!bs.IsSequence()) {
+    error(bs, "rigid_bodies", "expected a list of {name, shape: plane | sphere | cylinder, ...}");
+    return;
+  }
+  for (size_t i = 0; i < bs.size(); ++i) {
+    const Node b = bs[i];
+    const std::string p = item("rigid_bodies", i);
+    if (!check_map(b, p,
+                   {"name", "shape", "point", "normal", "center", "axis", "radius", "motion",
+                    "mass", "velocity", "inertia", "file"}))
+      continue;
+    RigidBody body;
+    bool ok = true;
+    auto name = text(b, "name", p, true);
+    auto shape = text(b, "shape", p, true);
+    if (!name || !shape) continue;
+    body.name = *name;
+    if (rigid_bodies_.count(*name)) {
+      error(b["name"], sub(p, "name"), fmt::format("duplicate rigid body '{}'", *name));
+      continue;
+    }
+    auto unit = [&](const char* key) -> std::optional<Vec3> {
+      auto v = vec3(b, key, p, true);
+      if (v && v->norm() == 0) {
+        error(b[key], sub(p, key), "expected a non-zero vector");
+        return std::nullopt;
+      }
+      if (v) v->normalize();
+      return v;
+    };
+    if (*shape == "plane") {
+      body.shape = RigidBody::Shape::kPlane;
+      auto pt = vec3(b, "point", p, true);
+      auto n = unit("normal");
+      ok = pt && n;
+      if (ok) body.point = *pt, body.direction = *n;
+    } else if (*shape == "sphere") {
+      body.shape = RigidBody::Shape::kSphere;
+      auto c = vec3(b, "center", p, true);
+      auto r = positive(b, "radius", p, true, "the radius");
+      ok = c && r;
+      if (ok) body.point = *c, body.radius = *r;
+    } else if (*shape == "cylinder") {
+      body.shape = RigidBody::Shape::kCylinder;
+      auto pt = vec3(b, "point", p, true);
+      auto a = unit("axis");
+      auto r = positive(b, "radius", p, true, "the radius");
+      ok = pt && a && r;
+      if (ok) body.point = *pt, body.direction = *a, body.radius = *r;
+    } else {
+      error(b["shape"], sub(p, "shape"),
+            *shape == "mesh"
+                ? std::string("rigid meshes read from a Gmsh file are not implemented yet; use "
+                              "plane, sphere or cylinder")
+                : fmt::format("unknown shape '{}'{}", *shape,
+                              suggestion(*shape, {"plane", "sphere", "cylinder", "mesh"})));
+      continue;
+    }
+    std::optional<double> mass;
+    if (has(b, "inertia")) {
+      error(b["inertia"], sub(p, "inertia"),
+            "the rotation of free rigid bodies (inertia) is not implemented yet: a free body "
+            "translates only");
+      ok = false;
+    }
+    if (has(b, "mass")) {
+      mass = positive(b, "mass", p, true, "the mass");
+      ok = ok && mass.has_value();
+      if (has(b, "motion")) {
+        error(b["motion"], sub(p, "motion"), "a body is free (mass) or moved (motion), not both");
+        ok = false;
+      }
+    } else if (has(b, "velocity")) {
+      error(b["velocity"], sub(p, "velocity"),
+            "a free rigid body needs a 'mass' (an initial velocity without one moves nothing)");
+      ok = false;
+    }
+    std::optional<Vec3> velocity;
+    if (has(b, "velocity")) {
+      velocity = vec3(b, "velocity", p, true);
+      ok = ok && velocity.has_value();
+    }
+    if (has(b, "motion")) {
+      const Node m = b["motion"];
+      const std::string mp = sub(p, "motion");
+      if (check_map(m, mp, {"displacement", "function", "rotation", "point"})) {
+        if (auto d = vec3(m, "displacement", mp, false)) body.displacement = *d;
+        if (auto r = vec3(m, "rotation", mp, false)) body.rotation = *r;
+        body.pivot = body.point;
+        if (auto c = vec3(m, "point", mp, false)) body.pivot = *c;
+        body.function = function_ref(m, mp);
+      } else {
+        ok = false;
+      }
+    }
+    if (!ok) continue;
+    rigid_bodies_.emplace(*name, body);
+    if (mass && mesh_ok_) {
+      // A free body is a node of its own at its point, with its mass: its displacement is the
+      // body's translation, moved by the contact forces, gravity and its initial velocity.
+      long id = 0;
+      for (long i : in_.model.node_ids) id = std::max(id, i);
+      const int node = in_.model.add_node(id + 1, body.point);
+      in_.model.masses.push_back({node, *mass});
+      if (velocity) in_.model.initial_velocities.push_back({{node}, *velocity});
+      free_bodies_[*name] = {node, b["mass"], sub(p, "mass")};
+    }
+  }
+}
+
+void Reader::parse_contact(const Node& cs) {
+  if (!cs.IsSequence()) {
+    error(cs, "contact", "expected a list of {surfaces: [set, body], friction, ...}");
+    return;
+  }
+  contact_count_ = static_cast<int>(cs.size());
+  for (size_t i = 0; i < cs.size(); ++i) {
+    const Node c = cs[i];
+    const std::string p = item("contact", i);
+    if (!check_map(c, p,
+                   {"surfaces", "self", "friction", "thickness", "penalty_scale", "augmented"}))
+      continue;
+    ContactLoad load;
+    load.index = static_cast<int>(i);
+    bool ok = true;
+    if (!require(c, "surfaces", p)) continue;
+    const Node s = c["surfaces"];
+    const std::string sp = sub(p, "surfaces");
+    if (!s.IsSequence() || s.size() < 1 || s.size() > 2 || !s[0].IsScalar() ||
+        (s.size() == 2 && !s[1].IsScalar())) {
+      error(s, sp, "expected [element set, rigid body]");
+      continue;
+    }
+    if (auto self = boolean(c, "self", p); (self && *self) || s.size() == 1) {
+      error(s, sp,
+            "contact of element sets with each other or themselves (self) is not implemented "
+            "yet: give [element set, rigid body]");
+      continue;
+    }
+    const std::string set = s[0].as<std::string>(), body = s[1].as<std::string>();
+    if (auto sit = element_sets_.find(set); sit == element_sets_.end()) {
+      if (mesh_ok_)
+        error(s[0], sp,
+              fmt::format("undefined element set '{}'{}", set,
+                          suggestion(set, keys_of(element_sets_))));
+      ok = false;
+    } else {
+      for (int b : set_blocks_[set]) {
+        ContactLoad::Part part{b,
+                               std::vector<int>(static_cast<size_t>(in_.model.blocks[b]->size()))};
+        for (size_t e = 0; e < part.elements.size(); ++e) part.elements[e] = static_cast<int>(e);
+        load.parts.push_back(std::move(part));
+      }
+    }
+    if (auto bit = rigid_bodies_.find(body); bit == rigid_bodies_.end()) {
+      error(s[1], sp,
+            element_sets_.count(body)
+                ? fmt::format("'{}' is an element set: contact between two element sets is not "
+                              "implemented yet; give [element set, rigid body]",
+                              body)
+                : fmt::format("undefined rigid body '{}'{}", body,
+                              suggestion(body, keys_of(rigid_bodies_))));
+      ok = false;
+    } else {
+      load.body = bit->second;
+      contact_bodies_.insert(body);
+      if (auto f = free_bodies_.find(body); f != free_bodies_.end())
+        load.body_node = f->second.node;
+    }
+    if (has(c, "friction")) {
+      if (auto mu = non_negative(c, "friction", p, "the friction coefficient"))
+        load.friction = *mu;
+      else
+        ok = false;
+    }
+    if (has(c, "thickness")) {
+      if (auto t = non_negative(c, "thickness", p, "the contact thickness"))
+        load.thickness = *t;
+      else
+        ok = false;
+    }
+    if (has(c, "penalty_scale")) {
+      if (auto k = positive(c, "penalty_scale", p, true, "the penalty scale"))
+        load.penalty_scale = *k;
+      else
+        ok = false;
+    }
+    if (auto a = boolean(c, "augmented", p))
+      load.augmented = *a, contact_augmented_.insert(load.index);
+    if (ok) add_load(make_load(std::move(load)), c, p);
+  }
+}
+
+void Reader::check_free_bodies() {
+  if (in_.analysis.equilibrium())
+    for (const auto& [name, f] : free_bodies_)
+      error(f.at, f.path,
+            fmt::format("rigid body '{}' is free (mass): it needs a dynamic analysis (in a "
+                        "static one nothing holds it)",
+                        name));
+}
+
+bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryEntry& he) {
+  using Q = HistoryEntry::Quantity;
+  const char* what = he.quantity == Q::kContactForce    ? "contact_force"
+                     : he.quantity == Q::kRigidPosition ? "rigid_position"
+                                                        : "rigid_velocity";
+  auto c = text(e, "component", p, true);
+  if (!c) return false;
+  const std::vector<std::string> components = {"x", "y", "z", "magnitude"};
+  const auto ci = std::find(components.begin(), components.end(), *c) - components.begin();
+  if (ci == static_cast<long>(components.size())) {
+    error(e["component"], sub(p, "component"),
+          fmt::format("unknown component '{}'{}", *c, suggestion(*c, components)));
+    return false;
+  }
+  if (he.quantity == Q::kContactForce && has(e, "contact")) {
+    auto k = integer(e["contact"], sub(p, "contact"), "a contact index");
+    if (!k) return false;
+    if (*k < 0 || *k >= contact_count_) {
+      error(e["contact"], sub(p, "contact"),
+            fmt::format("no contact {} (the model has {}, counted from 0)", *k, contact_count_));
+      return false;
+    }
+    he.flow = fmt::format("{}:contact={}:{}", what, *k, ci);
+    return true;
+  }
+  auto body = text(e, "body", p, true);
+  if (!body) return false;
+  if (!rigid_bodies_.count(*body)) {
+    error(e["body"], sub(p, "body"),
+          fmt::format("undefined rigid body '{}'{}", *body,
+                      suggestion(*body, keys_of(rigid_bodies_))));
+    return false;
+  }
+  if (!contact_bodies_.count(*body)) {
+    error(e["body"], sub(p, "body"), fmt::format("rigid body '{}' is in no contact entry", *body));
+    return false;
+  }
+  if (auto f = free_bodies_.find(*body);
+      f != free_bodies_.end() && he.quantity != Q::kContactForce) {
+    // A free body's motion is its node's.
+    if (ci == 3) {
+      error(e["component"], sub(p, "component"),
+            "a free body's position and velocity have components x, y and z");
+      return false;
+    }
+    he.quantity = he.quantity == Q::kRigidPosition ? Q::kPosition : Q::kVelocity;
+    he.node = f->second.node, he.component = static_cast<int>(ci);
+    return true;
+  }
+  he.flow = he.quantity == Q::kContactForce ? fmt::format("{}:body={}:{}", what, *body, ci)
+                                            : fmt::format("{}:{}:{}", what, *body, ci);
+  return true;
+}
+
+}  // namespace velum::io::model_file

@@ -1,0 +1,70 @@
+// The contact law at one node against a rigid surface: the normal force of the augmented
+// penalty, Coulomb friction with a tangential penalty on the slip since the anchor (stick) and
+// the return to the cone (slip), and its consistent derivative ∂f/∂x (unsymmetric in slip).
+// Fixed size, allocation-free: called for every node of a contact set at every residual.
+#pragma once
+
+#include <cmath>
+
+#include "velum/math/types.hpp"
+
+namespace velum::contact {
+
+enum class Status : int { kOpen = 0, kStick = 1, kSlip = 2 };
+
+struct NodeInput {
+  double g = 0;            ///< gap beyond the contact thickness (positive: apart)
+  Vec3 n = Vec3::UnitZ();  ///< the surface's outward unit normal at the node
+  Mat3 H = Mat3::Zero();   ///< ∂n/∂x
+  Vec3 w = Vec3::Zero();   ///< the node's position minus its anchor's (friction)
+  double lambda = 0;       ///< the normal multiplier (force) of the last accepted step
+  double k = 0;            ///< the penalty (force per length)
+  double mu = 0;           ///< the friction coefficient
+};
+
+struct NodeResult {
+  Vec3 f = Vec3::Zero();     ///< the force on the node
+  Mat3 D = Mat3::Zero();     ///< ∂f/∂x (filled when asked)
+  double p = 0;              ///< the normal force
+  Vec3 slip = Vec3::Zero();  ///< the elastic slip the tangential force stands for (f_T = −k slip)
+  Status status = Status::kOpen;
+};
+
+/// f = p n + f_T with p = max(0, λ − k g); f_T = −k e (e = P w, P = I − n nᵀ) while |k e| <=
+/// μ p, else μ p t̂ (t̂ = −e/|e|).
+inline NodeResult node_force(const NodeInput& in, bool tangent) {
+  NodeResult r;
+  const double p = in.lambda - in.k * in.g;
+  if (p <= 0) return r;
+  r.p = p;
+  r.status = Status::kStick;
+  r.f = p * in.n;
+  if (tangent) r.D = -in.k * in.n * in.n.transpose() + p * in.H;
+  if (in.mu <= 0) {
+    r.status = Status::kSlip;  // frictionless: the node slides freely
+    return r;
+  }
+  const Mat3 P = Mat3::Identity() - in.n * in.n.transpose();
+  const Vec3 e = P * in.w;
+  const double en = e.norm();
+  const double limit = in.mu * p;
+  // ∂e/∂x = P − (n·w) H − n wᵀ H
+  Mat3 De = Mat3::Zero();
+  if (tangent) De = P - in.n.dot(in.w) * in.H - in.n * (in.H * in.w).transpose();
+  if (in.k * en <= limit) {
+    r.f += -in.k * e;
+    r.slip = e;
+    if (tangent) r.D += -in.k * De;
+    return r;
+  }
+  r.status = Status::kSlip;
+  const Vec3 t = -e / en;
+  r.f += limit * t;
+  r.slip = -(limit / in.k) * t;
+  if (tangent)
+    r.D += -in.mu * in.k * t * in.n.transpose() -
+           (limit / en) * (Mat3::Identity() - t * t.transpose()) * De;
+  return r;
+}
+
+}  // namespace velum::contact

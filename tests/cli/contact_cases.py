@@ -1,0 +1,195 @@
+#!/usr/bin/python3
+"""Contact with rigid bodies through the command line (issue 41): a prestressed square sheet
+pushed by a sphere that moves down (static and implicit dynamic), its contact force in the
+history balancing the reactions of the held edges, the frames carrying contact_pressure and
+contact_gap; bad contact input is exit 1 with a message naming the file, the line and the key.
+
+usage: contact_cases.py VELUM WORK_DIR
+"""
+import copy
+import csv
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+import yaml
+
+VELUM, WORK = sys.argv[1], sys.argv[2]
+shutil.rmtree(WORK, ignore_errors=True)
+os.makedirs(WORK)
+
+N, A = 8, 1.0  # cells per side, side
+nodes, elems, edge = [], [], []
+for j in range(N + 1):
+    for i in range(N + 1):
+        nid = j * (N + 1) + i + 1
+        nodes.append([nid, A * i / N - A / 2, A * j / N - A / 2, 0.0])
+        if i in (0, N) or j in (0, N):
+            edge.append(nid)
+for j in range(N):
+    for i in range(N):
+        a = j * (N + 1) + i + 1
+        elems.append([a, a + 1, a + N + 2, a + N + 1])
+
+BASE = {
+    "mesh": {"nodes": nodes, "elements": [{"set": "sheet", "type": "quad4",
+                                           "connectivity": elems}]},
+    "materials": {"pvc": {"type": "isotropic", "E": 1.0e9, "nu": 0.3, "density": 1000}},
+    "sections": [{"elements": "sheet", "material": "pvc", "thickness": 0.001,
+                  "prestress": [2.0e6, 2.0e6, 0]}],
+    "boundary": [{"nodes": edge, "fix": ["x", "y", "z"]}],
+    "functions": {"ramp": {"type": "ramp", "duration": 1.0}},
+    "rigid_bodies": [{"name": "ball", "shape": "sphere", "center": [0, 0, 0.3005],
+                      "radius": 0.3, "motion": {"displacement": [0, 0, -0.05],
+                                                 "function": "ramp"}}],
+    "contact": [{"surfaces": ["sheet", "ball"], "penalty_scale": 3}],
+    "analysis": {"type": "static", "time": {"end": 1.0, "step": 0.25}},
+    "output": {"fields": True, "history": [
+        {"name": "fz", "quantity": "contact_force", "body": "ball", "component": "z"},
+        {"name": "f0", "quantity": "contact_force", "contact": 0, "component": "magnitude"},
+        {"name": "rz", "quantity": "reaction", "nodes": edge, "component": "z"},
+        {"name": "bz", "quantity": "rigid_position", "body": "ball", "component": "z"},
+        {"name": "vz", "quantity": "rigid_velocity", "body": "ball", "component": "z"}]},
+}
+failures = []
+
+
+def run(name, m):
+    path = os.path.join(WORK, name + ".yaml")
+    with open(path, "w") as f:
+        yaml.safe_dump(m, f, default_flow_style=None, sort_keys=False)
+    out = os.path.join(WORK, name)
+    p = subprocess.run([VELUM, "run", path, "-o", out, "--quiet"], capture_output=True,
+                       text=True, timeout=120)
+    return p, out, path
+
+
+def check(ok, what):
+    print(("ok   " if ok else "FAIL ") + what)
+    if not ok:
+        failures.append(what)
+
+
+for kind in ("static", "relaxation", "dynamic", "explicit"):
+    m = copy.deepcopy(BASE)
+    if kind == "relaxation":
+        m["analysis"] = {"type": "relaxation", "time": {"end": 1.0, "step": 0.25}}
+    if kind in ("dynamic", "explicit"):
+        m["analysis"] = {"type": "dynamic", "time": {"end": 1.0, "step": 0.05}}
+        m["contact"][0]["penalty_scale"] = 6  # no multipliers in dynamics: a stiffer penalty
+    if kind == "explicit":
+        m["analysis"]["integrator"] = {"scheme": "central-difference"}
+        m["analysis"]["time"] = {"end": 1.0, "step": 1.0e-3}
+        m["analysis"]["damping"] = {"mass": 20.0}
+        m["output"]["interval"] = 0.05
+        # Some work from the start: an unloaded prestressed sheet's round-off energy (1e-32 J)
+        # against no work at all fails the energy check on its own (without contact too).
+        m["loads"] = [{"type": "gravity", "acceleration": [0, 0, -9.81]}]
+        m["rigid_bodies"][0]["center"] = [0, 0, 0.3025]  # meets the sheet after some work
+        m["rigid_bodies"][0]["motion"]["displacement"] = [0, 0, -0.052]
+    p, out, _ = run(kind, m)
+    check(p.returncode == 0, f"{kind}: a sheet pushed by a moving sphere runs "
+                             f"(exit {p.returncode}: {p.stderr.strip()[-300:]})")
+    if p.returncode != 0:
+        continue
+    last = list(csv.DictReader(open(os.path.join(out, "history.csv"))))[-1]
+    fz, f0, rz = float(last["fz"]), float(last["f0"]), float(last["rz"])
+    check(fz > 0, f"{kind}: the sheet pushes the ball up ({fz:.4g} N)")
+    check(abs(f0 - abs(fz)) < 1e-6 * abs(fz), f"{kind}: magnitude by contact index = |fz|")
+    weight = 9.81 * 1.0 if kind == "explicit" else 0.0  # the sheet's, 1 kg/m² over 1 m²
+    check(abs(fz + weight - rz) < 0.01 * fz, f"{kind}: the edges carry the ball's push (reaction {rz:.4g})")
+    check(abs(float(last["bz"]) - 0.2505) < 1e-12, "the ball's centre followed its motion")
+    rows = list(csv.DictReader(open(os.path.join(out, "history.csv"))))
+    check(abs(float(rows[2]["vz"]) + (0.052 if kind == "explicit" else 0.05)) < 1e-6,
+          "the ball's velocity")
+    frames = sorted(os.listdir(os.path.join(out, "frames")))
+    text = open(os.path.join(out, "frames", frames[-1]), "rb").read()
+    check(b'Name="contact_pressure"' in text and b'Name="contact_gap"' in text,
+          f"{kind}: frames carry contact_pressure and contact_gap")
+    summary = json.load(open(os.path.join(out, "summary.json")))
+    check(summary.get("contact", [{}])[0].get("kept") is True,
+          f"{kind}: penetration within its tolerance ({summary.get('contact')})")
+
+# F5: a free ball (no gravity, no damping) dropped onto the prestressed sheet bounces back:
+# implicit generalized-alpha with rho_inf = 1 and explicit central differences.
+for kind in ("implicit", "explicit"):
+    m = copy.deepcopy(BASE)
+    m["materials"]["pvc"]["density"] = 100
+    m["rigid_bodies"] = [{"name": "ball", "shape": "sphere", "center": [0, 0, 0.1605],
+                          "radius": 0.15, "mass": 5.0, "velocity": [0, 0, -1.0]}]
+    m["contact"] = [{"surfaces": ["sheet", "ball"]}]
+    m["analysis"] = {"type": "dynamic", "time": {"end": 0.25, "step": 1.0e-3},
+                     "integrator": {"scheme": "generalized-alpha", "rho_inf": 1.0}}
+    if kind == "explicit":
+        m["analysis"]["integrator"] = {"scheme": "central-difference"}
+    m["output"] = {"fields": False, "interval": 2.0e-3, "history": [
+        {"name": "vz", "quantity": "rigid_velocity", "body": "ball", "component": "z"},
+        {"name": "z", "quantity": "rigid_position", "body": "ball", "component": "z"},
+        {"name": "fz", "quantity": "contact_force", "body": "ball", "component": "z"},
+        {"name": "ke", "quantity": "kinetic_energy"},
+        {"name": "se", "quantity": "strain_energy"}]}
+    p, out, _ = run("bounce_" + kind, m)
+    check(p.returncode == 0, f"F5 {kind}: the ball bounces (exit {p.returncode}: "
+                             f"{p.stderr.strip()[-300:]})")
+    if p.returncode != 0:
+        continue
+    rows = list(csv.DictReader(open(os.path.join(out, "history.csv"))))
+    touched = [r for r in rows if float(r["fz"]) != 0]
+    after = [r for r in rows if touched and float(r["time"]) > float(touched[-1]["time"])]
+    check(bool(touched) and bool(after), f"F5 {kind}: the ball touches and leaves the sheet")
+    if not (touched and after):
+        continue
+    v_out = float(after[-1]["vz"])
+    e0 = float(rows[0]["ke"]) + float(rows[0]["se"])
+    e1 = float(after[-1]["ke"]) + float(after[-1]["se"])
+    print(f"F5 {kind}: rebound {v_out:.4f} m/s of 1, energy {e1:.5f} J of {e0:.5f} J "
+          f"(peak force {max(float(r['fz']) for r in rows):.1f} N)")
+    check(v_out >= 0.95, f"F5 {kind}: rebound speed {v_out:.4f} >= 0.95 of the impact speed")
+    check(abs(e1 - e0) <= 0.05 * abs(e0 - float(rows[0]["se"])),
+          f"F5 {kind}: energy within 5% ({e1 - e0:.3g} J)")
+
+# Bad input: exit 1, the file, the line and the key named.
+BAD = [
+    ("unknown_body", lambda m: m["contact"][0].update(surfaces=["sheet", "bal"]),
+     "undefined rigid body 'bal'", "contact[0].surfaces"),
+    ("unknown_set", lambda m: m["contact"][0].update(surfaces=["shet", "ball"]),
+     "undefined element set 'shet'", "contact[0].surfaces"),
+    ("negative_friction", lambda m: m["contact"][0].update(friction=-0.1),
+     "friction", "contact[0].friction"),
+    ("free_body_static", lambda m: (m["rigid_bodies"][0].pop("motion"),
+                                    m["rigid_bodies"][0].update(mass=5.0)),
+     "needs a dynamic analysis", "rigid_bodies[0].mass"),
+    ("free_body_moved", lambda m: m["rigid_bodies"][0].update(mass=5.0),
+     "not both", "rigid_bodies[0].motion"),
+    ("velocity_without_mass", lambda m: m["rigid_bodies"][0].update(velocity=[0, 0, 1]),
+     "needs a 'mass'", "rigid_bodies[0].velocity"),
+    ("inertia", lambda m: m["rigid_bodies"][0].update(mass=1.0, inertia=[1, 1, 1]),
+     "inertia", "rigid_bodies[0].inertia"),
+    ("zero_mass", lambda m: (m["rigid_bodies"][0].pop("motion"),
+                             m["rigid_bodies"][0].update(mass=0.0)),
+     "mass", "rigid_bodies[0].mass"),
+    ("bad_shape", lambda m: m["rigid_bodies"][0].update(shape="cone"),
+     "unknown shape 'cone'", "rigid_bodies[0].shape"),
+    ("zero_normal", lambda m: m["rigid_bodies"].append(
+        {"name": "floor", "shape": "plane", "point": [0, 0, 0], "normal": [0, 0, 0]}),
+     "non-zero", "rigid_bodies[1].normal"),
+    ("history_body", lambda m: m["output"]["history"][0].update(body="wall"),
+     "undefined rigid body 'wall'", "output.history[0].body"),
+    ("bad_key", lambda m: m["contact"][0].update(frition=0.2), "frition", "contact[0]"),
+]
+for name, edit, message, key in BAD:
+    m = copy.deepcopy(BASE)
+    edit(m)
+    p, _, path = run(name, m)
+    err = p.stderr
+    check(p.returncode == 1 and message in err and key in err
+          and re.search(re.escape(os.path.basename(path)) + r":\d+: ", err) is not None,
+          f"bad input {name}: {err.strip()[:200]}")
+
+if failures:
+    print(f"{len(failures)} failures")
+    sys.exit(1)
+print("all contact cases passed")

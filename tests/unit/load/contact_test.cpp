@@ -1,0 +1,167 @@
+// Contact with rigid bodies: the node law's derivative against central differences for each
+// surface (moved and turned), frictionless, sticking and slipping; the term's matrix in a
+// system (frames, eliminated components) against the same; and a node pressed onto a plane
+// with the multiplier updated at accepted steps.
+#include <gtest/gtest.h>
+
+#include <iostream>
+
+#include "../../verification/model_builders.hpp"
+#include "load/contact_law.hpp"
+#include "velum/analysis/mechanical_system.hpp"
+#include "velum/load/contact_load.hpp"
+
+namespace velum {
+namespace {
+
+RigidBody body_of(int shape) {
+  RigidBody b;
+  b.shape = static_cast<RigidBody::Shape>(shape);
+  b.point = Vec3(0.1, -0.2, 0.05);
+  b.direction = Vec3(0.2, 0.1, 1).normalized();
+  b.radius = 0.7;
+  b.displacement = Vec3(0.05, 0.02, -0.1);
+  b.rotation = Vec3(0.1, -0.3, 0.2);
+  b.pivot = Vec3(0.3, 0.1, 0);
+  return b;
+}
+
+// The force on a node at x against body b moved by s (anchor A at s = 0).
+contact::NodeResult force(const RigidBody& b, double s, const Vec3& x, const Vec3& A, double mu,
+                          bool tangent) {
+  contact::NodeInput in;
+  in.g = b.gap(x, s, in.n, in.H) - 0.01;
+  in.w = x - b.moved(A, s);
+  in.lambda = 3.0;
+  in.k = 1e3;
+  in.mu = mu;
+  return contact::node_force(in, tangent);
+}
+
+TEST(Contact, NodeLawMatchesFiniteDifferences) {
+  const double s = 0.6;
+  for (int shape = 0; shape < 3; ++shape) {
+    const RigidBody b = body_of(shape);
+    // A point just inside the surface: on it along its normal, 2e-3 deep.
+    Vec3 n;
+    Mat3 H;
+    Vec3 x = b.moved(b.point + Vec3(0.3, 0.4, 0.2), s);
+    x -= (b.gap(x, s, n, H) + 2e-3) * n;
+    ASSERT_NEAR(b.gap(x, s, n, H), -2e-3, 1e-12);
+    // Anchors near (stick) and far (slip) along the surface.
+    const Vec3 t = n.unitOrthogonal();
+    for (int kind = 0; kind < 3; ++kind) {
+      const double mu = kind == 0 ? 0.0 : 0.3;
+      const Vec3 A = b.unmoved(x + (kind == 2 ? 0.01 : 1e-4) * t + 0.3e-4 * n.cross(t), s);
+      const contact::NodeResult r = force(b, s, x, A, mu, true);
+      ASSERT_NE(r.status, contact::Status::kOpen);
+      if (kind > 0) {
+        EXPECT_EQ(r.status, kind == 1 ? contact::Status::kStick : contact::Status::kSlip);
+      }
+      Mat3 fd;
+      const double h = 1e-7;
+      for (int c = 0; c < 3; ++c) {
+        Vec3 e = Vec3::Zero();
+        e[c] = h;
+        fd.col(c) =
+            (force(b, s, x + e, A, mu, false).f - force(b, s, x - e, A, mu, false).f) / (2 * h);
+      }
+      const double err = (r.D - fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
+      std::cout << "shape " << shape << " kind " << kind << ": relative error " << err << "\n";
+      EXPECT_LT(err, 1e-6) << shape << " " << kind;
+      // The normal force is λ − k g, the tangential one within the cone.
+      EXPECT_NEAR(r.p, 3.0 + 1e3 * (2e-3 + 0.01), 1e-9);
+      EXPECT_LE((r.f - r.p * n).norm(), (mu + 1e-12) * r.p);
+    }
+  }
+}
+
+// A 3 x 3 quad4 sheet held at its edges, above a sphere it is pushed onto.
+std::unique_ptr<Model> sheet_on_sphere(double mu, bool free = false) {
+  auto m = std::make_unique<Model>();
+  test::NodeCache nodes(*m, 1e-9);
+  std::vector<int> conn;
+  test::mesh_patch(
+      nodes, [](double u, double v) { return Vec3(u - 0.5, v - 0.5, 0.0); }, 3, 3, "quad4", conn);
+  test::add_membrane(
+      *m, "quad4", std::move(conn),
+      SheetLaw(PlaneStressLaw::isotropic("iso", 1e9, 0.3)).with_prestress({1e6, 1e6, 0}), 1000.0,
+      1e-3);
+  m->fixed.push_back({test::nodes_where(*m, [](const Vec3& X) { return std::abs(X.x()) > 0.49; }),
+                      {true, true, true}});
+  m->symmetry.push_back(
+      {test::nodes_where(*m, [](const Vec3& X) { return std::abs(X.y()) > 0.49; }), Vec3(0, 1, 0)});
+  ContactLoad cl;
+  cl.body.shape = RigidBody::Shape::kSphere;
+  cl.body.point = Vec3(0.05, 0.02, -0.6);
+  cl.body.radius = 0.65;  // some middle nodes are inside by up to 2 cm
+  cl.friction = mu;
+  cl.parts.push_back({0, {0, 1, 2, 3, 4, 5, 6, 7, 8}});
+  if (free) {  // the ball's node, with its mass
+    cl.body_node = m->add_node(1000, cl.body.point);
+    m->masses.push_back({cl.body_node, 5.0});
+  }
+  m->loads.add(make_load(cl));
+  for (auto& l : m->loads) l->set_up(*m);
+  return m;
+}
+
+VecX term_forces(MechanicalSystem& sys, const VecX& u, MatX* J) {
+  const Model& m = sys.model();
+  NodePositions U = NodePositions::Zero(3, m.num_nodes());
+  sys.dofs().scatter(u, U);
+  const NodePositions x = m.X + U, V = NodePositions::Zero(3, m.num_nodes());
+  NodePositions F = NodePositions::Zero(3, m.num_nodes());
+  SparseMatrix K;
+  LowRankJacobian L;
+  const int cols = sys.loads()[0]->low_rank_columns();
+  if (J) {
+    sys.assembler().make_matrix(K);
+    L.U.setConstant(sys.size(), cols, 7.0);  // the term zeroes its own columns
+    L.W.setConstant(sys.size(), cols, 7.0);
+  }
+  LoadOutput out{.F = F, .K = J ? &K : nullptr, .low_rank = &L, .column = 0};
+  sys.loads()[0]->add(LoadState{.t = 0, .x = x, .V = V}, out);
+  if (J) *J = MatX(K) + L.U * L.W.transpose();
+  VecX f;
+  sys.dofs().gather(F, f);
+  return f;
+}
+
+TEST(Contact, TermMatrixMatchesFiniteDifferences) {
+  for (int kind = 0; kind < 4; ++kind) {
+    const double mu = kind % 2 ? 0.4 : 0.0;
+    const bool free = kind >= 2;
+    auto m = sheet_on_sphere(mu, free);
+    MechanicalSystem sys(*m);
+    const int n = sys.size();
+    std::srand(3);
+    VecX u0 = 2e-3 * VecX::Random(n);
+    // Anchors where the sheet was at u0, then a move that leaves some nodes sticking and
+    // others slipping.
+    sys.start_loads(0, u0, VecX::Zero(n));
+    const VecX u = u0 + 1e-2 * VecX::Random(n);
+    MatX J;
+    const VecX f = term_forces(sys, u, &J);
+    ASSERT_GT(f.norm(), 0);
+    MatX fd(n, n);
+    const double h = 1e-8;
+    for (int k = 0; k < n; ++k) {
+      VecX e = VecX::Zero(n);
+      e[k] = h;
+      fd.col(k) = (term_forces(sys, u + e, nullptr) - term_forces(sys, u - e, nullptr)) / (2 * h);
+    }
+    const double err = (J + fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
+    std::cout << "friction " << mu << (free ? ", free ball" : "") << ": relative error " << err
+              << "\n";
+    EXPECT_LT(err, 1e-5) << kind;
+    if (free) {  // the ball takes the opposite of the sheet's forces: they sum to zero
+      NodePositions Fn = NodePositions::Zero(3, m->num_nodes());
+      sys.dofs().scatter(f, Fn);
+      EXPECT_LT(Fn.rowwise().sum().norm(), 1e-9 * f.norm());
+    }
+  }
+}
+
+}  // namespace
+}  // namespace velum
