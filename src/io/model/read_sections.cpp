@@ -226,11 +226,12 @@ void Reader::build_blocks(const std::string& set, const ElementSet& es, const Ma
       continue;
     }
     BlockSetupReport report;
+    const int chain_nodes = static_cast<int>(conn.size());  // before conn moves
     std::unique_ptr<ElementBlock> block;
     try {
       if (md.cable && sliding)
         block = make_sliding_cable_block(
-            set, static_cast<int>(conn.size()), std::move(conn), in_.model.X,
+            set, chain_nodes, std::move(conn), in_.model.X,
             CableLaw{md.cable_law.E, md.cable_law.compression, md.cable_prestress / size},
             md.density, size, report);
       else if (md.cable)
