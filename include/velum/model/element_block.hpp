@@ -231,4 +231,12 @@ std::unique_ptr<ElementBlock> make_cable_block(std::string_view type, std::strin
                                                shape::Integration integration,
                                                BlockSetupReport& report);
 
+/// Sliding cable block (docs/cables.md): each element one chain of `chain_nodes` nodes (>= 3)
+/// whose material slides over its interior nodes. Throws std::invalid_argument for fewer nodes.
+std::unique_ptr<ElementBlock> make_sliding_cable_block(std::string set_name, int chain_nodes,
+                                                       std::vector<int> connectivity,
+                                                       const NodePositions& X, const CableLaw& law,
+                                                       double density, double area,
+                                                       BlockSetupReport& report);
+
 }  // namespace velum

@@ -159,10 +159,15 @@ void Reader::parse_inline_elements(const Node& els, long max_file_id) {
     auto set = text(e, "set", p, true);
     auto type = text(e, "type", p, true);
     if (!require(e, "connectivity", p) || !set || !type) continue;
+    if (*type == "sliding_cable") {
+      parse_sliding_cables(e, *set, p, next_id);
+      continue;
+    }
     const shape::ShapeInfo* shape = shape::find(*type);
     if (!shape) {
       std::vector<std::string> names;
       for (const auto& s : shape::kShapeTable) names.emplace_back(s.name);
+      names.emplace_back("sliding_cable");
       error(e["type"], sub(p, "type"),
             fmt::format("unknown element type '{}'{}", *type, suggestion(*type, names)));
       continue;
@@ -328,6 +333,72 @@ std::optional<std::vector<int>> Reader::nodes_of(const Node& map, const char* ke
                                                  const std::string& path) {
   if (!require(map, key, path)) return std::nullopt;
   return node_list(map[key], sub(path, key), true);
+}
+
+}  // namespace velum::io::model_file
+
+namespace velum::io::model_file {
+
+// One group (and later one block) per chain: chains differ in their node counts.
+void Reader::parse_sliding_cables(const Node& e, const std::string& set, const std::string& p,
+                                  long& next_id) {
+  const Node conn = e["connectivity"];
+  const std::string cp = sub(p, "connectivity");
+  if (!conn.IsSequence() || conn.size() == 0) {
+    error(conn, cp, "expected a list of chains [[n1, n2, ..., nk]], one per cable");
+    mesh_ok_ = false;
+    return;
+  }
+  if (has(e, "ids")) {
+    error(e["ids"], sub(p, "ids"), "sliding cables are numbered in order; ids are not read");
+    mesh_ok_ = false;
+    return;
+  }
+  auto& set_ref = element_sets_[set];
+  for (size_t k = 0; k < conn.size(); ++k) {
+    const Node c = conn[k];
+    const std::string ckp = item(cp, k);
+    if (!c.IsSequence() || c.size() < 3) {
+      error(c, ckp,
+            fmt::format("a sliding_cable chain runs through at least 3 nodes (2 segments), got "
+                        "{}; a single segment is a cable2 element",
+                        c.IsSequence() ? std::to_string(c.size()) : "no list"));
+      mesh_ok_ = false;
+      continue;
+    }
+    ElementGroup g{set, "sliding_cable", {}, {}, line_of(e)};
+    const long eid = next_id++;
+    bool ok = true;
+    for (size_t j = 0; j < c.size(); ++j) {
+      auto id = integer(c[j], ckp, "node id");
+      if (!id) {
+        ok = false;
+        break;
+      }
+      if (!in_.model.node_index.count(*id)) {
+        error(c[j], ckp, fmt::format("element {} refers to undefined node {}", eid, *id));
+        ok = false;
+      } else if (!g.node_ids.empty() && g.node_ids.back() == *id) {
+        error(c[j], ckp,
+              fmt::format("node {} is repeated consecutively in the chain: a segment of zero "
+                          "length",
+                          *id));
+        ok = false;
+      }
+      g.node_ids.push_back(*id);
+    }
+    if (!element_ids_.insert(eid).second) {
+      error(c, ckp, fmt::format("duplicate element id {}", eid));
+      ok = false;
+    }
+    if (!ok) {
+      mesh_ok_ = false;
+      continue;
+    }
+    g.ids.push_back(eid);
+    set_ref.dimension = 1;
+    set_ref.groups.push_back(std::move(g));
+  }
 }
 
 }  // namespace velum::io::model_file

@@ -212,7 +212,9 @@ void Reader::build_blocks(const std::string& set, const ElementSet& es, const Ma
       conn.push_back(it->second);
     }
     if (!ok) continue;
-    if (const ShapeProblem bad = check_shapes(g.type, conn, in_.model.X, in_.model.node_ids);
+    const bool sliding = g.type == "sliding_cable";
+    if (const ShapeProblem bad =
+            sliding ? ShapeProblem{} : check_shapes(g.type, conn, in_.model.X, in_.model.node_ids);
         bad.element >= 0) {
       const std::string where = g.line > 0 ? fmt::format("{}:{}", name_, g.line)
                                            : fmt::format("{}:{}", name_, line_of(at));
@@ -224,9 +226,15 @@ void Reader::build_blocks(const std::string& set, const ElementSet& es, const Ma
       continue;
     }
     BlockSetupReport report;
+    const int chain_nodes = static_cast<int>(conn.size());  // before conn moves
     std::unique_ptr<ElementBlock> block;
     try {
-      if (md.cable)
+      if (md.cable && sliding)
+        block = make_sliding_cable_block(
+            set, chain_nodes, std::move(conn), in_.model.X,
+            CableLaw{md.cable_law.E, md.cable_law.compression, md.cable_prestress / size},
+            md.density, size, report);
+      else if (md.cable)
         block = make_cable_block(
             g.type, set, std::move(conn), in_.model.X,
             CableLaw{md.cable_law.E, md.cable_law.compression, md.cable_prestress / size},

@@ -1,0 +1,187 @@
+// The sliding cable block: each element is one chain (docs/cables.md), its node count the
+// chain's; the block's shape row is made for that count (a VTK poly-line in frames).
+#include <fmt/format.h>
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+
+#include "velum/element/sliding_cable.hpp"
+#include "velum/model/element_block.hpp"
+
+namespace velum {
+namespace {
+
+// Rows for chains of k nodes, made once per k (blocks keep a pointer to their row).
+const shape::ShapeInfo& chain_shape(int k) {
+  static std::mutex mutex;
+  static std::map<int, std::unique_ptr<shape::ShapeInfo>> rows;
+  const std::lock_guard lock(mutex);
+  auto& row = rows[k];
+  if (!row) {
+    row = std::make_unique<shape::ShapeInfo>();
+    row->name = "sliding_cable";
+    row->dimension = 1;
+    row->shape = 5;  // never reached through with_shape: find() does not list it
+    row->nodes = k;
+    row->corners = 2;
+    row->vtk = 4;  // VTK_POLY_LINE
+    row->lumping = shape::Lumping::kRowSum;
+  }
+  return *row;
+}
+
+class SlidingCableBlock final : public ElementBlock {
+ public:
+  SlidingCableBlock(std::string set, int chain_nodes, std::vector<int> conn, const NodePositions& X,
+                    const CableLaw& law, double density, double area, BlockSetupReport& report)
+      : ElementBlock(chain_shape(chain_nodes), std::move(set), std::move(conn), density),
+        law_(law),
+        area_(area) {
+    const int ne = size();
+    const int k = nodes_per_element();
+    segments_.resize(static_cast<size_t>(ne) * static_cast<size_t>(k - 1));
+    L0_.resize(static_cast<size_t>(ne));
+    for (int e = 0; e < ne; ++e) {
+      const auto n = nodes(e);
+      double L = 0, shortest = std::numeric_limits<double>::infinity();
+      for (int j = 0; j + 1 < k; ++j) {
+        const double lj = (X.col(n[j + 1]) - X.col(n[j])).norm();
+        segments_[static_cast<size_t>(e * (k - 1) + j)] = lj;
+        L += lj;
+        shortest = std::min(shortest, lj);
+      }
+      L0_[static_cast<size_t>(e)] = L;
+      if (e == 0 || shortest < report.worst_jacobian) {
+        report.worst_jacobian = shortest;
+        report.worst_element = e;
+      }
+    }
+  }
+
+  bool prestressed() const override { return law_.S0 != 0; }
+  std::unique_ptr<ElementBlock> rebuilt(std::vector<int> connectivity, const NodePositions& X,
+                                        double stabilizer,
+                                        std::span<const int> listed) const override {
+    BlockSetupReport report;
+    const bool any = !connectivity.empty();
+    CableLaw law = law_;
+    if (stabilizer > 0 && law_.S0 > 0) law.E = stabilizer * law_.S0;
+    auto out = make_sliding_cable_block(set_name(), nodes_per_element(), std::move(connectivity), X,
+                                        law, density(), area_, report);
+    if (any && !(report.worst_jacobian > 0))
+      throw std::invalid_argument(
+          fmt::format("sliding_cable element {} of set '{}' has a zero-length segment on the new "
+                      "reference",
+                      element_number(report.worst_element, listed), set_name()));
+    return out;
+  }
+
+  void internal(std::span<const int> elements, const NodePositions& x, double* r,
+                double* K) const override {
+    const int nd = dofs_per_element();
+    for (size_t i = 0; i < elements.size(); ++i) {
+      const int e = elements[i];
+      Chain xe = gather(x, e);
+      sliding_cable::VectorMap re(r + i * nd, nd);
+      if (K) {
+        sliding_cable::MatrixMap Ke(K + i * nd * nd, nd, nd);
+        sliding_cable::force_tangent(xe, L0(e), area_, law_, re, &Ke);
+      } else {
+        sliding_cable::force_tangent(xe, L0(e), area_, law_, re, nullptr);
+      }
+    }
+  }
+  // Each segment's consistent mass ρ A L0_j / 6 [[2, 1], [1, 2]]: row sums put half of it
+  // on each of its ends.
+  void mass(int e, double* M) const override {
+    const int k = nodes_per_element();
+    Eigen::Map<Eigen::MatrixXd> out(M, k, k);
+    out.setZero();
+    for (int j = 0; j + 1 < k; ++j) {
+      const double m = density() * area_ * segment(e, j) / 6;
+      out(j, j) += 2 * m, out(j + 1, j + 1) += 2 * m;
+      out(j, j + 1) += m, out(j + 1, j) += m;
+    }
+  }
+  void tension_stiffness(int e, double* T) const override {
+    const int k = nodes_per_element();
+    Eigen::Map<Eigen::MatrixXd> out(T, k, k);
+    out.setZero();
+    for (int j = 0; j + 1 < k; ++j) {
+      const double c = area_ / segment(e, j);
+      out(j, j) += c, out(j + 1, j + 1) += c;
+      out(j, j + 1) -= c, out(j + 1, j) -= c;
+    }
+  }
+  double measure(int e) const override { return L0(e); }
+  double strain_energy(std::span<const int> elements, const NodePositions& x) const override {
+    double U = 0;
+    for (int e : elements) U += sliding_cable::strain_energy(gather(x, e), L0(e), area_, law_);
+    return U;
+  }
+  int first_inverted(std::span<const int> elements, const NodePositions& from,
+                     const NodePositions& to) const override {
+    for (int e : elements) {
+      const auto n = nodes(e);
+      for (size_t j = 0; j + 1 < n.size(); ++j)
+        if (!((from.col(n[j + 1]) - from.col(n[j])).dot(to.col(n[j + 1]) - to.col(n[j])) > 0))
+          return e;
+    }
+    return -1;
+  }
+  void keep_only(std::span<const int> elements) override {
+    const size_t s = static_cast<size_t>(nodes_per_element() - 1);
+    std::vector<double> seg, L0;
+    for (int e : elements) {
+      const size_t at = static_cast<size_t>(slot(e));
+      seg.insert(seg.end(), segments_.begin() + static_cast<long>(at * s),
+                 segments_.begin() + static_cast<long>((at + 1) * s));
+      L0.push_back(L0_[at]);
+    }
+    segments_ = std::move(seg);
+    L0_ = std::move(L0);
+    set_kept(elements);
+  }
+  ElementOutput output(int e, const NodePositions& x) const override {
+    ElementOutput out;
+    out.cable_force = sliding_cable::true_force(gather(x, e), L0(e), area_, law_);
+    return out;
+  }
+
+ private:
+  using Chain = Eigen::Matrix<double, 3, Eigen::Dynamic>;
+  Chain gather(const NodePositions& x, int e) const {
+    const auto n = nodes(e);
+    Chain out(3, static_cast<Eigen::Index>(n.size()));
+    for (size_t j = 0; j < n.size(); ++j) out.col(static_cast<Eigen::Index>(j)) = x.col(n[j]);
+    return out;
+  }
+  double L0(int e) const { return L0_[static_cast<size_t>(slot(e))]; }
+  double segment(int e, int j) const {
+    return segments_[static_cast<size_t>(slot(e) * (nodes_per_element() - 1) + j)];
+  }
+
+  CableLaw law_;
+  double area_;
+  std::vector<double> segments_;  // reference segment lengths, k − 1 per element
+  std::vector<double> L0_;        // reference length of each chain
+};
+
+}  // namespace
+
+std::unique_ptr<ElementBlock> make_sliding_cable_block(std::string set_name, int chain_nodes,
+                                                       std::vector<int> connectivity,
+                                                       const NodePositions& X, const CableLaw& law,
+                                                       double density, double area,
+                                                       BlockSetupReport& report) {
+  if (chain_nodes < 3)
+    throw std::invalid_argument(
+        "a sliding_cable runs through at least 3 nodes (2 segments); use a cable2 element for "
+        "one segment");
+  return std::make_unique<SlidingCableBlock>(
+      std::move(set_name), chain_nodes, std::move(connectivity), X, law, density, area, report);
+}
+
+}  // namespace velum

@@ -1,0 +1,26 @@
+"""Sliding cable (VERIFICATION F8): a ring hanging on a nearly inextensible cable between
+supports at different heights finds the point of equal angles; its position against the
+closed form (1e-3 m) and the cable tension W / (2 cos a) from the support reaction (0.1%)."""
+import csv
+import math
+import os
+import subprocess
+import sys
+
+velum, data, out = sys.argv[1:4]
+model = os.path.join(data, "sliding", "ring_uneven.yaml")
+subprocess.run([velum, "run", model, "-o", out, "--threads", "1", "--quiet"], check=True)
+rows = list(csv.DictReader(open(os.path.join(out, "history.csv"))))
+last = {k.strip(): float(v) for k, v in rows[-1].items()}
+A, B, P0, W = (0.0, 0.0), (4.0, 1.0), (2.0, -1.5), 1000.0
+L = math.dist(A, P0) + math.dist(P0, B)
+s = B[0] - A[0]
+sa = s / L
+ca = math.sqrt(1 - sa * sa)
+a = (L + (A[1] - B[1]) / ca) / 2  # length on A's side: (a - b) cos a = zA - zB
+x, z = A[0] + a * sa, A[1] - a * ca
+T = W / (2 * ca)
+Tv = math.hypot(last["rx"], last["rz"])
+errors = [abs(last["x"] - x), abs(last["z"] - z), abs(Tv - T) / T]
+print(f"ring: dx {errors[0]:.2e} m, dz {errors[1]:.2e} m, tension {errors[2]:.2e} (rel)")
+sys.exit(0 if errors[0] < 1e-3 and errors[1] < 1e-3 and errors[2] < 1e-3 else 1)
