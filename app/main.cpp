@@ -7,6 +7,7 @@
 #include "velum/io/run_control.hpp"
 #include "velum/parallel/processes.hpp"
 #include "velum/run/commands.hpp"
+#include "velum/run/pattern_command.hpp"
 #include "velum/run/plot_command.hpp"
 #include "velum/solve/blas_kernels.hpp"
 
@@ -67,6 +68,15 @@ int main(int argc, char** argv) {
   import_cmd->add_option("DECK", import_deck, "input deck (.inp)")->required();
   import_cmd->add_option("-o,--output", import_output, "model file to write (YAML)")->required();
 
+  std::filesystem::path pattern_input, pattern_output;
+  auto* pattern_cmd = app.add_subcommand(
+      "pattern", "Flatten the model's panels into cutting patterns (DXF, SVG, patterns.json)");
+  pattern_cmd
+      ->add_option("MODEL", pattern_input, "model file (YAML), or a form-finding results folder")
+      ->required();
+  pattern_cmd->add_option("-o,--output", pattern_output, "folder to write the patterns in")
+      ->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -81,6 +91,7 @@ int main(int argc, char** argv) {
     }
     if (plot_cmd->parsed()) return velum::run::plot_command(plot_cmd->remaining());
     if (import_cmd->parsed()) return velum::run::import_command(import_deck, import_output);
+    if (pattern_cmd->parsed()) return velum::run::pattern_command(pattern_input, pattern_output);
     return velum::run::check_command(check_model);
   } catch (const std::bad_alloc&) {
     velum::io::say(stderr, "error: out of memory: the model is too large for this machine\n");

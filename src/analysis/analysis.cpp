@@ -226,6 +226,9 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
   s.u = VecX::Zero(sys.size());
   s.v = VecX::Zero(sys.size());
   s.a = VecX::Zero(sys.size());
+  // At rest where the sheet starts: at its reference, or displaced from it by the model's
+  // reference positions.
+  if (sys.model().U0.size()) sys.dofs().gather(sys.model().U0, s.u);
   if (start) s = *start;
   if (!start && !resume) {
     NodePositions V0 = NodePositions::Zero(3, sys.model().num_nodes());

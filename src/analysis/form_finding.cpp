@@ -95,6 +95,10 @@ AnalysisResult run_form_finding(Model& model, MechanicalSystem& view,
                                 const std::function<bool(const StepSnapshot&)>& observer,
                                 const std::function<void(const std::string&)>& on_warning,
                                 FormFindingReport* report) {
+  if (model.U0.size())
+    throw std::invalid_argument(
+        "form finding finds the reference shape itself: it does not take "
+        "mesh.reference_positions (give the found form's positions as mesh.positions)");
   AnalysisResult result;
   (void)on_warning;
   result.integrator = "form finding (updated reference)";

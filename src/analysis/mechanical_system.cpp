@@ -116,12 +116,12 @@ double MechanicalSystem::distributed_force_scale() {
 void MechanicalSystem::apply_prescribed(double t, NodePositions& U) const {
   for (const auto& p : model_.prescribed) {
     const Vec3 d = p.displacement * model_.function_value(p.function, t);
-    for (int n : p.nodes) U.col(n) = d;
+    for (int n : p.nodes) U.col(n) = model_.start_displacement(n) + d;
   }
 }
 
 NodePositions MechanicalSystem::displacements(double t, const VecX& u) const {
-  NodePositions U = NodePositions::Zero(3, model_.num_nodes());
+  NodePositions U = model_.U0.size() ? model_.U0 : NodePositions::Zero(3, model_.num_nodes());
   apply_prescribed(t, U);
   dofs_.scatter(u, U);
   return U;
@@ -134,7 +134,10 @@ NodePositions MechanicalSystem::velocities(const VecX& v) const {
 }
 
 void MechanicalSystem::set_positions(double t, const VecX& u) {
-  U_.setZero(3, model_.num_nodes());
+  if (model_.U0.size())
+    U_ = model_.U0;
+  else
+    U_.setZero(3, model_.num_nodes());
   apply_prescribed(t, U_);
   dofs_.scatter(u, U_);
   x_ = model_.X + U_;

@@ -143,13 +143,16 @@ std::vector<int> share_model(Model& model, ElementPartition partition) {
   // The model cut down to the piece.
   const auto nl = static_cast<Eigen::Index>(piece->global_node.size());
   NodePositions X(3, nl);
+  NodePositions U0(3, model.U0.size() ? nl : 0);
   std::vector<long> ids(static_cast<size_t>(nl));
   for (Eigen::Index i = 0; i < nl; ++i) {
     const int g = piece->global_node[static_cast<size_t>(i)];
     X.col(i) = model.X.col(g);
+    if (U0.size()) U0.col(i) = model.U0.col(g);
     ids[static_cast<size_t>(i)] = model.node_ids[static_cast<size_t>(g)];
   }
   model.X = std::move(X);
+  model.U0 = std::move(U0);
   model.node_ids = std::move(ids);
   model.node_index.clear();
   for (size_t i = 0; i < model.node_ids.size(); ++i)

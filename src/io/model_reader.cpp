@@ -159,12 +159,13 @@ ModelInput Reader::read_one(const Node& root) {
 void Reader::parse(const Node& root) {
   check_map(root, "",
             {"title", "mesh", "materials", "sections", "masses", "boundary", "loads", "functions",
-             "analysis", "output", "steps", "rigid_bodies", "contact"});
+             "analysis", "output", "steps", "rigid_bodies", "contact", "patterns"});
   if (auto t = text(root, "title", "", false)) in_.title = *t;
   parse_functions(root["functions"]);
   if (require(root, "mesh", "")) parse_mesh(root["mesh"]);
   if (require(root, "materials", "")) parse_materials(root["materials"]);
   if (require(root, "sections", "")) parse_sections(root["sections"]);
+  if (has(root, "patterns")) parse_patterns(root["patterns"]);
   if (has(root, "masses")) parse_masses(root["masses"]);
   if (has(root, "boundary")) parse_boundary(root["boundary"]);
   if (has(root, "loads")) parse_loads(root["loads"]);

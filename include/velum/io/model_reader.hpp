@@ -72,6 +72,14 @@ struct MaterialSummary {
 };
 
 /// Everything a model file describes.
+/// `patterns:` (velum pattern, docs/patterns.md): the element sets flattened into panels and
+/// the warp and fill compensation (the strains each flat panel is shrunk by).
+struct PatternSettings {
+  std::vector<std::string> panels;
+  double warp = 0, fill = 0;
+  double seam_allowance = 0;  ///< the cut line's offset outside the seam line (length)
+};
+
 struct ModelInput {
   std::filesystem::path file;
   std::string title;
@@ -88,6 +96,7 @@ struct ModelInput {
   /// A staged model's steps, in order (model, analysis and output above are the first
   /// step's); empty for a model without `steps:`.
   std::vector<AnalysisStep> steps;
+  PatternSettings patterns;  ///< empty panels: no `patterns:`
 };
 
 // Limits beyond which a model is refused as bad input (docs/model-format.md, "Limits"): each

@@ -88,6 +88,10 @@ struct Model : ModelLoads {
   NodePositions X;                 ///< reference coordinates, 3 x nodes
   std::vector<long> node_ids;      ///< user ids, same order
   std::map<long, int> node_index;  ///< user id -> index
+  /// Where the sheet starts, as a displacement from its stress-free reference X (the start
+  /// coordinates minus mesh.reference_positions): 3 x nodes, or empty when it starts at X.
+  /// Fixed and symmetry components hold it, prescribed motions are added to it.
+  NodePositions U0;
 
   std::vector<std::unique_ptr<ElementBlock>> blocks;
   std::vector<PointMass> masses;
@@ -106,6 +110,8 @@ struct Model : ModelLoads {
   std::shared_ptr<const ModelPiece> piece;
 
   int num_nodes() const { return static_cast<int>(X.cols()); }
+  /// The start displacement of node n (zero without reference positions).
+  Vec3 start_displacement(int n) const { return U0.size() ? Vec3(U0.col(n)) : Vec3::Zero(); }
   int add_node(long id, const Vec3& x);  ///< throws std::invalid_argument on a duplicate id
   double function_value(int f, double t) const { return f < 0 ? 1.0 : functions[f](t); }
   int num_elements() const;

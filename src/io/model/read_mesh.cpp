@@ -29,7 +29,9 @@ void Reader::add_node(long id, const Vec3& x, const Node& at, const std::string&
 }
 
 void Reader::parse_mesh(const Node& mesh) {
-  if (!check_map(mesh, "mesh", {"file", "nodes", "elements", "node_sets", "positions"})) return;
+  if (!check_map(mesh, "mesh",
+                 {"file", "nodes", "elements", "node_sets", "positions", "reference_positions"}))
+    return;
   mesh_ok_ = true;
   if (!has(mesh, "file") && !has(mesh, "nodes")) {
     error(mesh, "mesh", "give a mesh file (mesh.file) or inline nodes (mesh.nodes)");
@@ -144,6 +146,45 @@ void Reader::parse_mesh(const Node& mesh) {
       in_.model.X.col(it->second) = Vec3(*x, *y, *z);
     }
   }
+  if (has(mesh, "reference_positions")) parse_reference_positions(mesh["reference_positions"]);
+}
+
+// The stress-free coordinates of the listed nodes: the model's reference X becomes them and
+// the start coordinates (the mesh's, or mesh.positions') the start displacement U0 = x − X, so
+// that every element, law and load measures strain from the reference as before.
+void Reader::parse_reference_positions(const Node& ps) {
+  const std::string path = "mesh.reference_positions";
+  if (!ps.IsSequence()) {
+    error(ps, path, "expected a list of [id, x, y, z]");
+    return;
+  }
+  Model& m = in_.model;
+  NodePositions U0 = NodePositions::Zero(3, m.num_nodes());
+  std::set<long> seen;
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const Node n = ps[i];
+    const std::string p = item(path, i);
+    if (!n.IsSequence() || n.size() != 4) {
+      error(n, p, "expected [id, x, y, z]");
+      continue;
+    }
+    auto id = integer(n[0], p, "node id");
+    auto x = number(n[1], p), y = number(n[2], p), z = number(n[3], p);
+    if (!id || !x || !y || !z) continue;
+    auto it = m.node_index.find(*id);
+    if (it == m.node_index.end()) {
+      error(n, p, fmt::format("node {} is not in the mesh", *id));
+      continue;
+    }
+    if (!seen.insert(*id).second) {
+      error(n, p, fmt::format("node {} is given a reference position twice", *id));
+      continue;
+    }
+    const Vec3 ref(*x, *y, *z);
+    U0.col(it->second) = m.X.col(it->second) - ref;
+    m.X.col(it->second) = ref;
+  }
+  if (U0.cwiseAbs().maxCoeff() > 0) m.U0 = std::move(U0);
 }
 
 void Reader::parse_inline_elements(const Node& els, long max_file_id) {

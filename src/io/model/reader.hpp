@@ -70,12 +70,16 @@ class Reader : public ReaderContext {
   // read_mesh.cpp
   void add_node(long id, const Vec3& x, const Node& at, const std::string& path);
   void parse_mesh(const Node& mesh);
+  void parse_reference_positions(const Node& ps);
   void parse_inline_elements(const Node& els, long max_file_id);
   /// Node indices from a node reference: an id, a list of ids, a set name or {box: [...]}.
   std::optional<std::vector<int>> node_list(const Node& n, const std::string& path,
                                             bool allow_names);
   std::optional<std::vector<int>> nodes_of(const Node& map, const char* key,
                                            const std::string& path);
+
+  // read_patterns.cpp
+  void parse_patterns(const Node& p);
 
   // read_materials.cpp
   void parse_materials(const Node& ms);

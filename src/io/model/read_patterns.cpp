@@ -1,0 +1,117 @@
+// Reads patterns: (the panels `velum pattern` flattens and their compensation).
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+
+#include <algorithm>
+
+#include "reader.hpp"
+#include "velum/analysis/flatten.hpp"
+#include "velum/shape/shape_info.hpp"
+
+namespace velum::io::model_file {
+
+namespace {
+// Beyond this a compensation is a typing error (a percentage given as one) rather than a
+// fabric's prestress strain, which stays within a few percent.
+constexpr double kMaxCompensation = 0.1;
+}  // namespace
+
+void Reader::parse_patterns(const Node& pn) {
+  if (!check_map(pn, "patterns", {"panels", "compensation", "seam_allowance"})) return;
+  PatternSettings& out = in_.patterns;
+  if (require(pn, "panels", "patterns")) {
+    const Node ps = pn["panels"];
+    if (!ps.IsSequence() || ps.size() == 0) {
+      error(ps, "patterns.panels", "expected a list of element set names");
+    } else {
+      // an element's sorted node ids -> the panel and element that have it
+      std::map<std::vector<long>, std::pair<std::string, long>> owner;
+      for (size_t i = 0; i < ps.size(); ++i) {
+        const std::string p = item("patterns.panels", i);
+        if (!ps[i].IsScalar()) {
+          error(ps[i], p, "expected an element set name");
+          continue;
+        }
+        const std::string name = ps[i].Scalar();
+        auto it = element_sets_.find(name);
+        if (it == element_sets_.end()) {
+          error(ps[i], p,
+                fmt::format("undefined element set '{}'{}", name,
+                            suggestion(name, keys_of(element_sets_))));
+          continue;
+        }
+        if (it->second.dimension != 2) {
+          error(ps[i], p, fmt::format("element set '{}' is not a surface: a panel is one", name));
+          continue;
+        }
+        // The same element (by id, or by its nodes) in two panels.
+        bool overlaps = false;
+        for (const auto& g : it->second.groups) {
+          const shape::ShapeInfo* shape = shape::find(g.type);
+          const size_t nn = shape ? static_cast<size_t>(shape->nodes) : 1;
+          for (size_t e = 0; e < g.ids.size() && !overlaps; ++e) {
+            std::vector<long> key(g.node_ids.begin() + static_cast<long>(e * nn),
+                                  g.node_ids.begin() + static_cast<long>((e + 1) * nn));
+            std::sort(key.begin(), key.end());
+            auto [o, added] = owner.emplace(key, std::make_pair(name, g.ids[e]));
+            if (!added && o->second.first != name) {
+              error(ps[i], p,
+                    fmt::format("panel '{}' overlaps panel '{}' (element {} lies on element {}): "
+                                "panels must not share elements",
+                                name, o->second.first, g.ids[e], o->second.second));
+              overlaps = true;
+            }
+          }
+        }
+        // A panel is flattened as one disc (corner triangles; quadrilaterals split).
+        PanelMesh mesh;
+        for (const auto& g : it->second.groups) {
+          const shape::ShapeInfo* shape = shape::find(g.type);
+          if (!shape || !shape->surface()) continue;
+          const auto nn = static_cast<size_t>(shape->nodes);
+          for (size_t e = 0; e * nn < g.node_ids.size(); ++e) {
+            int c[4] = {0, 0, 0, 0};
+            bool known = true;
+            for (int k = 0; k < std::min(shape->corners, 4); ++k) {
+              auto at = in_.model.node_index.find(g.node_ids[e * nn + static_cast<size_t>(k)]);
+              known = known && at != in_.model.node_index.end();
+              if (known) c[k] = at->second;
+            }
+            if (!known) continue;  // reported with the element
+            mesh.triangles.push_back({c[0], c[1], c[2]});
+            if (shape->corners == 4) mesh.triangles.push_back({c[0], c[2], c[3]});
+          }
+        }
+        if (std::string why = disc_problem(mesh, in_.model.num_nodes()); !why.empty())
+          error(ps[i], p, fmt::format("panel '{}' cannot be flattened: {}", name, why));
+        out.panels.push_back(name);
+      }
+    }
+  }
+  if (auto a = non_negative(pn, "seam_allowance", "patterns", "a seam allowance"))
+    out.seam_allowance = *a;
+  if (has(pn, "compensation")) {
+    const Node c = pn["compensation"];
+    const std::string p = "patterns.compensation";
+    if (!c.IsSequence() || c.size() != 2) {
+      error(c, p, "expected [warp, fill]: the strains the flat panels are shrunk by");
+      return;
+    }
+    auto w = number(c[0], p), f = number(c[1], p);
+    if (!w || !f) return;
+    for (double v : {*w, *f})
+      if (!(std::abs(v) <= kMaxCompensation)) {
+        error(c, p,
+              fmt::format("a compensation of {:g} is outside the plausible range [-{:g}, {:g}] "
+                          "(strains, not percent: 0.01 is 1%)",
+                          v, kMaxCompensation, kMaxCompensation));
+        return;
+      }
+    out.warp = *w, out.fill = *f;
+  }
+}
+
+}  // namespace velum::io::model_file

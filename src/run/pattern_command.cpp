@@ -1,0 +1,97 @@
+// `velum pattern`: reads the model, flattens its panels, writes the patterns.
+#include "velum/run/pattern_command.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+
+#include "run_parts.hpp"
+#include "velum/analysis/flatten.hpp"
+#include "velum/io/pattern_writer.hpp"
+#include "velum/run/commands.hpp"
+
+namespace velum::run {
+namespace {
+
+// The panel's triangles (quadrilaterals split along a diagonal, corners only).
+PanelMesh panel_mesh(const Model& m, const std::string& set) {
+  PanelMesh mesh;
+  for (const auto& b : m.blocks) {
+    if (b->set_name() != set || !b->surface()) continue;
+    const int corners = b->shape().corners;
+    for (int e = 0; e < b->size(); ++e) {
+      const auto n = b->nodes(e);
+      mesh.triangles.push_back({n[0], n[1], n[2]});
+      if (corners == 4) mesh.triangles.push_back({n[0], n[2], n[3]});
+    }
+  }
+  return mesh;
+}
+
+}  // namespace
+
+int pattern_command(const std::filesystem::path& input, const std::filesystem::path& output) {
+  std::filesystem::path model_file = input;
+  std::error_code ec;
+  if (std::filesystem::is_directory(input, ec)) {
+    model_file = input / "form.yaml";
+    if (!std::filesystem::exists(model_file, ec)) {
+      say(stderr,
+          "error: {}: a results folder gives its shape to `velum pattern` through its found form "
+          "(form.yaml, written by form finding), and it has none: give the model file\n",
+          input.string());
+      return kExitBadInput;
+    }
+  }
+  ModelInput in;
+  try {
+    in = read_model(model_file);
+  } catch (const InputError& e) {
+    for (const auto& m : e.messages()) say(stderr, "error: {}\n", m);
+    return kExitBadInput;
+  }
+  const PatternSettings& ps = in.patterns;
+  if (ps.panels.empty()) {
+    say(stderr,
+        "error: {}: patterns: the model names no panels: add patterns: {{panels: [set, ...], "
+        "compensation: [warp, fill]}}\n",
+        model_file.string());
+    return kExitBadInput;
+  }
+  const Model& m = in.model;
+  // The shape: where the sheet is (the mesh's coordinates, also with reference positions).
+  NodePositions x = m.X;
+  if (m.U0.size()) x += m.U0;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<io::PatternPanel> panels;
+  for (const std::string& name : ps.panels) {
+    io::PatternPanel p;
+    p.name = name;
+    const PanelMesh mesh = panel_mesh(m, name);
+    if (std::string why = disc_problem(mesh, m.num_nodes()); !why.empty()) {
+      say(stderr, "error: {}: patterns.panels: panel '{}' cannot be flattened: {}\n",
+          model_file.string(), name, why);
+      return kExitBadInput;
+    }
+    p.flat = flatten_panel(x, mesh);
+    for (int n : p.flat.nodes) p.node_ids.push_back(m.node_ids[static_cast<size_t>(n)]);
+    io::outline_panel(p, ps.warp, ps.fill, ps.seam_allowance);
+    panels.push_back(std::move(p));
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  try {
+    io::write_patterns(output, panels, x, ps.warp, ps.fill, ps.seam_allowance);
+  } catch (const std::runtime_error& e) {
+    say(stderr, "error: {}\n", e.what());
+    return kExitIo;
+  }
+  for (const auto& p : panels)
+    say(stdout, "panel {}: {} nodes, area 3-D {:.6g}, flat {:.6g}, largest strain {:.3g}\n", p.name,
+        p.flat.nodes.size(), p.flat.area_3d, p.flat.area_flat, p.flat.max_strain);
+  say(stdout, "velum pattern: {} panel{} flattened in {:.3g} s, written to {}\n", panels.size(),
+      panels.size() == 1 ? "" : "s", seconds, output.string());
+  return kExitOk;
+}
+
+}  // namespace velum::run

@@ -1,0 +1,163 @@
+// Flattening of panels (issue 45, F9): developable panels keep every edge and their area, a
+// hemisphere's gores come out pi R / 2 long and 2 pi R / N wide, the energy's gradient against
+// finite differences, panels that are not discs refused.
+#include "velum/analysis/flatten.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+namespace velum {
+namespace {
+
+struct Grid {
+  NodePositions x;
+  PanelMesh mesh;
+  int nu = 0, nv = 0;
+  int at(int i, int j) const { return j * (nu + 1) + i; }
+};
+
+// A structured (nu x nv) grid of the map f(s, t), s, t in [0, 1], two triangles per cell.
+Grid grid(int nu, int nv, const std::function<Vec3(double, double)>& f) {
+  Grid g;
+  g.nu = nu, g.nv = nv;
+  g.x.resize(3, (nu + 1) * (nv + 1));
+  for (int j = 0; j <= nv; ++j)
+    for (int i = 0; i <= nu; ++i) g.x.col(g.at(i, j)) = f(double(i) / nu, double(j) / nv);
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      const int a = g.at(i, j), b = g.at(i + 1, j), c = g.at(i + 1, j + 1), d = g.at(i, j + 1);
+      g.mesh.triangles.push_back({a, b, c});
+      g.mesh.triangles.push_back({a, c, d});
+    }
+  return g;
+}
+
+double flat_distance(const FlatPanel& p, int local_a, int local_b) {
+  return (p.uv[local_a] - p.uv[local_b]).norm();
+}
+
+int local_of(const FlatPanel& p, int node) {
+  for (size_t k = 0; k < p.nodes.size(); ++k)
+    if (p.nodes[k] == node) return static_cast<int>(k);
+  return -1;
+}
+
+// Every edge of the flat panel against its 3-D length; returns the largest relative error.
+double worst_edge(const NodePositions& x, const FlatPanel& p) {
+  double worst = 0;
+  for (const auto& t : p.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      const double L = (x.col(p.nodes[a]) - x.col(p.nodes[b])).norm();
+      worst = std::max(worst, std::abs(flat_distance(p, a, b) - L) / L);
+    }
+  return worst;
+}
+
+TEST(Flatten, CylinderPanelKeepsEveryEdgeAndItsArea) {
+  const double R = 2.0;
+  const Grid g = grid(12, 8, [&](double s, double t) {
+    const double phi = 1.8 * s;  // a wide panel: chord and arc differ
+    return Vec3(R * std::cos(phi), R * std::sin(phi), 1.5 * t);
+  });
+  const FlatPanel p = flatten_panel(g.x, g.mesh);
+  EXPECT_LT(worst_edge(g.x, p), 1e-6);
+  EXPECT_NEAR(p.area_flat, p.area_3d, 1e-6 * p.area_3d);
+  EXPECT_LT(p.max_strain, 1e-6);
+}
+
+TEST(Flatten, ConePanelKeepsEveryEdgeAndItsArea) {
+  const Grid g = grid(10, 8, [&](double s, double t) {
+    const double phi = 2.5 * s, r = 0.5 + 1.0 * t;  // a truncated cone, half-angle 45 degrees
+    return Vec3(r * std::cos(phi), r * std::sin(phi), r);
+  });
+  const FlatPanel p = flatten_panel(g.x, g.mesh);
+  EXPECT_LT(worst_edge(g.x, p), 1e-6);
+  EXPECT_NEAR(p.area_flat, p.area_3d, 1e-6 * p.area_3d);
+}
+
+TEST(Flatten, HemisphereGoresArePiRHalfLongAndTwoPiROverNWide) {
+  const double R = 1.5;
+  for (int N :
+       {12,
+        16}) {  // (8 gores: -0.8 % long, +1.7 % wide: the error grows as the gore angle squared)
+    // One gore: longitude [0, 2 pi / N], equator (t = 0) to near the pole; its pole end a point.
+    const int nu = 6, nv = 24;
+    Grid g = grid(nu, nv, [&](double s, double t) {
+      const double phi = 2 * M_PI / N * (s - 0.5), theta = M_PI / 2 * t;
+      return Vec3(R * std::cos(theta) * std::cos(phi), R * std::cos(theta) * std::sin(phi),
+                  R * std::sin(theta));
+    });
+    // The pole row collapses to one node: drop the degenerate triangles, merge the nodes.
+    const int pole = g.at(nu / 2, nv);
+    PanelMesh mesh;
+    for (auto t : g.mesh.triangles) {
+      for (int& n : t)
+        if (n >= g.at(0, nv)) n = pole;
+      if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) mesh.triangles.push_back(t);
+    }
+    const FlatPanel p = flatten_panel(g.x, mesh);
+    double length = 0, width = 0;
+    for (int j = 0; j < nv; ++j)
+      length += flat_distance(p, local_of(p, g.at(nu / 2, j)),
+                              local_of(p, j + 1 == nv ? pole : g.at(nu / 2, j + 1)));
+    for (int i = 0; i < nu; ++i)
+      width += flat_distance(p, local_of(p, g.at(i, 0)), local_of(p, g.at(i + 1, 0)));
+    const double L = M_PI * R / 2, W = 2 * M_PI * R / N;
+    EXPECT_NEAR(length, L, 0.005 * L) << N << " gores";
+    EXPECT_NEAR(width, W, 0.01 * W) << N << " gores";
+    EXPECT_GT(p.max_strain, 0);  // a sphere is not developable
+    EXPECT_LT(p.max_strain, 0.05);
+  }
+}
+
+TEST(Flatten, EnergyGradientAgainstFiniteDifferences) {
+  const Grid g =
+      grid(4, 3, [](double s, double t) { return Vec3(s, t, 0.3 * std::sin(2 * s + t)); });
+  FlatPanel p = flatten_panel(g.x, g.mesh);
+  for (size_t k = 0; k < p.uv.size(); ++k)  // away from the minimum: a gradient worth checking
+    p.uv[k] += 0.02 * Vec2(std::sin(3.0 * k), std::cos(5.0 * k));
+  const double nu = 0.3;
+  VecX grad;
+  flattening_energy(g.x, p, nu, &grad);
+  ASSERT_GT(grad.norm(), 1e-4);
+  const double h = 1e-6;
+  for (long i = 0; i < grad.size(); ++i) {
+    FlatPanel a = p, b = p;
+    a.uv[i / 2][i % 2] += h;
+    b.uv[i / 2][i % 2] -= h;
+    const double fd =
+        (flattening_energy(g.x, a, nu, nullptr) - flattening_energy(g.x, b, nu, nullptr)) / (2 * h);
+    EXPECT_NEAR(grad[i], fd, 1e-6 * (1 + std::abs(fd))) << "component " << i;
+  }
+}
+
+TEST(Flatten, PanelsThatAreNotDiscsAreRefused) {
+  // An annulus: a closed strip around a cylinder (a hole).
+  Grid ring = grid(12, 2, [](double s, double t) {
+    return Vec3(std::cos(2 * M_PI * s), std::sin(2 * M_PI * s), t);
+  });
+  PanelMesh closed;
+  for (auto t : ring.mesh.triangles) {
+    for (int& n : t)
+      if (n % (ring.nu + 1) == ring.nu) n -= ring.nu;  // the last column is the first
+    closed.triangles.push_back(t);
+  }
+  EXPECT_NE(disc_problem(closed, static_cast<int>(ring.x.cols())).find("Euler characteristic 0"),
+            std::string::npos);
+  EXPECT_THROW(flatten_panel(ring.x, closed), std::invalid_argument);
+  // Two pieces.
+  const Grid g = grid(3, 1, [](double s, double t) { return Vec3(s, t, 0); });
+  const PanelMesh two{{g.mesh.triangles[0], g.mesh.triangles[4]}};
+  EXPECT_NE(disc_problem(two, static_cast<int>(g.x.cols())).find("2 separate pieces"),
+            std::string::npos);
+  EXPECT_EQ(disc_problem(g.mesh, static_cast<int>(g.x.cols())), "");
+  // Two triangles that touch at a corner only.
+  const PanelMesh bowtie{{g.mesh.triangles[0], g.mesh.triangles[2]}};
+  EXPECT_NE(disc_problem(bowtie, static_cast<int>(g.x.cols())).find("at node"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace velum
