@@ -83,7 +83,7 @@ class SlidingCableBlock final : public ElementBlock {
     const int nd = dofs_per_element();
     for (size_t i = 0; i < elements.size(); ++i) {
       const int e = elements[i];
-      Chain xe = gather(x, e);
+      const Chain& xe = gather(x, e);
       sliding_cable::VectorMap re(r + i * nd, nd);
       if (K) {
         sliding_cable::MatrixMap Ke(K + i * nd * nd, nd, nd);
@@ -152,9 +152,12 @@ class SlidingCableBlock final : public ElementBlock {
 
  private:
   using Chain = Eigen::Matrix<double, 3, Eigen::Dynamic>;
-  Chain gather(const NodePositions& x, int e) const {
+  // The chain's positions in a buffer per thread: it grows to the longest chain once and the
+  // force loop allocates nothing after that. The reference is valid until the next gather.
+  const Chain& gather(const NodePositions& x, int e) const {
     const auto n = nodes(e);
-    Chain out(3, static_cast<Eigen::Index>(n.size()));
+    thread_local Chain out;
+    out.resize(3, static_cast<Eigen::Index>(n.size()));
     for (size_t j = 0; j < n.size(); ++j) out.col(static_cast<Eigen::Index>(j)) = x.col(n[j]);
     return out;
   }
