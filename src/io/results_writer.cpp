@@ -369,6 +369,9 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
           return s.sheet[h.component - 2];
       }
     }
+    case Q::kForce:
+      return a.owns(h.block, h.element) ? model.blocks[h.block]->output(h.element, x).cable_force
+                                        : 0.0;
     case Q::kKineticEnergy:
       return first ? snap.energy.kinetic : 0.0;
     case Q::kStrainEnergy:

@@ -21,6 +21,16 @@ a = (L + (A[1] - B[1]) / ca) / 2  # length on A's side: (a - b) cos a = zA - zB
 x, z = A[0] + a * sa, A[1] - a * ca
 T = W / (2 * ca)
 Tv = math.hypot(last["rx"], last["rz"])
-errors = [abs(last["x"] - x), abs(last["z"] - z), abs(Tv - T) / T]
-print(f"ring: dx {errors[0]:.2e} m, dz {errors[1]:.2e} m, tension {errors[2]:.2e} (rel)")
-sys.exit(0 if errors[0] < 1e-3 and errors[1] < 1e-3 and errors[2] < 1e-3 else 1)
+# The history quantity `force` (element 1, the chain) against the same closed form.
+errors = [abs(last["x"] - x), abs(last["z"] - z), abs(Tv - T) / T, abs(last["T"] - T) / T]
+print(f"ring: dx {errors[0]:.2e} m, dz {errors[1]:.2e} m, tension {errors[2]:.2e} (rel), "
+      f"history force {errors[3]:.2e} (rel)")
+# `force` of an element that does not exist: bad input naming the file, line and key.
+bad = os.path.join(os.path.dirname(out.rstrip("/")) or ".", "ring_bad_force.yaml")
+text = open(model).read().replace("quantity: force, element: 1", "quantity: force, element: 9")
+open(bad, "w").write(text)
+run = subprocess.run([velum, "run", bad, "-o", out + "-bad", "--quiet"], capture_output=True,
+                     text=True)
+named = run.returncode == 1 and "element: no cable element has the id 9" in run.stderr
+print("bad element id:", "named" if named else f"NOT named (exit {run.returncode}): {run.stderr}")
+sys.exit(0 if named and errors[0] < 1e-3 and errors[1] < 1e-3 and errors[2] < 1e-3 and errors[3] < 1e-3 else 1)

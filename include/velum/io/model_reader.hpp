@@ -38,7 +38,8 @@ struct HistoryEntry {
     kGasMassFlow,
     kContactForce,
     kRigidPosition,
-    kRigidVelocity
+    kRigidVelocity,
+    kForce  ///< a cable element's axial force (cable2, cable3, sliding_cable)
   };
   std::string name;
   Quantity quantity = Quantity::kDisplacement;

@@ -393,14 +393,14 @@ void Reader::parse_output(const Node& o, const Node& root) {
       "displacement",   "velocity",        "position",      "reaction",      "fiber_angle_change",
       "stress",         "kinetic_energy",  "strain_energy", "external_work", "gas_volume",
       "gas_pressure",   "gas_temperature", "gas_mass",      "gas_mass_flow", "contact_force",
-      "rigid_position", "rigid_velocity"};
+      "rigid_position", "rigid_velocity",  "force"};
   std::set<std::string> names;
   for (size_t i = 0; i < h.size(); ++i) {
     const Node e = h[i];
     const std::string p = item("output.history", i);
     if (!check_map(e, p,
                    {"name", "quantity", "node", "nodes", "component", "point", "unit", "load",
-                    "inflator", "vent", "leakage", "orifice", "body", "contact"}))
+                    "inflator", "vent", "leakage", "orifice", "body", "contact", "element"}))
       continue;
     auto name = text(e, "name", p, true);
     auto q = text(e, "quantity", p, true);
@@ -502,11 +502,40 @@ void Reader::parse_output(const Node& o, const Node& root) {
       case Q::kRigidVelocity:
         ok = parse_contact_history(e, p, he);
         break;
+      case Q::kForce:
+        ok = locate_cable(e, p, he);
+        break;
       default:
         break;
     }
     if (ok) out.history.push_back(std::move(he));
   }
+}
+
+// `element: id` of a cable element (cable2, cable3 or a sliding_cable chain) for the history
+// quantity `force`: its block and position there.
+bool Reader::locate_cable(const Node& e, const std::string& p, HistoryEntry& he) {
+  if (!require(e, "element", p)) return false;
+  auto id = integer(e["element"], sub(p, "element"), "element id");
+  if (!id) return false;
+  for (size_t b = 0; b < in_.element_ids.size() && b < in_.model.blocks.size(); ++b) {
+    const auto& ids = in_.element_ids[b];
+    const auto at = std::find(ids.begin(), ids.end(), *id);
+    if (at == ids.end()) continue;
+    if (in_.model.blocks[b]->surface()) {
+      error(e["element"], sub(p, "element"),
+            fmt::format("element {} is a membrane: the quantity 'force' is a cable's axial force "
+                        "(use 'stress' with a point for membranes)",
+                        *id));
+      return false;
+    }
+    he.block = static_cast<int>(b);
+    he.element = static_cast<int>(at - ids.begin());
+    return true;
+  }
+  if (mesh_ok_)
+    error(e["element"], sub(p, "element"), fmt::format("no cable element has the id {}", *id));
+  return false;
 }
 
 bool Reader::locate(HistoryEntry& he) const {

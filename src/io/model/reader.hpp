@@ -165,6 +165,7 @@ class Reader : public ReaderContext {
   void parse_path(const Node& pa);
   void parse_output(const Node& o, const Node& root);
   bool locate(HistoryEntry& he) const;
+  bool locate_cable(const Node& e, const std::string& p, HistoryEntry& he);
 
   bool mesh_ok_ = false;
   std::map<std::string, int> functions_;
