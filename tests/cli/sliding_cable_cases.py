@@ -33,4 +33,13 @@ run = subprocess.run([velum, "run", bad, "-o", out + "-bad", "--quiet"], capture
                      text=True)
 named = run.returncode == 1 and "element: no cable element has the id 9" in run.stderr
 print("bad element id:", "named" if named else f"NOT named (exit {run.returncode}): {run.stderr}")
+# Chains that are not chains: a node repeated consecutively, a single segment.
+for chain, says in (("[1, 2, 2, 3]", "node 2 is repeated consecutively"),
+                    ("[1, 3]", "a sliding_cable chain runs through at least 3 nodes")):
+    open(bad, "w").write(open(model).read().replace("[[1, 2, 3]]", f"[{chain}]"))
+    run = subprocess.run([velum, "run", bad, "-o", out + "-bad", "--quiet"],
+                         capture_output=True, text=True)
+    ok = run.returncode == 1 and says in run.stderr and "connectivity" in run.stderr
+    print(f"chain {chain}:", "named" if ok else f"NOT named (exit {run.returncode}): {run.stderr}")
+    named = named and ok
 sys.exit(0 if named and errors[0] < 1e-3 and errors[1] < 1e-3 and errors[2] < 1e-3 and errors[3] < 1e-3 else 1)

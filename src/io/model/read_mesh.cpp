@@ -248,18 +248,7 @@ void Reader::parse_inline_elements(const Node& els, long max_file_id) {
         continue;
       }
       const long eid = k < ids.size() ? ids[k] : next_id++;
-      for (size_t j = 0; j < c.size(); ++j) {
-        auto id = integer(c[j], ckp, "node id");
-        if (!id) {
-          ok = false;
-          break;
-        }
-        if (!in_.model.node_index.count(*id)) {
-          error(c[j], ckp, fmt::format("element {} refers to undefined node {}", eid, *id));
-          ok = false;
-        }
-        g.node_ids.push_back(*id);
-      }
+      if (!read_element_nodes(c, ckp, eid, g.node_ids)) ok = false;
       if (!element_ids_.insert(eid).second) {
         error(c, ckp, fmt::format("duplicate element id {}", eid));
         ok = false;
@@ -381,6 +370,23 @@ std::optional<std::vector<int>> Reader::nodes_of(const Node& map, const char* ke
 namespace velum::io::model_file {
 
 // One group (and later one block) per chain: chains differ in their node counts.
+// An element's node ids (the list c) into `nodes`, each an integer naming a defined node;
+// false, with the reason reported, where one is not.
+bool Reader::read_element_nodes(const Node& c, const std::string& ckp, long eid,
+                                std::vector<long>& nodes) {
+  bool ok = true;
+  for (size_t j = 0; j < c.size(); ++j) {
+    auto id = integer(c[j], ckp, "node id");
+    if (!id) return false;
+    if (!in_.model.node_index.count(*id)) {
+      error(c[j], ckp, fmt::format("element {} refers to undefined node {}", eid, *id));
+      ok = false;
+    }
+    nodes.push_back(*id);
+  }
+  return ok;
+}
+
 void Reader::parse_sliding_cables(const Node& e, const std::string& set, const std::string& p,
                                   long& next_id) {
   const Node conn = e["connectivity"];
@@ -409,25 +415,15 @@ void Reader::parse_sliding_cables(const Node& e, const std::string& set, const s
     }
     ElementGroup g{set, "sliding_cable", {}, {}, line_of(e)};
     const long eid = next_id++;
-    bool ok = true;
-    for (size_t j = 0; j < c.size(); ++j) {
-      auto id = integer(c[j], ckp, "node id");
-      if (!id) {
-        ok = false;
-        break;
-      }
-      if (!in_.model.node_index.count(*id)) {
-        error(c[j], ckp, fmt::format("element {} refers to undefined node {}", eid, *id));
-        ok = false;
-      } else if (!g.node_ids.empty() && g.node_ids.back() == *id) {
+    bool ok = read_element_nodes(c, ckp, eid, g.node_ids);
+    for (size_t j = 1; ok && j < g.node_ids.size(); ++j)
+      if (g.node_ids[j] == g.node_ids[j - 1]) {
         error(c[j], ckp,
               fmt::format("node {} is repeated consecutively in the chain: a segment of zero "
                           "length",
-                          *id));
+                          g.node_ids[j]));
         ok = false;
       }
-      g.node_ids.push_back(*id);
-    }
     if (!element_ids_.insert(eid).second) {
       error(c, ckp, fmt::format("duplicate element id {}", eid));
       ok = false;

@@ -87,6 +87,8 @@ class Reader : public ReaderContext {
   // read_sections.cpp
   void parse_sections(const Node& ss);
   std::optional<SheetAxes> parse_axes(const Node& a, const std::string& p);
+  bool read_element_nodes(const Node& c, const std::string& ckp, long eid,
+                          std::vector<long>& nodes);
   void parse_sliding_cables(const Node& e, const std::string& set, const std::string& p,
                             long& next_id);
   void build_blocks(const std::string& set, const ElementSet& es, const MaterialDef& md,
