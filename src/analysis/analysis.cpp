@@ -356,6 +356,13 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
       result.loop.reason = std::move(off);
     }
   }
+  if (result.loop.completed)
+    for (const auto& term : sys.loads())
+      if (std::string wrong = term->end_check(warn); !wrong.empty()) {
+        result.loop.completed = false;
+        result.loop.reason = std::move(wrong);
+        break;
+      }
   result.solver = std::string(solver->name());  // what `auto` settled on
   result.factorizations = solver->factorizations();
   result.analyses = solver->analyses();

@@ -151,6 +151,24 @@ for kind in ("implicit", "explicit"):
     check(abs(e1 - e0) <= 0.05 * abs(e0 - float(rows[0]["se"])),
           f"F5 {kind}: energy within 5% ({e1 - e0:.3g} J)")
 
+# Contact not kept: a penalty far too soft lets the ball through the sheet; the run must not
+# end "converged" (exit 2, the contact named), and a mildly soft one warns in summary.json.
+for scale, through in ((1e-6, True), (0.05, False)):
+    m = copy.deepcopy(BASE)
+    m["contact"][0]["penalty_scale"] = scale
+    p, out, _ = run(f"soft_{scale:g}", m)
+    summary = json.load(open(os.path.join(out, "summary.json")))
+    if through:
+        check(p.returncode == 2 and "not kept" in p.stderr and summary["status"] == "failed",
+              f"penalty {scale:g}: the ball through the sheet fails (exit {p.returncode}, "
+              f"status {summary['status']}: {p.stderr.strip()[-200:]})")
+    else:
+        warned = any("penetrates" in w for w in summary.get("warnings", []))
+        kept = all(c.get("kept", True) for c in summary.get("contact", []))
+        check(p.returncode == 0 and (kept or warned),
+              f"penalty {scale:g}: converged, and warned where not kept (kept {kept}, "
+              f"warned {warned}, exit {p.returncode})")
+
 # Bad input: exit 1, the file, the line and the key named.
 BAD = [
     ("unknown_body", lambda m: m["contact"][0].update(surfaces=["sheet", "bal"]),

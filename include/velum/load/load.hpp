@@ -102,6 +102,11 @@ class LoadTerm {
   /// Its account for summary.json, a JSON object (a gas chamber's mass and energy balance
   /// since the start); empty when it keeps none.
   virtual std::string account_json() const { return {}; }
+  /// At the end of a completed run (a collective call on several processes): why its
+  /// answer is wrong, if it is (the run then fails), after telling `warn` what is doubtful.
+  virtual std::string end_check(const std::function<void(std::string)>& /*warn*/) const {
+    return {};
+  }
 
   /// A quantity of the output's history (gas_volume, gas_pressure) at the last add(); none
   /// when the load has no such quantity.
