@@ -6,6 +6,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "velum/parallel/processes.hpp"
+
 namespace velum {
 
 void shift_functions(Model& model, double t0) {
@@ -108,8 +110,9 @@ namespace {
 // The run of the steps: what goes on from one to the next.
 class StageRunner {
  public:
-  StageRunner(std::vector<AnalysisStep>& steps, Model& slot, const StageObserver& obs)
-      : steps_(steps), slot_(slot), obs_(obs) {
+  StageRunner(std::vector<AnalysisStep>& steps, const PreparedSteps& prepared, Model& slot,
+              const StageObserver& obs)
+      : steps_(steps), prepared_(prepared), slot_(slot), obs_(obs) {
     out_.steps.resize(steps.size());
   }
 
@@ -120,6 +123,11 @@ class StageRunner {
       StepOutcome& o = out_.steps[k];
       o.run = true;
       o.t_start = o.t_end = t_;
+      if (static_cast<int>(k) == prepared_.failed) {
+        out_.failed = static_cast<int>(k);
+        out_.reason = which + ": " + prepared_.reason;
+        return std::move(out_);
+      }
       try {
         if (!step(k, o)) {
           out_.failed = static_cast<int>(k);
@@ -140,10 +148,7 @@ class StageRunner {
   // Runs step k; false (reason_ set) when it fails.
   bool step(size_t k, StepOutcome& o) {
     AnalysisStep& step = steps_[k];
-    Model& m = step.model;
-    shift_functions(m, t_);
-    if (k > 0 && !step.loads_given) hold_loads(m, slot_, t_);
-    if (k > 0 && !step.boundary_given) hold_boundary(m, slot_, t_);
+    Model& m = step.model;  // prepared: in total time, with what it holds from the step before
     if (found_) {
       move_reference(m, *found_);
       // The motions held from form finding brought their nodes to the found shape: from it,
@@ -168,7 +173,12 @@ class StageRunner {
     State start;
     if (have_state_) {
       start = carry_in(sys, t_, carried_, reason_);
-      if (!reason_.empty()) return false;
+      // Several processes: each checks its piece's nodes, and all stop together.
+      if (!processes::all(reason_.empty())) {
+        if (reason_.empty())
+          reason_ = "a node of another process would jump at the start of the step";
+        return false;
+      }
     }
     if (obs_.begin) obs_.begin(static_cast<int>(k), sys);
     State last = start;
@@ -229,6 +239,7 @@ class StageRunner {
   }
 
   std::vector<AnalysisStep>& steps_;
+  const PreparedSteps& prepared_;
   Model& slot_;
   const StageObserver& obs_;
   StagedResult out_;
@@ -244,8 +255,33 @@ class StageRunner {
 
 }  // namespace
 
+PreparedSteps prepare_steps(std::vector<AnalysisStep>& steps) {
+  PreparedSteps out;
+  double t = 0;  // where step k starts
+  for (size_t k = 0; k < steps.size(); ++k) {
+    AnalysisStep& step = steps[k];
+    try {
+      shift_functions(step.model, t);
+      if (k > 0 && !step.loads_given) hold_loads(step.model, steps[k - 1].model, t);
+      if (k > 0 && !step.boundary_given) hold_boundary(step.model, steps[k - 1].model, t);
+    } catch (const std::exception& e) {  // lists that do not go on: the step fails there
+      out.failed = static_cast<int>(k);
+      out.reason = e.what();
+      return out;
+    }
+    t += step.analysis.time.t_end;
+  }
+  return out;
+}
+
+StagedResult run_stages(std::vector<AnalysisStep>& steps, const PreparedSteps& prepared,
+                        Model& slot, const StageObserver& obs) {
+  return StageRunner(steps, prepared, slot, obs).run();
+}
+
 StagedResult run_stages(std::vector<AnalysisStep>& steps, Model& slot, const StageObserver& obs) {
-  return StageRunner(steps, slot, obs).run();
+  const PreparedSteps prepared = prepare_steps(steps);
+  return StageRunner(steps, prepared, slot, obs).run();
 }
 
 }  // namespace velum

@@ -38,7 +38,26 @@ void element_graph(const Model& model, std::vector<long>& offsets, std::vector<l
 
 }  // namespace
 
-std::vector<int> share_model(Model& model, ElementPartition partition) {
+void add_equation_owners(MeshSharing& sharing, const Model& whole) {
+  if (processes::count() <= 1) return;
+  if (whole.piece) throw std::logic_error("add_equation_owners: the model is already a piece");
+  const DofMap dofs(whole);
+  const std::vector<long> start = dofs.row_start();
+  sharing.equation_owners.resize(static_cast<size_t>(whole.num_nodes()));
+  for (int n = 0; n < whole.num_nodes(); ++n)
+    for (int c = 0; c < 3; ++c)
+      if (const long g = dofs.global_equation(n, c); g >= 0) {
+        const int p =
+            static_cast<int>(std::upper_bound(start.begin(), start.end(), g) - start.begin()) - 1;
+        auto& owners = sharing.equation_owners[static_cast<size_t>(n)];
+        if (std::find(owners.begin(), owners.end(), p) == owners.end()) owners.push_back(p);
+      }
+}
+
+namespace {
+
+// share_model; `plan` null: this model alone.
+std::vector<int> share(Model& model, ElementPartition partition, MeshSharing* plan) {
   const int count = processes::count();
   if (count <= 1) return {};
   if (model.piece) throw std::logic_error("share_model: the model is already a piece");
@@ -57,7 +76,14 @@ std::vector<int> share_model(Model& model, ElementPartition partition) {
   // PT-Scotch on the element graph when asked for (a collective call); the row rule below
   // when it is not, or not available.
   std::vector<int> graph_part;
-  if (partition == ElementPartition::kScotch) {
+  const bool planned = plan && !plan->cell_owner.empty();
+  if (planned) {
+    if (plan->cell_owner.size() != static_cast<size_t>(model.num_elements()))
+      throw std::logic_error("share_model: the sharing is for another mesh");
+    graph_part = plan->cell_owner;
+    piece->partition = plan->partition;
+    piece->partition_note = plan->partition_note;
+  } else if (partition == ElementPartition::kScotch) {
     std::vector<long> offsets, adjacency;
     element_graph(model, offsets, adjacency);
     std::string why;
@@ -102,6 +128,20 @@ std::vector<int> share_model(Model& model, ElementPartition partition) {
       }
     }
   }
+  if (plan && !planned) {  // the first model of the sharing: its elements' processes for all
+    plan->partition = piece->partition;
+    plan->partition_note = piece->partition_note;
+    plan->cell_owner.clear();
+    for (const auto& bp : model.blocks)
+      for (int e = 0; e < bp->size(); ++e)
+        plan->cell_owner.push_back(graph_part.empty()
+                                       ? owner(*bp, e)
+                                       : graph_part[static_cast<size_t>(plan->cell_owner.size())]);
+  }
+  // Every model's equations' owners hold the node, so that the pieces agree (a staged run).
+  if (plan)
+    for (size_t n = 0; n < std::min(nn, plan->equation_owners.size()); ++n)
+      for (int p : plan->equation_owners[n]) hold(n, p);
   for (size_t n = 0; n < nn; ++n) {
     if (element_holder[n] == -1) hold(n, 0);
     for (int c = 0; c < 3; ++c)
@@ -171,6 +211,16 @@ std::vector<int> share_model(Model& model, ElementPartition partition) {
   for (auto& p : model.prescribed) restrict_nodes(p.nodes, local_of);
   model.piece = std::move(piece);
   return local_of;
+}
+
+}  // namespace
+
+std::vector<int> share_model(Model& model, ElementPartition partition) {
+  return share(model, partition, nullptr);
+}
+
+std::vector<int> share_model(Model& model, ElementPartition partition, MeshSharing& sharing) {
+  return share(model, partition, &sharing);
 }
 
 }  // namespace velum

@@ -6,10 +6,31 @@
 #include <algorithm>
 
 #include "run_parts.hpp"
+#include "velum/assembly/share_model.hpp"
 #include "velum/io/run_control.hpp"
 #include "velum/parallel/processes.hpp"
 
 namespace velum::run {
+namespace {
+
+// Under mpirun: the steps' models (prepared whole) and the first model cut to one piece each,
+// the same elements and nodes in every step; the history's nodes renumbered to the piece's.
+void share_steps(ModelInput& input) {
+  MeshSharing sharing;
+  add_equation_owners(sharing, input.model);
+  for (const AnalysisStep& s : input.steps) add_equation_owners(sharing, s.model);
+  const std::vector<int> local_of = share_model(input.model, input.analysis.partition, sharing);
+  for (AnalysisStep& s : input.steps) share_model(s.model, input.analysis.partition, sharing);
+  for (HistoryEntry& h : input.output.history) {
+    if (h.node >= 0) h.node = local_of[static_cast<size_t>(h.node)];
+    std::vector<int> nodes;
+    for (int n : h.nodes)
+      if (const int l = local_of[static_cast<size_t>(n)]; l >= 0) nodes.push_back(l);
+    h.nodes = std::move(nodes);
+  }
+}
+
+}  // namespace
 
 RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
   RunOutcome out;
@@ -24,28 +45,58 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
     return refuse(
         "--restart: a model with steps writes no checkpoints and cannot be restarted; run it "
         "again from the start");
-  if (processes::count() > 1) return refuse("steps: a model with steps runs on one process");
+  // Several processes (docs/parallel.md): each holds its piece of every step's model, the
+  // first alone writes and speaks.
+  const bool several = processes::count() > 1, writes = processes::rank() == 0;
+  if (several)
+    for (const AnalysisStep& s : input.steps)
+      if (s.analysis.solver != SolverKind::kPetsc)
+        return refuse(fmt::format(
+            "step '{}': analysis.linear_solver: a run on {} processes needs linear_solver: petsc",
+            s.name, processes::count()));
+  const PreparedSteps prepared = prepare_steps(input.steps);
+  const int all_nodes = input.model.num_nodes();
   std::optional<OutputLock> lock;
   std::unique_ptr<ResultsWriter> writer;
   {
     std::unique_ptr<MechanicalSystem> first;  // the writer's until the first step begins
     try {
+      if (several) share_steps(input);
       first = std::make_unique<MechanicalSystem>(input.model);
     } catch (const std::exception& e) {
       return refuse(e.what());
     }
-    if (!open_results(input, *first, input.output.directory, std::nullopt, out, lock, writer))
+    if (writes &&
+        !open_results(input, *first, input.output.directory, std::nullopt, out, lock, writer)) {
+      processes::all(false);
       return out;
+    }
+    if (!processes::all(true)) {  // the first process could not open its results
+      out.status = kExitIo;
+      return out;
+    }
+    // Another process's writer: its part of the history's values and its pieces of the frames.
+    if (!writes) try {
+        writer = std::make_unique<ResultsWriter>(input, *first, input.output.directory, nullptr);
+      } catch (const OutputError& e) {
+        out.status = kExitIo;
+        out.errors.push_back(e.what());
+        return out;
+      }
   }
   const int n = static_cast<int>(input.steps.size());
   if (!opt.quiet)
-    say(stderr, "velum: {} nodes, {} elements, {} analysis steps; results in {}\n",
-        input.model.num_nodes(), input.model.num_elements(), n, out.directory.string());
+    say(stderr, "velum: {} nodes, {} elements, {} analysis steps; results in {}\n", all_nodes,
+        input.model.num_elements(), n, out.directory.string());
   RunSummary& summary = out.summary;
   summary.elements = input.model.num_elements();
-  // SIGINT, SIGTERM inside the loops that may run long (one process: run_staged refuses more).
+  // SIGINT, SIGTERM inside the loops that may run long: under mpirun every process asks at
+  // the same points, and all stop together.
   for (AnalysisStep& s : input.steps)
-    s.analysis.newton.interrupted = [] { return InterruptGuard::signal_received() != 0; };
+    s.analysis.newton.interrupted = [several] {
+      const bool mine = InterruptGuard::signal_received() != 0;
+      return several ? !processes::all(!mine) : mine;
+    };
   summary.warnings = input.warnings;  // the reader's (not printed under --quiet)
   StageObserver obs;
   obs.begin = [&](int k, MechanicalSystem& sys) {
@@ -58,20 +109,36 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
   };
   std::exception_ptr output_failure;  // an OutputError, carried out of the analysis
   obs.step = [&](int, const StepSnapshot& snap) {
+    bool written = true;
     try {
-      writer->write_step(snap.step);
+      // Under mpirun write() is a collective call: every process makes it, even the first
+      // after failing to write steps.csv (the failure is raised after it).
+      std::exception_ptr steps_failure;
+      try {
+        writer->write_step(snap.step);
+      } catch (const OutputError&) {
+        if (!several) throw;
+        steps_failure = std::current_exception();
+      }
       if (snap.step.output_time) writer->write(snap);
+      if (steps_failure) std::rethrow_exception(steps_failure);
     } catch (const OutputError&) {
       output_failure = std::current_exception();
-      return false;
+      written = false;
     }
     summary.final_time = snap.step.t;
-    return (!opt.on_step || opt.on_step(snap.step)) && InterruptGuard::signal_received() == 0;
+    const bool go = written && (!opt.on_step || opt.on_step(snap.step)) &&
+                    InterruptGuard::signal_received() == 0;
+    return several ? processes::all(go) : go;
   };
   obs.warn = [&](const std::string& w) {
     if (!opt.quiet) say(stderr, "warning: {}\n", w);
   };
-  const StagedResult r = run_stages(input.steps, input.model, obs);
+  const StagedResult r = run_stages(input.steps, prepared, input.model, obs);
+  if (!writes) {  // the first process reports the run
+    if (!r.completed) out.status = kExitSolveFailed;
+    return out;
+  }
   if (output_failure) try {
       std::rethrow_exception(output_failure);
     } catch (const OutputError& e) {

@@ -6,8 +6,9 @@
 // account); a form-finding step instead ends by making the found shape, with its prestress,
 // the reference of the steps after it (displacements and the energy account start again from
 // zero there). Loads and boundary conditions a step does not give go on from the step before,
-// each held at the value it had reached (Abaqus's propagation). A model with steps runs on one
-// process (run/staged_run.cpp refuses more): the state goes on as whole nodal arrays.
+// each held at the value it had reached (Abaqus's propagation). On several processes every
+// step's model is cut to the same piece (assembly/share_model.hpp, MeshSharing): the same
+// elements and nodes in every step, so that the state goes on node by node.
 #pragma once
 
 #include <functional>
@@ -57,9 +58,22 @@ struct StageObserver {
   std::function<void(const std::string&)> warn;
 };
 
-/// Runs the steps in order in `slot`, into which each step's model is moved when it begins
-/// (so that whoever holds `slot` sees the model being solved). Stops at the first step that
-/// fails. Throws std::invalid_argument for a step whose model cannot be set up.
+/// The steps' models made ready, in order, before any of them runs: time functions in total
+/// time (each step starts where the ones before it end) and the loads and motions a step does
+/// not give held from the step before. What cannot be made ready fails that step when it is
+/// reached (failed: its index, -1 none).
+struct PreparedSteps {
+  int failed = -1;
+  std::string reason;
+};
+PreparedSteps prepare_steps(std::vector<AnalysisStep>& steps);
+
+/// Runs the prepared steps in order in `slot`, into which each step's model is moved when it
+/// begins (so that whoever holds `slot` sees the model being solved). Stops at the first step
+/// that fails. Throws std::invalid_argument for a step whose model cannot be set up.
+StagedResult run_stages(std::vector<AnalysisStep>& steps, const PreparedSteps& prepared,
+                        Model& slot, const StageObserver& obs);
+/// prepare_steps, then run_stages.
 StagedResult run_stages(std::vector<AnalysisStep>& steps, Model& slot, const StageObserver& obs);
 
 // The parts of run_stages, for tests.
