@@ -56,18 +56,34 @@ class CheckpointSchedule {
 // nodes renumbered to the piece's (-1, or left out of a reaction's list: another process's).
 void share_out(ModelInput& input) {
   const std::vector<int> local_of = share_model(input.model, input.analysis.partition);
-  for (HistoryEntry& h : input.output.history) {
+  renumber_history(input.output.history, local_of);
+  if (PathSettings& path = input.analysis.path; path.node >= 0)
+    path.node = local_of[static_cast<size_t>(path.node)];
+}
+
+}  // namespace
+
+void renumber_history(std::vector<HistoryEntry>& history, const std::vector<int>& local_of) {
+  for (HistoryEntry& h : history) {
     if (h.node >= 0) h.node = local_of[static_cast<size_t>(h.node)];
     std::vector<int> nodes;
     for (int n : h.nodes)
       if (const int l = local_of[static_cast<size_t>(n)]; l >= 0) nodes.push_back(l);
     h.nodes = std::move(nodes);
   }
-  if (PathSettings& path = input.analysis.path; path.node >= 0)
-    path.node = local_of[static_cast<size_t>(path.node)];
 }
 
-}  // namespace
+void write_step_output(ResultsWriter& writer, const StepSnapshot& snap, bool several) {
+  std::exception_ptr steps_failure;
+  try {
+    writer.write_step(snap.step);
+  } catch (const OutputError&) {
+    if (!several) throw;
+    steps_failure = std::current_exception();
+  }
+  if (snap.step.output_time) writer.write(snap);
+  if (steps_failure) std::rethrow_exception(steps_failure);
+}
 
 RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   RunOutcome out;
@@ -197,17 +213,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     const auto observe = [&](const StepSnapshot& snap) {
       bool written = true;
       if (writer) try {
-          // Under mpirun write() is a collective call: every process makes it, even the first
-          // after failing to write steps.csv (the failure is raised after it).
-          std::exception_ptr steps_failure;
-          try {
-            writer->write_step(snap.step);
-          } catch (const OutputError&) {
-            if (!several) throw;
-            steps_failure = std::current_exception();
-          }
-          if (snap.step.output_time) writer->write(snap);
-          if (steps_failure) std::rethrow_exception(steps_failure);
+          write_step_output(*writer, snap, several);
           // Made on every process (the state is gathered to the first), written by the first.
           if (snap.checkpoint && checkpoints.due(snap.step)) {
             Checkpoint c = (*snap.checkpoint)();

@@ -27,6 +27,15 @@ bool open_results(const ModelInput& input, MechanicalSystem& system,
                   RunOutcome& out, std::optional<OutputLock>& lock,
                   std::unique_ptr<ResultsWriter>& writer);
 
+/// Under mpirun: the history's nodes renumbered to the piece's (local_of: share_model's), -1
+/// or left out of a reaction's list where another process holds them.
+void renumber_history(std::vector<HistoryEntry>& history, const std::vector<int>& local_of);
+
+/// Writes the step's line and, at an output time, its frame and history row. Under mpirun
+/// (`several`) write() is a collective call every process makes, even the first after failing
+/// to write steps.csv: that failure is raised after it. Throws OutputError.
+void write_step_output(ResultsWriter& writer, const StepSnapshot& snap, bool several);
+
 /// Writes DIR/checkpoint.bin (restart.cpp). Throws OutputError.
 void save_checkpoint(const ResultsWriter& writer, const ModelInput& input, int dofs,
                      Checkpoint run);

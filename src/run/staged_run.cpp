@@ -21,13 +21,7 @@ void share_steps(ModelInput& input) {
   for (const AnalysisStep& s : input.steps) add_equation_owners(sharing, s.model);
   const std::vector<int> local_of = share_model(input.model, input.analysis.partition, sharing);
   for (AnalysisStep& s : input.steps) share_model(s.model, input.analysis.partition, sharing);
-  for (HistoryEntry& h : input.output.history) {
-    if (h.node >= 0) h.node = local_of[static_cast<size_t>(h.node)];
-    std::vector<int> nodes;
-    for (int n : h.nodes)
-      if (const int l = local_of[static_cast<size_t>(n)]; l >= 0) nodes.push_back(l);
-    h.nodes = std::move(nodes);
-  }
+  renumber_history(input.output.history, local_of);
 }
 
 }  // namespace
@@ -111,17 +105,7 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
   obs.step = [&](int, const StepSnapshot& snap) {
     bool written = true;
     try {
-      // Under mpirun write() is a collective call: every process makes it, even the first
-      // after failing to write steps.csv (the failure is raised after it).
-      std::exception_ptr steps_failure;
-      try {
-        writer->write_step(snap.step);
-      } catch (const OutputError&) {
-        if (!several) throw;
-        steps_failure = std::current_exception();
-      }
-      if (snap.step.output_time) writer->write(snap);
-      if (steps_failure) std::rethrow_exception(steps_failure);
+      write_step_output(*writer, snap, several);
     } catch (const OutputError&) {
       output_failure = std::current_exception();
       written = false;
