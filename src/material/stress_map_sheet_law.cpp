@@ -62,6 +62,21 @@ StressMapSheetLaw::StressMapSheetLaw(std::string name, StressMapData data)
   }
   S11_ = make_field(d.S11);
   S22_ = make_field(d.S22);
+  // An unloading line no steeper than the map would rise above it below the turning point
+  // (a cycle giving back more work than it took): each modulus at least the steepest slope of
+  // its stress along its own strain at the grid points, where the map also extrapolates.
+  for (int c = 0; c < 2; ++c) {
+    const double K = d.unloading[c];
+    if (K == 0) continue;
+    if (!(K > 0)) fail(fmt::format("the unloading modulus must be positive (got {})", K));
+    const auto& slopes = c == 0 ? S11_.fx : S22_.fy;
+    const double steepest = *std::max_element(slopes.begin(), slopes.end());
+    if (K < steepest)
+      fail(fmt::format(
+          "the {} unloading modulus {} is below the map's steepest slope d{}/d{} = "
+          "{:.6g}: unloading must not be softer than loading",
+          c == 0 ? "warp" : "fill", K, c == 0 ? "S11" : "S22", c == 0 ? "E11" : "E22", steepest));
+  }
   SheetResponse r;
   evaluate(Vec3::Zero(), r);
   C0_ = r.C;
@@ -136,18 +151,42 @@ void StressMapSheetLaw::evaluate(const Vec3& E, SheetResponse& out) const {
   out.angle = 0;
 }
 
-void StressMapSheetLaw::evaluate(const Vec3& E, std::span<const double>, SheetResponse& out) const {
+void StressMapSheetLaw::evaluate(const Vec3& E, std::span<const double> h,
+                                 SheetResponse& out) const {
   evaluate(E, out);
+  if (h.empty()) return;
+  // Below the largest strain reached in a direction, that direction's stress follows the line
+  // of the unloading modulus from the map's value there (at the other strain as it is now).
+  for (int c = 0; c < 2; ++c) {
+    const double K = data_.unloading[c];
+    if (!(K > 0) || !(h[c] > 0) || !(E[c] < h[c])) continue;
+    Vec3 Et = E;
+    Et[c] = h[c];
+    SheetResponse turn;
+    evaluate(Et, turn);
+    out.S[c] = turn.S[c] - K * (h[c] - E[c]);
+    out.C(c, c) = K;
+    out.C(c, 1 - c) = turn.C(c, 1 - c);
+  }
 }
 
-double StressMapSheetLaw::energy(const Vec3& E, std::span<const double>) const {
+void StressMapSheetLaw::initial_state(std::span<double> h) const {
+  for (double& v : h) v = 0;
+}
+
+void StressMapSheetLaw::update_state(const Vec3& E, std::span<double> h) const {
+  h[0] = std::max(h[0], E[0]);
+  h[1] = std::max(h[1], E[1]);
+}
+
+double StressMapSheetLaw::energy(const Vec3& E, std::span<const double> h) const {
   // Three-point Gauss on t in [0, 1] of S(t E) · E.
   static constexpr double kT[3] = {0.1127016653792583, 0.5, 0.8872983346207417};
   static constexpr double kW[3] = {5.0 / 18, 8.0 / 18, 5.0 / 18};
   double W = 0;
   SheetResponse r;
   for (int q = 0; q < 3; ++q) {
-    evaluate(kT[q] * E, r);
+    evaluate(kT[q] * E, h, r);
     W += kW[q] * r.S.dot(E);
   }
   return W;

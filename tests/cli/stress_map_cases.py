@@ -2,7 +2,9 @@
 """The stress-map sheet law through the command line (docs/materials.md, "Stress maps"): a
 square sheet under a biaxial dead load whose material is a grid CSV tabulated from a stiffening
 fabric law converges by Newton in a few iterations per step, to the homogeneous state where
-lambda_i S_ii(E11, E22) t = the edge load; bad grid files are rejected naming file, line and key.
+lambda_i S_ii(E11, E22) t = the edge load; with an unloading modulus, loaded and unloaded, it
+keeps the strains of the unloading lines' closed form; bad grid files and moduli are rejected
+naming file, line and key.
 
 usage: stress_map_cases.py VELUM WORK_DIR
 """
@@ -119,6 +121,44 @@ if p.returncode == 0:
     print(f"E11 = {E1:.5f}, E22 = {E2:.5f}: lambda S against the load, {r1:.2e}, {r2:.2e}")
     check(abs(r1) < 2e-3 and abs(r2) < 2e-3, f"biaxial: equilibrium off by {r1}, {r2}")
     check(E1 > 0.01 and E2 > 0.01, f"biaxial: strains {E1}, {E2} too small to test the map")
+
+# --- Unloading modulus: loaded to the same state, unloaded to zero load along the lines of
+# slope K from the largest strains, S_ii = S_ii(map at E_ii = max) - K (max - E_ii) = 0: the
+# strains left against that closed form (the map at the other strain as it is). ---
+K = 3000.0  # above the grid's steepest slopes, 910 (warp) and 1030 (fill)
+cycle = model(extra={"unloading_modulus": [K, K]})
+cycle["functions"] = {"ramp": {"type": "table", "points": [[0, 0], [1, 1], [2, 0]]}}
+cycle["analysis"]["time"] = {"end": 2.0, "step": 0.25}
+p, out = run("unloading", cycle)
+check(p.returncode == 0, f"unloading: exit {p.returncode}: {p.stdout}{p.stderr}")
+if p.returncode == 0:
+    rows = {float(r["time"]): r for r in csv.DictReader(open(os.path.join(out, "history.csv")))}
+    def green(u):
+        return ((1 + float(u)) ** 2 - 1) / 2
+    m1, m2 = green(rows[1.0]["ux"]), green(rows[1.0]["uy"])
+    E1, E2 = green(rows[2.0]["ux"]), green(rows[2.0]["uy"])
+    # Newton on the two lines' roots (the polynomial the grid tabulates stands for the map).
+    e1, e2 = m1, m2
+    for _ in range(30):
+        f1, f2 = s11(m1, e2) - K * (m1 - e1), s22(e1, m2) - K * (m2 - e2)
+        d12 = 150 + 8000 * m1 * e2
+        d21 = 150 + 6000 * e1 * m2
+        det = K * K - d12 * d21
+        e1, e2 = e1 - (K * f1 - d12 * f2) / det, e2 - (K * f2 - d21 * f1) / det
+    print(f"unloading: peak E = ({m1:.5f}, {m2:.5f}), left ({E1:.6f}, {E2:.6f}), closed form "
+          f"({e1:.6f}, {e2:.6f})")
+    check(0 < E1 < m1 and 0 < E2 < m2, f"unloading: strains left {E1}, {E2}")
+    check(abs(E1 - e1) < 1e-3 * m1 and abs(E2 - e2) < 1e-3 * m2,
+          f"unloading: strains left ({E1}, {E2}) against ({e1}, {e2})")
+    check(rows[1.0]["ux"] == list(csv.DictReader(open(os.path.join(WORK, "biaxial",
+                                                                   "history.csv"))))[-1]["ux"],
+          "unloading: loading as without the modulus")
+for name, K_bad, phrase in [("soft", [500, K], "warp unloading modulus 500 is below the map's "
+                             "steepest slope"),
+                            ("negative", -1, "must not be negative")]:
+    p, _ = run(name, model(extra={"unloading_modulus": K_bad}))
+    check(p.returncode == 1 and "materials.fab.unloading_modulus" in p.stderr and
+          phrase in p.stderr, f"{name}: {p.returncode} {p.stderr}")
 
 # --- Bad grid files: file, line and key named; exit 1. ---
 good = grid_rows()

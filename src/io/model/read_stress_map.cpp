@@ -7,7 +7,9 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <string_view>
 
 #include "velum/material/stress_map_sheet_law.hpp"
 
@@ -228,7 +230,7 @@ bool read_shear(ReaderContext& r, const std::string& file, const std::string& ke
 
 std::optional<SheetLaw> parse_stress_map(ReaderContext& r, const Node& m, const std::string& name,
                                          const std::string& p) {
-  r.check_map(m, p, {"type", "map", "shear", "G12", "density"});
+  r.check_map(m, p, {"type", "map", "shear", "G12", "unloading_modulus", "density"});
   const auto file = [&](const char* key) -> std::optional<std::string> {
     auto f = r.text(m, key, p, false);
     if (!f) return std::nullopt;
@@ -257,11 +259,36 @@ std::optional<SheetLaw> parse_stress_map(ReaderContext& r, const Node& m, const 
   } else {
     ok = false;
   }
+  const bool has_unloading = r.has(m, "unloading_modulus");
+  if (has_unloading) {
+    // [warp, fill], 0 where that direction unloads along the map; one number for both.
+    const Node u = m["unloading_modulus"];
+    const std::string up = ReaderContext::sub(p, "unloading_modulus");
+    const bool pair = u.IsSequence() && u.size() == 2;
+    if (!pair && !u.IsScalar()) {
+      r.error(u, up, "expected [warp, fill] unloading moduli (or one number for both)");
+      return std::nullopt;
+    }
+    for (int c = 0; c < 2; ++c) {
+      const auto K = r.number(pair ? u[static_cast<size_t>(c)] : u, up);
+      if (!K) return std::nullopt;
+      if (*K < 0) {
+        r.error(u, up, fmt::format("an unloading modulus must not be negative (got {})", *K));
+        return std::nullopt;
+      }
+      d.unloading[c] = *K;
+    }
+  }
   if (!ok) return std::nullopt;
   try {
     return SheetLaw(StressMapSheetLaw(name, std::move(d)));
   } catch (const MaterialError& e) {
-    r.error(m["map"], ReaderContext::sub(p, "map"), e.what());
+    // The unloading moduli are checked against the map; such a problem is the moduli's key's.
+    const char* key =
+        std::string_view(e.what()).find("unloading") != std::string_view::npos && has_unloading
+            ? "unloading_modulus"
+            : "map";
+    r.error(m[key], ReaderContext::sub(p, key), e.what());
   }
   return std::nullopt;
 }
