@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "velum/material/compressible_sheet_law.hpp"
 #include "velum/material/incompressible_sheet_law.hpp"
 #include "velum/material/plastic_sheet_law.hpp"
 
@@ -133,9 +134,22 @@ std::optional<SheetLaw> matrix(ReaderContext& r, const Node& m, const std::strin
 // stability reported on the key that breaks it.
 std::optional<SheetLaw> neo_hookean(ReaderContext& r, const Node& m, const std::string& name,
                                     const std::string& p) {
-  r.check_map(m, p, {"type", "mu", "density"});
-  if (auto mu = r.positive(m, "mu", p, true, "the shear modulus mu"))
-    return SheetLaw(IncompressibleSheetLaw::neo_hookean(name, *mu));
+  r.check_map(m, p, {"type", "mu", "nu", "density"});
+  auto mu = r.positive(m, "mu", p, true, "the shear modulus mu");
+  if (!r.has(m, "nu")) {
+    if (mu) return SheetLaw(IncompressibleSheetLaw::neo_hookean(name, *mu));
+    return std::nullopt;
+  }
+  // With Poisson's ratio the sheet is compressible (compressible_sheet_law.hpp).
+  auto nu = r.number(m, "nu", p, true);
+  if (nu && !(*nu > -1 && *nu < 0.5)) {
+    r.error(m["nu"], ReaderContext::sub(p, "nu"),
+            fmt::format("Poisson's ratio must lie in (-1, 0.5) for a compressible sheet (got "
+                        "{}; leave nu out for the incompressible one)",
+                        *nu));
+    return std::nullopt;
+  }
+  if (mu && nu) return SheetLaw(CompressibleSheetLaw::neo_hookean(name, *mu, *nu));
   return std::nullopt;
 }
 
