@@ -1,11 +1,12 @@
 // Sheet-law throughput in the element kernel (issue 43): Membrane<Quad4>::force and
 // ::force_tangent with each law, items_per_second counting integration points: the linear
 // anisotropic law on its fast path (D precomputed), the same with wrinkling (evaluated at each
-// point), neo-Hookean and Mooney-Rivlin (with and without wrinkling) and the elastic-plastic
-// ETFE law (a history per point, in a plastic state). The same deformed element as
-// kernels_bench.cpp, scaled so that every law is at a finite stretch. And the blocks' pass
-// over a 100 x 100 quad4 sheet with the linear law (the fast path through the block, where
-// laws with history added a per-element policy), points per second.
+// point), neo-Hookean and Mooney-Rivlin (with and without wrinkling), the elastic-plastic
+// ETFE law (a history per point, in a plastic state), the compressible neo-Hookean sheet (a
+// scalar Newton per point) and a stress map with an unloading modulus (unloading points). The same
+// deformed element as kernels_bench.cpp, scaled so that every law is at a finite stretch. And the
+// blocks' pass over a 100 x 100 quad4 sheet with the linear law (the fast path through the block,
+// where laws with history added a per-element policy), points per second.
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Geometry>
@@ -13,8 +14,10 @@
 #include <vector>
 
 #include "velum/element/membrane.hpp"
+#include "velum/material/compressible_sheet_law.hpp"
 #include "velum/material/incompressible_sheet_law.hpp"
 #include "velum/material/plastic_sheet_law.hpp"
+#include "velum/material/stress_map_sheet_law.hpp"
 #include "velum/model/element_block.hpp"
 
 namespace {
@@ -27,6 +30,20 @@ PlaneStressLaw linear_law() {
   AnisotropicConstants c;
   c.E1 = 2000, c.E2 = 1000, c.nu12 = 0.3, c.G12 = 400, c.eta1 = 0.25, c.eta2 = -0.15;
   return PlaneStressLaw::anisotropic("bench", c);
+}
+
+/// A stiffening fabric map on an 11 x 11 grid, unloading at a modulus above its slopes.
+StressMapSheetLaw unloading_map() {
+  StressMapData d;
+  for (int k = -2; k <= 8; ++k) d.e1.push_back(0.05 * k), d.e2.push_back(0.05 * k);
+  for (double e2 : d.e2)
+    for (double e1 : d.e1) {
+      d.S11.push_back(2000 * e1 + 300 * e2 + 5e4 * e1 * e1 * e1);
+      d.S22.push_back(300 * e1 + 1000 * e2 + 5e4 * e2 * e2 * e2);
+    }
+  d.G12 = 400;
+  d.unloading[0] = d.unloading[1] = 1e5;
+  return {"map", d};
 }
 
 /// The laws by index (the benchmark's argument), and whether the linear fast path applies.
@@ -45,10 +62,21 @@ SheetLaw law_of(int k) {
       return SheetLaw(IncompressibleSheetLaw::mooney_rivlin("mr", 150, 15)).with_wrinkling();
     case 5:
       return SheetLaw(PlasticSheetLaw::bilinear("etfe", 1100, 0.45, 16, 60));
+    case 6:
+      return SheetLaw(CompressibleSheetLaw::neo_hookean("cnh", 300, 0.3));
+    case 7:
+      return SheetLaw(unloading_map());
   }
 }
-const char* kNames[] = {"linear (fast path)", "linear, wrinkling",        "neo_hookean",
-                        "mooney_rivlin",      "mooney_rivlin, wrinkling", "elastoplastic"};
+const char* kNames[] = {"linear (fast path)",
+                        "linear, wrinkling",
+                        "neo_hookean",
+                        "mooney_rivlin",
+                        "mooney_rivlin, wrinkling",
+                        "elastoplastic",
+                        "neo_hookean, compressible",
+                        "stress_map, unloading"};
+constexpr int kLaws = 8;
 
 struct Case {
   M::Points pts;
@@ -72,9 +100,11 @@ struct Case {
     F << 1.3, 0.05, 0.0, -0.03, 0.8, 0.0, 0.02, 0.04, 1.0;
     x = Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()).toRotationMatrix() * F * X;
     history.assign(static_cast<size_t>(Shape::kPoints * law.state_size()), 0.0);
-    // The plastic law: a history from a step just short of this state, so the points yield.
+    // The plastic law: a history from a step just short of this state, so the points yield;
+    // the stress map: from a larger one, so that they unload.
+    const double s = k == 7 ? 1.05 : 0.98;
     for (int q = 0; q < Shape::kPoints && law.state_size() > 0; ++q) {
-      const Eigen::Matrix<double, 3, 2> g = (0.98 * x + 0.02 * X) * pts.shapes->dN[q];
+      const Eigen::Matrix<double, 3, 2> g = (s * x + (1 - s) * X) * pts.shapes->dN[q];
       const Vec3 E = sheet_strain_map(pts[q].T) * M::strain(pts[q], g);
       law.base().update_state(E, std::span<double>(history.data() + q * law.state_size(),
                                                    static_cast<size_t>(law.state_size())));
@@ -117,8 +147,8 @@ void BM_SheetLawKernel(benchmark::State& state) {
     run<kTangent>(state, c, LawPoints{&c.law});
   }
 }
-BENCHMARK(BM_SheetLawKernel<false>)->Name("BM_SheetLawForce")->DenseRange(0, 5);
-BENCHMARK(BM_SheetLawKernel<true>)->Name("BM_SheetLawForceTangent")->DenseRange(0, 5);
+BENCHMARK(BM_SheetLawKernel<false>)->Name("BM_SheetLawForce")->DenseRange(0, kLaws - 1);
+BENCHMARK(BM_SheetLawKernel<true>)->Name("BM_SheetLawForceTangent")->DenseRange(0, kLaws - 1);
 
 // The block's pass (ElementBlock::internal) over an n x n quad4 sheet with the linear law.
 void BM_LinearBlockPass(benchmark::State& state) {
