@@ -7,6 +7,7 @@
 #include "velum/io/run_control.hpp"
 #include "velum/parallel/processes.hpp"
 #include "velum/run/commands.hpp"
+#include "velum/run/fit_command.hpp"
 #include "velum/run/pattern_command.hpp"
 #include "velum/run/plot_command.hpp"
 #include "velum/solve/blas_kernels.hpp"
@@ -62,6 +63,13 @@ int main(int argc, char** argv) {
       "columns (velum plot --help for the options)");
   plot_cmd->prefix_command();
   plot_cmd->set_help_flag();
+  // Everything after `fit` goes to the Python module velum.fit, which documents its options.
+  auto* fit_cmd = app.add_subcommand(
+      "fit",
+      "Fit a linear orthotropic law and a stress map to biaxial tests (velum fit --help for "
+      "the options)");
+  fit_cmd->prefix_command();
+  fit_cmd->set_help_flag();
   std::filesystem::path import_deck, import_output;
   auto* import_cmd = app.add_subcommand(
       "import", "Write an Abaqus/CalculiX input deck (.inp) as a Velum model file");
@@ -90,6 +98,7 @@ int main(int argc, char** argv) {
       return velum::run::run_command(run);
     }
     if (plot_cmd->parsed()) return velum::run::plot_command(plot_cmd->remaining());
+    if (fit_cmd->parsed()) return velum::run::fit_command(fit_cmd->remaining());
     if (import_cmd->parsed()) return velum::run::import_command(import_deck, import_output);
     if (pattern_cmd->parsed()) return velum::run::pattern_command(pattern_input, pattern_output);
     return velum::run::check_command(check_model);

@@ -336,7 +336,8 @@ def fit(biaxial, shear=None, name="fabric", out=".", degree=3, points=10, green=
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python3 -m velum.fit", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(prog=os.environ.get("VELUM_FIT_PROG", "python3 -m velum.fit"),
+                                 description=__doc__.split("\n\n")[0])
     ap.add_argument("biaxial", help="CSV: ratio,strain_warp,strain_fill,stress_warp,stress_fill")
     ap.add_argument("--shear", help="CSV: shear_strain,shear_stress (gamma = 2 E12)")
     ap.add_argument("--name", default="fabric", help="material name (and file prefix)")

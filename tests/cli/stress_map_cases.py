@@ -195,5 +195,25 @@ check(p.returncode == 1 and "nowhere.csv" in p.stderr and "cannot open" in p.std
 p, _ = run("both", model(extra={"shear": "s.csv"}))
 check(p.returncode == 1 and "either `shear: FILE.csv` or `G12" in p.stderr, f"both: {p.stderr}")
 
+# --- `velum fit`: the Python module velum.fit behind the command line. ---
+with open(os.path.join(WORK, "biaxial.csv"), "w") as f:
+    f.write("ratio,strain_warp,strain_fill,stress_warp,stress_fill\n")
+    for ratio, (w, fl) in {"1:1": (1, 1), "2:1": (2, 1), "1:2": (1, 2), "1:0": (1, 0),
+                           "0:1": (0, 1)}.items():
+        for k in range(1, 9):  # an orthotropic law's strains under stresses in that ratio
+            s1, s2 = 2.0 * k * w, 2.0 * k * fl
+            f.write(f"{ratio},{s1 / 600 - 0.3 * s2 / 600!r},{-0.3 * s1 / 600 + s2 / 400!r},"
+                    f"{s1!r},{s2!r}\n")
+p = subprocess.run([VELUM, "fit", "biaxial.csv", "--green", "--name", "tab", "--no-png"],
+                   cwd=WORK, capture_output=True, text=True)
+check(p.returncode == 0 and "type: orthotropic" in p.stdout and "E1: 600" in p.stdout and
+      os.path.isfile(os.path.join(WORK, "tab-map.csv")),
+      f"velum fit: exit {p.returncode}: {p.stdout[:400]}{p.stderr}")
+with open(os.path.join(WORK, "badfit.csv"), "w") as f:
+    f.write("ratio,strain_warp,strain_fill,stress_warp,stress_fill\n1:1,0.01,x,1,1\n")
+p = subprocess.run([VELUM, "fit", "badfit.csv"], cwd=WORK, capture_output=True, text=True)
+check(p.returncode == 1 and "badfit.csv:2: strain_fill" in p.stderr,
+      f"velum fit, bad CSV: exit {p.returncode}: {p.stderr}")
+
 print("failures:", len(failures))
 sys.exit(1 if failures else 0)
