@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "contact_law.hpp"
+#include "sheet_contact.hpp"
 #include "velum/assembly/assembler.hpp"
 #include "velum/load/contact_load.hpp"
 #include "velum/model/model.hpp"
@@ -381,6 +382,7 @@ std::unique_ptr<LoadTerm> Contact::bind(const LoadSite& site) const {
 
 std::unique_ptr<Load> make_load(ContactLoad p) {
   if (p.friction < 0) throw std::invalid_argument("a friction coefficient below 0");
+  if (p.self || !p.other.empty()) return make_sheet_contact(std::move(p));
   return std::make_unique<Contact>(std::move(p));
 }
 

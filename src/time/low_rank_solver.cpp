@@ -8,13 +8,19 @@ bool LowRankCorrectedSolver::factorize(const SparseMatrix& A) {
   singular_capacitance_ = false;
   if (!sparse_.refactorize(A)) return false;
   const LowRankJacobian& L = sys_.jacobian_low_rank();
-  const Eigen::Index k = L.U.cols();
+  // Only the columns in use (a contact's columns are zero where it has no pair): a zero
+  // column adds nothing to U Wᵀ, and leaving it out saves its solve and its capacitance row.
+  Eigen::Index k = 0;
+  for (Eigen::Index j = 0; j < L.U.cols(); ++j)
+    if (!L.U.col(j).isZero(0) && !L.W.col(j).isZero(0)) ++k;
   Z_.resize(A.rows(), k);
-  W_ = L.W;
+  W_.resize(A.rows(), k);
   VecX z;
-  for (Eigen::Index j = 0; j < k; ++j) {
+  for (Eigen::Index j = 0, c = 0; j < L.U.cols(); ++j) {
+    if (L.U.col(j).isZero(0) || L.W.col(j).isZero(0)) continue;
     if (!sparse_.solve(L.U.col(j), z)) return false;
-    Z_.col(j) = z;
+    Z_.col(c) = z;
+    W_.col(c++) = L.W.col(j);
   }
   if (k == 0) return true;
   const MatX C = MatX::Identity(k, k) + sys_.transposed_product(W_, Z_);

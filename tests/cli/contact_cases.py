@@ -169,6 +169,16 @@ for scale, through in ((1e-6, True), (0.05, False)):
               f"penalty {scale:g}: converged, and warned where not kept (kept {kept}, "
               f"warned {warned}, exit {p.returncode})")
 
+# Self contact through the command line: a flat sheet pushed by the sphere has no fold, so
+# the entry finds no pair; it runs, and summary.json describes it.
+m = copy.deepcopy(BASE)
+m["contact"].append({"surfaces": ["sheet"], "self": True, "relax_steps": 2})
+p, out, _ = run("self_contact", m)
+summary = json.load(open(os.path.join(out, "summary.json"))) if p.returncode == 0 else {}
+entries = [c for c in summary.get("contact", []) if c.get("self")]
+check(p.returncode == 0 and len(entries) == 1 and entries[0]["initial_penetrations"] == 0,
+      f"self contact runs (exit {p.returncode}: {p.stderr.strip()[-200:]}; {entries})")
+
 # Bad input: exit 1, the file, the line and the key named.
 BAD = [
     ("unknown_body", lambda m: m["contact"][0].update(surfaces=["sheet", "bal"]),
@@ -197,6 +207,15 @@ BAD = [
     ("history_body", lambda m: m["output"]["history"][0].update(body="wall"),
      "undefined rigid body 'wall'", "output.history[0].body"),
     ("bad_key", lambda m: m["contact"][0].update(frition=0.2), "frition", "contact[0]"),
+    ("self_two_surfaces", lambda m: m["contact"][0].update(self=True),
+     "self contact takes one element set", "contact[0].surfaces"),
+    ("one_set_without_self", lambda m: m["contact"][0].update(surfaces=["sheet"]),
+     "needs self: true", "contact[0].surfaces"),
+    ("sheet_friction", lambda m: m["contact"].append(
+        {"surfaces": ["sheet"], "self": True, "friction": 0.2}),
+     "friction between element sets", "contact[1].friction"),
+    ("relax_with_body", lambda m: m["contact"][0].update(relax_steps=2),
+     "relax_steps applies", "contact[0].relax_steps"),
 ]
 for name, edit, message, key in BAD:
     m = copy.deepcopy(BASE)

@@ -57,6 +57,12 @@ struct ContactLoad {
   /// A free body (mass): the model's node that carries it (a point mass at body.point, its
   /// displacement the body's translation); -1: the body moves as prescribed.
   int body_node = -1;
+  /// Sheet–sheet contact (docs/contact.md): the second element set (nodes of each set against
+  /// the faces of the other); empty with a rigid body or `self`.
+  std::vector<Part> other;
+  bool self = false;  ///< the set's nodes against its own faces away from them (folds)
+  /// Initial penetrations (sheets): relaxed over this many accepted steps (0: pushed out at once).
+  int relax_steps = 0;
 };
 
 std::unique_ptr<Load> make_load(ContactLoad p);

@@ -132,7 +132,8 @@ void Reader::parse_contact(const Node& cs) {
     const Node c = cs[i];
     const std::string p = item("contact", i);
     if (!check_map(c, p,
-                   {"surfaces", "self", "friction", "thickness", "penalty_scale", "augmented"}))
+                   {"surfaces", "self", "friction", "thickness", "penalty_scale", "augmented",
+                    "relax_steps"}))
       continue;
     ContactLoad load;
     load.index = static_cast<int>(i);
@@ -142,44 +143,80 @@ void Reader::parse_contact(const Node& cs) {
     const std::string sp = sub(p, "surfaces");
     if (!s.IsSequence() || s.size() < 1 || s.size() > 2 || !s[0].IsScalar() ||
         (s.size() == 2 && !s[1].IsScalar())) {
-      error(s, sp, "expected [element set, rigid body]");
+      error(s, sp, "expected [element set, rigid body], [element set, element set] or [set]");
       continue;
     }
-    if (auto self = boolean(c, "self", p); (self && *self) || s.size() == 1) {
+    const auto self = boolean(c, "self", p);
+    load.self = self && *self;
+    if (load.self != (s.size() == 1)) {
       error(s, sp,
-            "contact of element sets with each other or themselves (self) is not implemented "
-            "yet: give [element set, rigid body]");
+            load.self ? "self contact takes one element set: surfaces: [set], self: true"
+                      : "one element set in contact with itself needs self: true; else give "
+                        "[element set, rigid body] or [element set, element set]");
       continue;
     }
-    const std::string set = s[0].as<std::string>(), body = s[1].as<std::string>();
-    if (auto sit = element_sets_.find(set); sit == element_sets_.end()) {
-      if (mesh_ok_)
-        error(s[0], sp,
-              fmt::format("undefined element set '{}'{}", set,
-                          suggestion(set, keys_of(element_sets_))));
-      ok = false;
-    } else {
-      for (int b : set_blocks_[set]) {
+    // An element set's parts; a set without membranes has no faces to touch.
+    auto parts_of = [&](const Node& at, const std::string& name, bool faces,
+                        std::vector<ContactLoad::Part>& to) {
+      if (!element_sets_.count(name)) {
+        if (mesh_ok_)
+          error(at, sp,
+                fmt::format("undefined element set '{}'{}", name,
+                            suggestion(name, keys_of(element_sets_))));
+        return false;
+      }
+      bool surface = false;
+      for (int b : set_blocks_[name]) {
+        surface = surface || in_.model.blocks[b]->surface() != nullptr;
         ContactLoad::Part part{b,
                                std::vector<int>(static_cast<size_t>(in_.model.blocks[b]->size()))};
         for (size_t e = 0; e < part.elements.size(); ++e) part.elements[e] = static_cast<int>(e);
-        load.parts.push_back(std::move(part));
+        to.push_back(std::move(part));
       }
-    }
-    if (auto bit = rigid_bodies_.find(body); bit == rigid_bodies_.end()) {
+      if (faces && !surface) {
+        error(at, sp,
+              fmt::format("element set '{}' has no membranes: contact between sets (or self "
+                          "contact) needs surfaces",
+                          name));
+        return false;
+      }
+      return true;
+    };
+    const std::string set = s[0].as<std::string>();
+    const std::string body = s.size() == 2 ? s[1].as<std::string>() : std::string();
+    const bool sheets = load.self || (!rigid_bodies_.count(body) && element_sets_.count(body));
+    ok = parts_of(s[0], set, sheets, load.parts);
+    if (sheets && !load.self) {
+      ok = parts_of(s[1], body, true, load.other) && ok;
+    } else if (load.self) {
+    } else if (auto bit = rigid_bodies_.find(body); bit == rigid_bodies_.end()) {
       error(s[1], sp,
-            element_sets_.count(body)
-                ? fmt::format("'{}' is an element set: contact between two element sets is not "
-                              "implemented yet; give [element set, rigid body]",
-                              body)
-                : fmt::format("undefined rigid body '{}'{}", body,
-                              suggestion(body, keys_of(rigid_bodies_))));
+            fmt::format("undefined rigid body '{}'{}", body,
+                        suggestion(body, keys_of(rigid_bodies_))));
       ok = false;
     } else {
       load.body = bit->second;
       contact_bodies_.insert(body);
       if (auto f = free_bodies_.find(body); f != free_bodies_.end())
         load.body_node = f->second.node;
+    }
+    if (sheets && has(c, "friction")) {
+      error(c["friction"], sub(p, "friction"),
+            "friction between element sets (or in self contact) is not implemented yet");
+      ok = false;
+    }
+    if (has(c, "relax_steps")) {
+      if (!sheets) {
+        error(c["relax_steps"], sub(p, "relax_steps"),
+              "relax_steps applies to contact between element sets (or self contact)");
+        ok = false;
+      } else if (auto n = integer(c["relax_steps"], sub(p, "relax_steps"), "a number of steps");
+                 n && *n >= 0) {
+        load.relax_steps = static_cast<int>(*n);
+      } else {
+        if (n) error(c["relax_steps"], sub(p, "relax_steps"), "expected a number of steps >= 0");
+        ok = false;
+      }
     }
     if (has(c, "friction")) {
       if (auto mu = non_negative(c, "friction", p, "the friction coefficient"))

@@ -1,0 +1,95 @@
+// The node-to-face contact kernel of sheet–sheet and self contact (docs/contact.md): the gap of
+// a node x from the plane of a triangle (a, b, c), its gradient in the 12 coordinates and its
+// Hessian (the exact derivative of the closed-form gradient, by forward differentiation of
+// fixed size: allocation-free), and the penalty force and stiffness of the pair.
+#pragma once
+
+#include <Eigen/Core>
+#include <unsupported/Eigen/AutoDiff>
+
+#include <cmath>
+
+#include "velum/math/types.hpp"
+
+namespace velum::contact {
+
+using Vec12 = Eigen::Matrix<double, 12, 1>;
+using Mat12 = Eigen::Matrix<double, 12, 12>;
+
+/// The gradient of g = (x − a)·n, n = (b − a)×(c − a)/|…|, in X = (x, a, b, c): with
+/// q = (I − n nᵀ)(x − a)/|m|: ∂g/∂x = n, ∂g/∂c = q × u, ∂g/∂b = −q × v, ∂g/∂a = the rest
+/// (the gap does not change under a translation).
+template <class T>
+Eigen::Matrix<T, 12, 1> plane_gap_gradient(const Eigen::Matrix<T, 12, 1>& X, T* gap = nullptr) {
+  using V = Eigen::Matrix<T, 3, 1>;
+  using std::sqrt;
+  const V x = X.template segment<3>(0), a = X.template segment<3>(3), b = X.template segment<3>(6),
+          c = X.template segment<3>(9);
+  const V u = b - a, v = c - a, m = u.cross(v);
+  const T M = sqrt(m.squaredNorm());
+  const V n = m / M, r = x - a;
+  const T g = r.dot(n);
+  const V q = (r - g * n) / M;
+  Eigen::Matrix<T, 12, 1> G;
+  G.template segment<3>(0) = n;
+  G.template segment<3>(9) = q.cross(u);
+  G.template segment<3>(6) = -q.cross(v);
+  G.template segment<3>(3) = -n - q.cross(u) + q.cross(v);
+  if (gap) *gap = g;
+  return G;
+}
+
+/// g, ∇g and ∇∇g at X.
+inline double plane_gap(const Vec12& X, Vec12& grad, Mat12* hessian) {
+  if (!hessian) {
+    double g = 0;
+    grad = plane_gap_gradient<double>(X, &g);
+    return g;
+  }
+  using AD = Eigen::AutoDiffScalar<Vec12>;
+  Eigen::Matrix<AD, 12, 1> Y;
+  for (int i = 0; i < 12; ++i) Y[i] = AD(X[i], 12, i);
+  AD g;
+  const Eigen::Matrix<AD, 12, 1> G = plane_gap_gradient<AD>(Y, &g);
+  for (int i = 0; i < 12; ++i) {
+    grad[i] = G[i].value();
+    hessian->row(i) = G[i].derivatives().transpose();
+  }
+  return g.value();
+}
+
+/// The barycentric coordinates (of b and c) of x's projection on the plane of (a, b, c).
+inline Vec2 plane_coordinates(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 u = b - a, v = c - a, r = x - a;
+  const double uu = u.dot(u), uv = u.dot(v), vv = v.dot(v), ru = r.dot(u), rv = r.dot(v);
+  const double det = uu * vv - uv * uv;
+  if (!(det > 0)) return Vec2(-1, -1);
+  return Vec2((vv * ru - uv * rv) / det, (uu * rv - uv * ru) / det);
+}
+
+struct PairResult {
+  double gap = 0;  ///< side · g − thickness (negative: penetrating)
+  double p = 0;    ///< the normal force
+  Vec12 f;         ///< the forces on x, a, b, c
+  Mat12 D;         ///< ∂f/∂X (filled when asked)
+};
+
+/// The penalty pair: G = side·g − c, p = max(0, −k G), f = p side ∇g (x pushed to its side, the
+/// face the other way), ∂f/∂X = −k ∇g ∇gᵀ + p side ∇∇g (symmetric: the energy ½ k G²).
+inline bool pair_force(const Vec12& X, double side, double thickness, double k, bool tangent,
+                       PairResult& r) {
+  Vec12 grad;
+  Mat12 H;
+  const double g = plane_gap(X, grad, tangent ? &H : nullptr);
+  r.gap = side * g - thickness;
+  r.p = -k * r.gap;
+  if (r.p <= 0) {
+    r.p = 0;
+    return false;
+  }
+  r.f = (r.p * side) * grad;
+  if (tangent) r.D = -k * grad * grad.transpose() + (r.p * side) * H;
+  return true;
+}
+
+}  // namespace velum::contact

@@ -1,0 +1,67 @@
+// A bounding-volume hierarchy (axis-aligned boxes) over the faces of a contact surface: built
+// top-down once, refitted bottom-up to the faces' moved boxes at every evaluation, and asked
+// for the faces whose box holds a point (docs/contact.md, "Search"). Queries allocate nothing.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <span>
+#include <vector>
+
+#include "velum/math/types.hpp"
+
+namespace velum::contact {
+
+using Box = Eigen::AlignedBox3d;
+
+class FaceTree {
+ public:
+  /// The tree over `boxes` (one per face): median splits along the longest side of the
+  /// centres' box, up to kLeaf faces a leaf.
+  void build(std::span<const Box> boxes);
+  /// The same tree over the faces' new boxes (same count, same order). The tree reads `boxes`
+  /// in its queries: they must outlive them.
+  void refit(std::span<const Box> boxes);
+  /// Sum of the nodes' box volumes over their sum at the last build: > 1 as the tree loosens.
+  double looseness() const { return built_volume_ > 0 ? volume() / built_volume_ : 1.0; }
+  bool empty() const { return nodes_.empty(); }
+
+  /// Calls visit(face) for every face whose box holds p.
+  template <class Visit>
+  void query(const Vec3& p, Visit&& visit) const {
+    if (nodes_.empty()) return;
+    int stack[kMaxDepth];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[static_cast<size_t>(stack[--top])];
+      if (!n.box.contains(p)) continue;
+      if (n.count > 0) {
+        for (int i = n.first; i < n.first + n.count; ++i) {
+          const int f = faces_[static_cast<size_t>(i)];
+          if (boxes_[static_cast<size_t>(f)].contains(p)) visit(f);
+        }
+        continue;
+      }
+      stack[top++] = n.first;      // left child
+      stack[top++] = n.first + 1;  // right child
+    }
+  }
+
+ private:
+  static constexpr int kLeaf = 4;
+  static constexpr int kMaxDepth = 128;
+  struct Node {
+    Box box;
+    int first = 0;  ///< leaf: first index into faces_; inner: the left child (right = first + 1)
+    int count = 0;  ///< faces of a leaf; 0: inner
+  };
+  int split(std::span<const Box> boxes, int node, int begin, int end, int depth);
+  double volume() const;
+  std::vector<Node> nodes_;
+  std::vector<int> faces_;
+  std::span<const Box> boxes_;  ///< the faces' boxes of the last build or refit (the caller's)
+  double built_volume_ = 0;
+};
+
+}  // namespace velum::contact

@@ -1,0 +1,381 @@
+// Sheet–sheet and self contact (docs/contact.md, "Sheets"): the node-to-face pair's tangent
+// against central differences, the face tree against a search of every face, two sheets
+// pressed together (force balance, penetration within tolerance) and a sheet folded onto
+// itself under a load (the layers kept apart), static and implicit dynamic; initial
+// penetrations reported and relaxed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <random>
+
+#include "../../verification/model_builders.hpp"
+#include "load/face_contact.hpp"
+#include "load/face_tree.hpp"
+#include "velum/analysis/mechanical_system.hpp"
+#include "velum/load/contact_load.hpp"
+#include "velum/solve/linear_solver.hpp"
+#include "velum/time/integrators.hpp"
+#include "velum/time/time_loop.hpp"
+
+namespace velum {
+namespace {
+
+using contact::Mat12;
+using contact::Vec12;
+
+TEST(SheetContact, PairTangentMatchesCentralDifferences) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  for (double side : {1.0, -1.0}) {
+    Vec12 X;
+    X << 0.3, 0.25, side * 0.01, 0, 0, 0, 1, 0, 0, 0, 1, 0;
+    for (int i = 0; i < 12; ++i) X[i] += 0.1 * jitter(rng);
+    const double c = 0.05, k = 1e3;
+    contact::PairResult r;
+    ASSERT_TRUE(contact::pair_force(X, side, c, k, true, r));
+    Mat12 fd;
+    const double h = 1e-6;
+    for (int j = 0; j < 12; ++j) {
+      Vec12 Xp = X, Xm = X;
+      Xp[j] += h, Xm[j] -= h;
+      contact::PairResult rp, rm;
+      contact::pair_force(Xp, side, c, k, false, rp);
+      contact::pair_force(Xm, side, c, k, false, rm);
+      fd.col(j) = (rp.f - rm.f) / (2 * h);
+    }
+    const double err = (fd - r.D).norm() / r.D.norm();
+    std::cout << "side " << side << ": gap " << r.gap << ", tangent error " << err << "\n";
+    EXPECT_LT(err, 1e-7);
+    EXPECT_LT((r.D - r.D.transpose()).norm(), 1e-12 * r.D.norm());  // an energy's Hessian
+    // The pair's forces balance (no net force, no net moment).
+    Vec3 net = Vec3::Zero(), moment = Vec3::Zero();
+    for (int a = 0; a < 4; ++a) {
+      net += r.f.segment<3>(3 * a);
+      moment += Vec3(X.segment<3>(3 * a)).cross(Vec3(r.f.segment<3>(3 * a)));
+    }
+    EXPECT_LT(net.norm(), 1e-12 * r.f.norm());
+    EXPECT_LT(moment.norm(), 1e-12 * r.f.norm());
+  }
+}
+
+TEST(SheetContact, FaceTreeFindsWhatEveryFaceHolds) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<contact::Box> boxes(5000);
+  for (auto& b : boxes) {
+    const Vec3 c(u(rng), u(rng), 0.1 * u(rng));
+    b = contact::Box(c - Vec3::Constant(0.01), c + Vec3::Constant(0.01));
+  }
+  contact::FaceTree tree;
+  tree.build(boxes);
+  for (auto& b : boxes) b.translate(Vec3(0.003, 0, 0));  // moved: refitted, not rebuilt
+  tree.refit(boxes);
+  for (int q = 0; q < 500; ++q) {
+    const Vec3 p(u(rng), u(rng), 0.1 * u(rng));
+    std::vector<int> found, all;
+    tree.query(p, [&](int f) { found.push_back(f); });
+    for (size_t f = 0; f < boxes.size(); ++f)
+      if (boxes[f].contains(p)) all.push_back(static_cast<int>(f));
+    std::sort(found.begin(), found.end());
+    ASSERT_EQ(found, all);
+  }
+}
+
+constexpr double kT = 1e-3, kE = 1e9, kQ = 2000.0;
+
+struct LoopRun {
+  std::vector<StepReport> reports;
+  bool completed = false;
+  NodePositions x;
+};
+
+LoopRun run(Model& m, MechanicalSystem& sys, TimeIntegrator& integrator, double t_end,
+            double step) {
+  State s = test::state_from(sys, NodePositions::Zero(3, m.num_nodes()));
+  sys.start_loads(0, s.u, s.v);
+  auto solver = make_linear_solver(SolverKind::kAuto);
+  TimeLoopSettings loop;
+  loop.t0 = 0, loop.t_end = t_end, loop.step = step;
+  LoopRun out;
+  const TimeLoopResult r =
+      run_time_loop(sys, integrator, *solver, loop, s, [&](const AcceptedStep& st, const State& c) {
+        sys.accept(st.t, c.u, c.v);
+        out.reports.push_back(*st.report);
+        return true;
+      });
+  out.completed = r.completed;
+  if (!r.completed) std::cout << "not completed: " << r.reason << "\n";
+  out.x = m.X + sys.displacements(t_end, s.u);
+  return out;
+}
+
+void print_residuals(const LoopRun& r) {
+  std::cout << "Newton residuals of the last step:";
+  for (double v : r.reports.back().residuals) std::cout << " " << v;
+  std::cout << "\n";
+}
+
+// Two square sheets a x a, the lower one held, the upper one (prestressed, edges held) one
+// contact thickness above it, minus `overlap`, its inner nodes pushed down by q h² each.
+struct TwoSheets {
+  std::unique_ptr<Model> m;
+  double load = 0;         ///< the sum of the point loads
+  std::vector<int> inner;  ///< the upper sheet's nodes free across the thickness
+  int n = 8;
+  double a = 0.4;
+};
+
+TwoSheets two_sheets(double overlap, int relax_steps) {
+  TwoSheets ts;
+  ts.m = std::make_unique<Model>();
+  Model& m = *ts.m;
+  const double h = ts.a / ts.n, z = kT - overlap;
+  for (int layer = 0; layer < 2; ++layer) {
+    test::NodeCache nodes(m, 1e-9);
+    std::vector<int> conn;
+    test::mesh_patch(
+        nodes, [&](double u, double v) { return Vec3(ts.a * u, ts.a * v, layer * z); }, ts.n, ts.n,
+        "quad4", conn);
+    const double S = layer ? 1000.0 / kT : 0.0;
+    test::add_membrane(
+        m, "quad4", std::move(conn),
+        SheetLaw(PlaneStressLaw::isotropic("iso", kE, 0.3)).with_prestress({S, S, 0}), 1000.0, kT);
+  }
+  std::vector<int> held, inner;
+  for (int i = 0; i < m.num_nodes(); ++i) {
+    const Vec3 X = m.X.col(i);
+    const bool edge = X.x() < 1e-9 || X.y() < 1e-9 || X.x() > ts.a - 1e-9 || X.y() > ts.a - 1e-9;
+    if (X.z() < 0.5 * z || edge)
+      held.push_back(i);
+    else
+      inner.push_back(i);
+  }
+  m.fixed.push_back({held, {true, true, true}});
+  m.fixed.push_back({inner, {true, true, false}});
+  for (int i : inner) m.point_loads.push_back({{i}, Vec3(0, 0, -kQ * h * h), -1});
+  ts.load = kQ * h * h * static_cast<double>(inner.size());
+  ts.inner = inner;
+  ContactLoad cl;
+  cl.parts.push_back({1, {}});
+  cl.other.push_back({0, {}});
+  for (int e = 0; e < m.blocks[0]->size(); ++e)
+    cl.parts[0].elements.push_back(e), cl.other[0].elements.push_back(e);
+  cl.relax_steps = relax_steps;
+  m.loads.add(make_load(cl));
+  for (auto& l : m.loads) l->set_up(m);
+  return ts;
+}
+
+VecX term_forces(MechanicalSystem& sys, const VecX& u, MatX* J) {
+  const Model& m = sys.model();
+  NodePositions U = NodePositions::Zero(3, m.num_nodes());
+  sys.dofs().scatter(u, U);
+  const NodePositions x = m.X + U, V = NodePositions::Zero(3, m.num_nodes());
+  NodePositions F = NodePositions::Zero(3, m.num_nodes());
+  SparseMatrix K;
+  LowRankJacobian L;
+  const int cols = sys.loads().back()->low_rank_columns();
+  if (J) {
+    sys.assembler().make_matrix(K);
+    L.U.setConstant(sys.size(), cols, 7.0);  // the term zeroes its own columns
+    L.W.setConstant(sys.size(), cols, 7.0);
+  }
+  LoadOutput out{.F = F, .K = J ? &K : nullptr, .low_rank = &L, .column = 0};
+  sys.loads().back()->add(LoadState{.t = 0, .x = x, .V = V}, out);
+  if (J) *J = MatX(K) + L.U * L.W.transpose();
+  VecX f;
+  sys.dofs().gather(F, f);
+  return f;
+}
+
+TEST(SheetContact, TwoSheetsPressedTogetherBalanceAndStayApart) {
+  TwoSheets ts = two_sheets(0.0, 0);
+  MechanicalSystem sys(*ts.m);
+  StaticNewton integrator;
+  const LoopRun r = run(*ts.m, sys, integrator, 1, 0.25);
+  ASSERT_TRUE(r.completed);
+  print_residuals(r);
+  const double Fz = *sys.loads().back()->quantity_at("contact_force:contact=0:2", 1, r.x);
+  const std::vector<double> g = sys.load_node_field("contact_gap", 1, r.x);
+  const std::vector<double> q = sys.load_node_field("contact_pressure", 1, r.x);
+  double least = 0, qmid = 0;
+  for (int n = 0; n < ts.m->num_nodes(); ++n)
+    if (!std::isnan(g[static_cast<size_t>(n)])) least = std::min(least, g[static_cast<size_t>(n)]);
+  const int mid = test::nearest_node(*ts.m, Vec3(0.2, 0.2, kT));
+  qmid = q[static_cast<size_t>(mid)];
+
+  const double tol = std::max(0.01 * kT, 1e-3 * ts.a / ts.n);
+  std::cout << "two sheets: contact force " << Fz << " against the load " << -ts.load << " ("
+            << test::percent(Fz, -ts.load) << "%), least gap " << least << " (tolerance " << tol
+            << "), pressure at the middle " << qmid << " (load " << kQ << ")\n";
+  EXPECT_LT(test::percent(Fz, -ts.load), 0.5);
+  EXPECT_GT(least, -tol);
+  EXPECT_LT(test::percent(qmid, kQ), 5.0);
+  EXPECT_LE(r.reports.back().iterations, 4);
+}
+
+// The term in a system: K and its low-rank part against central differences of its forces.
+void check_term_matrix(Model& m, double scale, const char* what) {
+  MechanicalSystem sys(m);
+  const int n = sys.size();
+  std::srand(5);
+  const VecX u0 = scale * VecX::Random(n);
+  sys.start_loads(0, u0, VecX::Zero(n));
+  MatX J;
+  const VecX f = term_forces(sys, u0, &J);
+  ASSERT_GT(f.norm(), 0);
+  MatX fd(n, n);
+  const double h = 1e-9;
+  for (int k = 0; k < n; ++k) {
+    VecX e = VecX::Zero(n);
+    e[k] = h;
+    fd.col(k) = (term_forces(sys, u0 + e, nullptr) - term_forces(sys, u0 - e, nullptr)) / (2 * h);
+  }
+  const double err = (J + fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
+  std::cout << what << ": relative error " << err << "\n";
+  EXPECT_LT(err, 1e-5) << what;
+}
+
+struct Fold;
+Fold fold(double c);
+
+TEST(SheetContact, TermMatrixMatchesFiniteDifferences) {
+  TwoSheets ts = two_sheets(2e-4, 0);
+  check_term_matrix(*ts.m, 1e-4, "two sheets");
+}
+
+TEST(SheetContact, InitialPenetrationsAreReportedAndRelaxed) {
+  // The upper sheet starts 0.3 mm into the lower one's contact thickness.
+  std::vector<double> first_residual;
+  for (int relax : {0, 4}) {
+    TwoSheets ts = two_sheets(3e-4, relax);
+    MechanicalSystem sys(*ts.m);
+    StaticNewton integrator;
+    const LoopRun r = run(*ts.m, sys, integrator, 1, 0.125);
+    ASSERT_TRUE(r.completed);
+    first_residual.push_back(r.reports.front().residuals.front());
+    std::vector<std::string> warnings;
+    for (const auto& term : sys.loads())
+      term->end_check([&](std::string w) { warnings.push_back(w); });
+    ASSERT_FALSE(warnings.empty());
+    std::cout << "relax " << relax << ": " << warnings.front() << "; first residual "
+              << first_residual.back() << "\n";
+    EXPECT_NE(warnings.front().find("initial penetrations, the deepest 0.0003"), std::string::npos);
+    // Relaxed or not, the free nodes end apart within the tolerance (the held edges stay
+    // where they were put).
+    const std::vector<double> g = sys.load_node_field("contact_gap", 1, r.x);
+    double least = 0;
+    for (int n : ts.inner) least = std::min(least, g[static_cast<size_t>(n)]);
+    EXPECT_GT(least, -std::max(0.01 * kT, 1e-3 * ts.a / ts.n)) << "relax " << relax;
+  }
+  // Relaxed, the first step starts from a small force instead of the whole overlap's.
+  EXPECT_LT(first_residual[1], 0.5 * first_residual[0]);
+}
+
+// A strip folded onto itself: the lower layer and the bend held, the upper layer's nodes free
+// to move across the thickness and pushed onto the lower layer by q h² each.
+struct Fold {
+  std::unique_ptr<Model> m;
+  double load = 0;
+  std::vector<int> upper;
+};
+
+Fold fold(double c) {
+  Fold f;
+  f.m = std::make_unique<Model>();
+  Model& m = *f.m;
+  const double L = 0.3, W = 0.1, R = c;  // middle surfaces 2R apart: touching
+  const double len = 2 * L + M_PI * R;
+  const int nu = 40, nv = 5;
+  test::NodeCache nodes(m, 1e-9);
+  std::vector<int> conn;
+  test::mesh_patch(
+      nodes,
+      [&](double u, double v) {
+        const double s = u * len, y = W * v;
+        if (s <= L) return Vec3(s, y, 0);
+        if (s >= L + M_PI * R) return Vec3(L - (s - L - M_PI * R), y, 2 * R);
+        const double phi = (s - L) / R;
+        return Vec3(L + R * std::sin(phi), y, R - R * std::cos(phi));
+      },
+      nu, nv, "quad4", conn);
+  const double S = 100.0 / kT;  // a light prestress: the free layer is not a mechanism
+  test::add_membrane(m, "quad4", std::move(conn),
+                     SheetLaw(PlaneStressLaw::isotropic("iso", kE, 0.3)).with_prestress({S, S, 0}),
+                     1000.0, kT);
+  std::vector<int> held, free;
+  const double h = len / nu;
+  for (int i = 0; i < m.num_nodes(); ++i) {
+    const Vec3 X = m.X.col(i);
+    if (X.z() < R || X.x() > L - 1.5 * h)
+      held.push_back(i);
+    else
+      free.push_back(i);
+  }
+  m.fixed.push_back({held, {true, true, true}});
+  m.fixed.push_back({free, {true, true, false}});
+  const double hv = W / nv;
+  for (int i : free) {
+    const Vec3 X = m.X.col(i);
+    const double wy = (X.y() < 1e-9 || X.y() > W - 1e-9) ? 0.5 : 1.0;
+    const double wx = X.x() < 1e-9 ? 0.5 : 1.0;
+    m.point_loads.push_back({{i}, Vec3(0, 0, -kQ * h * hv * wx * wy), -1});
+    f.load += kQ * h * hv * wx * wy;
+  }
+  f.upper = free;
+  ContactLoad cl;
+  cl.self = true;
+  cl.thickness = c;
+  cl.parts.push_back({0, {}});
+  for (int e = 0; e < m.blocks[0]->size(); ++e) cl.parts[0].elements.push_back(e);
+  m.loads.add(make_load(cl));
+  for (auto& l : m.loads) l->set_up(m);
+  return f;
+}
+
+void check_fold(const Fold& f, MechanicalSystem& sys, const LoopRun& r, double c) {
+  const double Fz = *sys.loads().back()->quantity_at("contact_force:contact=0:2", 1, r.x);
+  // Every upper node above the lower layer by the contact distance, within the tolerance.
+  double least = 1;
+  for (int n : f.upper) least = std::min(least, r.x(2, n) - 2 * c);
+  const double tol = std::max(0.01 * 2 * c, 1e-3 * 0.02);
+  std::cout << "fold: contact force " << Fz << " against the load " << f.load << " ("
+            << test::percent(Fz, f.load) << "%), least gap of the upper layer " << least
+            << " (tolerance " << tol << ")\n";
+  EXPECT_GT(least, -tol);
+  EXPECT_LT(test::percent(Fz, f.load), 1.0);
+}
+
+TEST(SheetContact, SelfTermMatrixMatchesFiniteDifferences) {
+  Fold f = fold(0.01);
+  check_term_matrix(*f.m, 1e-4, "fold (self)");
+}
+
+TEST(SheetContact, FoldedSheetKeepsItsLayersApartStatic) {
+  const double c = 0.01;
+  Fold f = fold(c);
+  MechanicalSystem sys(*f.m);
+  StaticNewton integrator;
+  const LoopRun r = run(*f.m, sys, integrator, 1, 0.5);
+  ASSERT_TRUE(r.completed);
+  print_residuals(r);
+  check_fold(f, sys, r, c);
+}
+
+TEST(SheetContact, FoldedSheetKeepsItsLayersApartDynamic) {
+  const double c = 0.01;
+  Fold f = fold(c);
+  MechanicalSystem sys(*f.m);
+  auto integrator = GeneralizedAlpha::chung_hulbert(0.8);
+  const LoopRun r = run(*f.m, sys, *integrator, 0.02, 0.002);
+  ASSERT_TRUE(r.completed);
+  print_residuals(r);
+  double least = 1;
+  for (int n : f.upper) least = std::min(least, r.x(2, n) - 2 * c);
+  std::cout << "fold, dynamic: least gap of the upper layer " << least << "\n";
+  EXPECT_GT(least, -std::max(0.01 * 2 * c, 1e-3 * 0.02));
+}
+
+}  // namespace
+}  // namespace velum
