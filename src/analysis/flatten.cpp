@@ -299,14 +299,35 @@ FlatPanel flatten_panel(const NodePositions& x, const PanelMesh& mesh,
     if (drop < settings.tolerance * E_scale && step == 1) break;
   }
 
-  // Placed with its longest extent along u (the warp) from the origin.
+  // Placed with its warp along u from the origin: the given warp directions carried into the
+  // flat triangles (d = F^+ a, F = G D^-1 the flat-to-3-D map), or else the longest extent.
   Vec2 mean = Vec2::Zero();
   for (const Vec2& q : p.uv) mean += q;
   mean /= static_cast<double>(p.uv.size());
-  Mat2 cov = Mat2::Zero();
-  for (const Vec2& q : p.uv) cov += (q - mean) * (q - mean).transpose();
-  Eigen::SelfAdjointEigenSolver<Mat2> eig(cov);
-  Vec2 axis = eig.eigenvectors().col(1);
+  Vec2 axis = Vec2::Zero();
+  if (mesh.warp.size() == mesh.triangles.size()) {
+    for (size_t i = 0; i < p.triangles.size(); ++i) {
+      const auto& t = p.triangles[i];
+      Eigen::Matrix<double, 3, 2> G;
+      G << x.col(p.nodes[t[1]]) - x.col(p.nodes[t[0]]), x.col(p.nodes[t[2]]) - x.col(p.nodes[t[0]]);
+      Mat2 D;
+      D << p.uv[t[1]] - p.uv[t[0]], p.uv[t[2]] - p.uv[t[0]];
+      const Eigen::Matrix<double, 3, 2> F = G * D.inverse();
+      Vec2 d = (F.transpose() * F).ldlt().solve(F.transpose() * mesh.warp[i]);
+      if (!d.allFinite() || d.norm() == 0) continue;
+      d *= m.area[i] / d.norm();
+      axis += axis.dot(d) < 0 ? Vec2(-d) : d;  // a direction, not an orientation
+    }
+    p.warp_from_axes = axis.norm() > 0;
+  }
+  if (p.warp_from_axes) {
+    axis.normalize();
+  } else {
+    Mat2 cov = Mat2::Zero();
+    for (const Vec2& q : p.uv) cov += (q - mean) * (q - mean).transpose();
+    Eigen::SelfAdjointEigenSolver<Mat2> eig(cov);
+    axis = eig.eigenvectors().col(1);
+  }
   Mat2 R;
   R << axis.x(), axis.y(), -axis.y(), axis.x();
   Vec2 lo = Vec2::Constant(std::numeric_limits<double>::max());

@@ -150,13 +150,37 @@ TEST(Flatten, PanelsThatAreNotDiscsAreRefused) {
   EXPECT_THROW(flatten_panel(ring.x, closed), std::invalid_argument);
   // Two pieces.
   const Grid g = grid(3, 1, [](double s, double t) { return Vec3(s, t, 0); });
-  const PanelMesh two{{g.mesh.triangles[0], g.mesh.triangles[4]}};
+  const PanelMesh two{{g.mesh.triangles[0], g.mesh.triangles[4]}, {}};
   EXPECT_NE(disc_problem(two, static_cast<int>(g.x.cols())).find("2 separate pieces"),
             std::string::npos);
   EXPECT_EQ(disc_problem(g.mesh, static_cast<int>(g.x.cols())), "");
   // Two triangles that touch at a corner only.
-  const PanelMesh bowtie{{g.mesh.triangles[0], g.mesh.triangles[2]}};
+  const PanelMesh bowtie{{g.mesh.triangles[0], g.mesh.triangles[2]}, {}};
   EXPECT_NE(disc_problem(bowtie, static_cast<int>(g.x.cols())).find("at node"), std::string::npos);
+}
+
+// The flat panel's warp u follows the section's warp on the shape (PanelMesh::warp), not its
+// longest extent: a long strip whose warp runs across it at 30 degrees.
+TEST(Flatten, WarpAlongTheGivenSheetAxis) {
+  Grid g = grid(8, 2, [](double s, double t) { return Vec3(4 * s, 0.5 * t, 0.2 * s); });
+  const Vec3 along = (g.x.col(g.at(1, 0)) - g.x.col(g.at(0, 0))).normalized();
+  const Vec3 across = Vec3::UnitY();
+  const double a = 30 * M_PI / 180;
+  const Vec3 warp = std::cos(a) * along + std::sin(a) * across;
+  g.mesh.warp.assign(g.mesh.triangles.size(), warp);
+  const FlatPanel p = flatten_panel(g.x, g.mesh);
+  EXPECT_TRUE(p.warp_from_axes);
+  // A flat segment along the 3-D warp direction lies along u.
+  const Vec2 d = p.uv[local_of(p, g.at(1, 0))] - p.uv[local_of(p, g.at(0, 0))];
+  const Vec2 e = p.uv[local_of(p, g.at(0, 1))] - p.uv[local_of(p, g.at(0, 0))];
+  const Vec2 w = std::cos(a) * d.normalized() + std::sin(a) * e.normalized();
+  EXPECT_NEAR(std::abs(w.y()) / w.norm(), 0.0, 1e-9);
+  // Without it, the strip's length runs along u.
+  g.mesh.warp.clear();
+  const FlatPanel q = flatten_panel(g.x, g.mesh);
+  EXPECT_FALSE(q.warp_from_axes);
+  const Vec2 dq = q.uv[local_of(q, g.at(8, 0))] - q.uv[local_of(q, g.at(0, 0))];
+  EXPECT_NEAR(std::abs(dq.y()) / dq.norm(), 0.0, 1e-9);
 }
 
 }  // namespace
