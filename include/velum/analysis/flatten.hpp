@@ -22,7 +22,11 @@ struct PanelMesh {
 };
 
 struct FlattenSettings {
-  double nu = 0.3;           ///< Poisson's ratio of the isotropic energy minimised
+  double nu = 0.3;  ///< Poisson's ratio of the isotropic energy minimised without `stiffness`
+  /// The panel's law at zero strain in its sheet axes (Voigt, engineering shear; any scale):
+  /// with PanelMesh::warp the energy is the law's, the axes carried into each flat triangle.
+  /// Zero: isotropic with `nu`.
+  Mat3 stiffness = Mat3::Zero();
   int max_iterations = 100;  ///< Gauss-Newton iterations
   double tolerance = 1e-13;  ///< relative energy decrease at which the iterations stop
 };

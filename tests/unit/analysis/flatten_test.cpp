@@ -183,5 +183,51 @@ TEST(Flatten, WarpAlongTheGivenSheetAxis) {
   EXPECT_NEAR(std::abs(dq.y()) / dq.norm(), 0.0, 1e-9);
 }
 
+// Flattened for its own law: a warp twenty times stiffer than the fill takes the strain
+// flattening must leave mostly across the warp (a spherical patch, warp along its meridian
+// s). The area-weighted mean square warp strain falls well below the isotropic flattening's,
+// the fill strain rises.
+TEST(Flatten, StiffWarpKeepsItsLength) {
+  const double R = 2.0;
+  auto sphere = [&](double s, double t) {
+    const double a = 0.8 * (s - 0.5), b = 0.8 * (t - 0.5);
+    return Vec3(R * std::cos(b) * std::cos(a), R * std::cos(b) * std::sin(a), R * std::sin(b));
+  };
+  Grid g = grid(10, 10, sphere);
+  for (const auto& t : g.mesh.triangles) {  // along the parallels at the centroid
+    const Vec3 c = g.x.col(t[0]) + g.x.col(t[1]) + g.x.col(t[2]);
+    g.mesh.warp.push_back(Vec3(-c.y(), c.x(), 0).normalized());
+  }
+  auto strains = [&](const FlatPanel& p) {
+    double w = 0, f = 0, area = 0;
+    for (size_t i = 0; i < p.triangles.size(); ++i) {
+      const auto& t = p.triangles[i];
+      Eigen::Matrix<double, 3, 2> G;
+      G << g.x.col(p.nodes[t[1]]) - g.x.col(p.nodes[t[0]]),
+          g.x.col(p.nodes[t[2]]) - g.x.col(p.nodes[t[0]]);
+      Mat2 D;
+      D << p.uv[t[1]] - p.uv[t[0]], p.uv[t[2]] - p.uv[t[0]];
+      const Eigen::Matrix<double, 3, 2> F = G * D.inverse();
+      const Mat2 E = (F.transpose() * F - Mat2::Identity()) / 2;
+      const Vec2 d = (F.transpose() * F).ldlt().solve(F.transpose() * g.mesh.warp[i]).normalized();
+      const Vec2 n(-d.y(), d.x());
+      const double A = D.determinant() / 2;
+      w += A * std::pow(d.dot(E * d), 2), f += A * std::pow(n.dot(E * n), 2), area += A;
+    }
+    return std::pair(w / area, f / area);
+  };
+  const FlatPanel iso = flatten_panel(g.x, g.mesh);
+  FlattenSettings ortho;
+  const double E1 = 20, E2 = 1, nu12 = 0.05, nu21 = nu12 * E2 / E1, G12 = 0.5;
+  ortho.stiffness << E1 / (1 - nu12 * nu21), nu21 * E1 / (1 - nu12 * nu21), 0,
+      nu12 * E2 / (1 - nu12 * nu21), E2 / (1 - nu12 * nu21), 0, 0, 0, G12;
+  const FlatPanel stiff = flatten_panel(g.x, g.mesh, ortho);
+  const auto [w_iso, f_iso] = strains(iso);
+  const auto [w_stiff, f_stiff] = strains(stiff);
+  EXPECT_LT(w_stiff, 0.25 * w_iso);
+  EXPECT_GT(f_stiff, f_iso);
+  EXPECT_NEAR(stiff.area_flat, stiff.area_3d, 0.01 * stiff.area_3d);
+}
+
 }  // namespace
 }  // namespace velum
