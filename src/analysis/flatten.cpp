@@ -76,12 +76,47 @@ Vec6 corners(const std::vector<Vec2>& uv, const std::array<int, 3>& t) {
   return P;
 }
 
-double energy_of(const FlatPanel& p, const Triangles& m, const Mat3& Lt,
+double energy_of(const FlatPanel& p, const Triangles& m, const std::vector<Mat3>& Lt,
                  const std::vector<Vec2>& uv) {
   double E = 0;
   for (size_t i = 0; i < p.triangles.size(); ++i)
-    E += residual<double>(corners(uv, p.triangles[i]), m.metric[i], Lt).squaredNorm() / 2;
+    E += residual<double>(corners(uv, p.triangles[i]), m.metric[i], Lt[i]).squaredNorm() / 2;
   return std::isfinite(E) ? E : std::numeric_limits<double>::infinity();
+}
+
+// The 3-D direction a on triangle i carried into the flat one: d = F^+ a with F = G D^-1 the
+// flat-to-3-D map; zero when it does not map (a direction across the triangle).
+Vec2 flat_direction(const NodePositions& x, const FlatPanel& p, size_t i, const Vec3& a) {
+  const auto& t = p.triangles[i];
+  Eigen::Matrix<double, 3, 2> G;
+  G << x.col(p.nodes[t[1]]) - x.col(p.nodes[t[0]]), x.col(p.nodes[t[2]]) - x.col(p.nodes[t[0]]);
+  Mat2 D;
+  D << p.uv[t[1]] - p.uv[t[0]], p.uv[t[2]] - p.uv[t[0]];
+  const Eigen::Matrix<double, 3, 2> F = G * D.inverse();
+  const Vec2 d = (F.transpose() * F).ldlt().solve(F.transpose() * a);
+  return d.allFinite() && d.norm() > 0 ? Vec2(d.normalized()) : Vec2::Zero();
+}
+
+// Per triangle, the factor L^T of the energy's C = L L^T in the flat (u, v) frame: the law's
+// stiffness in its sheet axes turned to the flat warp direction of the triangle (e_sheet =
+// R e_flat, C_flat = R^T C R), or the isotropic one.
+std::vector<Mat3> energy_factors(const NodePositions& x, const FlatPanel& p, const PanelMesh& mesh,
+                                 const FlattenSettings& settings) {
+  const Mat3 iso = plane_stress_factor(settings.nu);
+  std::vector<Mat3> Lt(p.triangles.size(), iso);
+  const double scale = settings.stiffness.cwiseAbs().maxCoeff();
+  if (!(scale > 0) || mesh.warp.size() != mesh.triangles.size()) return Lt;
+  const Mat3 C = settings.stiffness / scale;
+  for (size_t i = 0; i < p.triangles.size(); ++i) {
+    const Vec2 d = flat_direction(x, p, i, mesh.warp[i]);
+    if (d.norm() == 0) continue;
+    const double c = d.x(), s = d.y();
+    Mat3 R;
+    R << c * c, s * s, c * s, s * s, c * c, -c * s, -2 * c * s, 2 * c * s, c * c - s * s;
+    Eigen::LLT<Mat3> llt(R.transpose() * C * R);
+    if (llt.info() == Eigen::Success) Lt[i] = llt.matrixL().transpose();
+  }
+  return Lt;
 }
 
 // Least-squares conformal map (Cauchy-Riemann residuals per triangle, two boundary nodes
@@ -250,7 +285,7 @@ FlatPanel flatten_panel(const NodePositions& x, const PanelMesh& mesh,
 
   // Gauss-Newton on the strain energy, the Jacobian of the residuals by forward differentiation.
   const Triangles m = metrics(x, p);
-  const Mat3 Lt = plane_stress_factor(settings.nu);
+  const std::vector<Mat3> Lt = energy_factors(x, p, mesh, settings);
   const int nd = 2 * static_cast<int>(p.nodes.size());
   double E = energy_of(p, m, Lt, p.uv);
   const double E_scale = std::accumulate(m.area.begin(), m.area.end(), 0.0);
@@ -263,7 +298,7 @@ FlatPanel flatten_panel(const NodePositions& x, const PanelMesh& mesh,
       Eigen::Matrix<Ad, 6, 1> P;
       const Vec6 pv = corners(p.uv, t);
       for (int k = 0; k < 6; ++k) P[k] = Ad(pv[k], 6, k);
-      const Eigen::Matrix<Ad, 3, 1> r = residual<Ad>(P, m.metric[i], Lt);
+      const Eigen::Matrix<Ad, 3, 1> r = residual<Ad>(P, m.metric[i], Lt[i]);
       Eigen::Matrix<double, 3, 6> J;
       Eigen::Vector3d rv;
       for (int a = 0; a < 3; ++a) J.row(a) = r[a].derivatives().transpose(), rv[a] = r[a].value();
@@ -299,14 +334,29 @@ FlatPanel flatten_panel(const NodePositions& x, const PanelMesh& mesh,
     if (drop < settings.tolerance * E_scale && step == 1) break;
   }
 
-  // Placed with its longest extent along u (the warp) from the origin.
+  // Placed with its warp along u from the origin: the given warp directions carried into the
+  // flat triangles (d = F^+ a, F = G D^-1 the flat-to-3-D map), or else the longest extent.
   Vec2 mean = Vec2::Zero();
   for (const Vec2& q : p.uv) mean += q;
   mean /= static_cast<double>(p.uv.size());
-  Mat2 cov = Mat2::Zero();
-  for (const Vec2& q : p.uv) cov += (q - mean) * (q - mean).transpose();
-  Eigen::SelfAdjointEigenSolver<Mat2> eig(cov);
-  Vec2 axis = eig.eigenvectors().col(1);
+  Vec2 axis = Vec2::Zero();
+  if (mesh.warp.size() == mesh.triangles.size()) {
+    for (size_t i = 0; i < p.triangles.size(); ++i) {
+      Vec2 d = flat_direction(x, p, i, mesh.warp[i]);
+      if (d.norm() == 0) continue;
+      d *= m.area[i] / d.norm();
+      axis += axis.dot(d) < 0 ? Vec2(-d) : d;  // a direction, not an orientation
+    }
+    p.warp_from_axes = axis.norm() > 0;
+  }
+  if (p.warp_from_axes) {
+    axis.normalize();
+  } else {
+    Mat2 cov = Mat2::Zero();
+    for (const Vec2& q : p.uv) cov += (q - mean) * (q - mean).transpose();
+    Eigen::SelfAdjointEigenSolver<Mat2> eig(cov);
+    axis = eig.eigenvectors().col(1);
+  }
   Mat2 R;
   R << axis.x(), axis.y(), -axis.y(), axis.x();
   Vec2 lo = Vec2::Constant(std::numeric_limits<double>::max());

@@ -127,6 +127,7 @@ class MembraneBlock final : public SurfaceBlock {
     return at + history_.size();
   }
   Vec3 sheet_prestress() const override { return law_->prestress(); }
+  Mat3 sheet_stiffness() const override { return law_->reference_stiffness(); }
   std::unique_ptr<ElementBlock> rebuilt(std::vector<int> connectivity, const NodePositions& X,
                                         double stabilizer,
                                         std::span<const int> listed) const override {

@@ -8,21 +8,27 @@
 #include "run_parts.hpp"
 #include "velum/analysis/flatten.hpp"
 #include "velum/io/pattern_writer.hpp"
+#include "velum/io/roundtrip_model.hpp"
 #include "velum/run/commands.hpp"
 
 namespace velum::run {
 namespace {
 
-// The panel's triangles (quadrilaterals split along a diagonal, corners only).
-PanelMesh panel_mesh(const Model& m, const std::string& set) {
+// The panel's triangles (quadrilaterals split along a diagonal, corners only) with the
+// section's warp (its first sheet axis) on the shape x at each element's centre.
+PanelMesh panel_mesh(const Model& m, const std::string& set, const NodePositions& x,
+                     FlattenSettings& settings) {
   PanelMesh mesh;
   for (const auto& b : m.blocks) {
     if (b->set_name() != set || !b->surface()) continue;
+    settings.stiffness = b->sheet_stiffness();  // one section per set
     const int corners = b->shape().corners;
     for (int e = 0; e < b->size(); ++e) {
       const auto n = b->nodes(e);
+      const Vec3 warp = b->output(e, x).stress.axis1;
       mesh.triangles.push_back({n[0], n[1], n[2]});
-      if (corners == 4) mesh.triangles.push_back({n[0], n[2], n[3]});
+      mesh.warp.push_back(warp);
+      if (corners == 4) mesh.triangles.push_back({n[0], n[2], n[3]}), mesh.warp.push_back(warp);
     }
   }
   return mesh;
@@ -67,13 +73,14 @@ int pattern_command(const std::filesystem::path& input, const std::filesystem::p
   for (const std::string& name : ps.panels) {
     io::PatternPanel p;
     p.name = name;
-    const PanelMesh mesh = panel_mesh(m, name);
+    FlattenSettings settings;
+    const PanelMesh mesh = panel_mesh(m, name, x, settings);
     if (std::string why = disc_problem(mesh, m.num_nodes()); !why.empty()) {
       say(stderr, "error: {}: patterns.panels: panel '{}' cannot be flattened: {}\n",
           model_file.string(), name, why);
       return kExitBadInput;
     }
-    p.flat = flatten_panel(x, mesh);
+    p.flat = flatten_panel(x, mesh, settings);
     for (int n : p.flat.nodes) p.node_ids.push_back(m.node_ids[static_cast<size_t>(n)]);
     io::outline_panel(p, ps.warp, ps.fill, ps.seam_allowance);
     panels.push_back(std::move(p));
@@ -82,6 +89,7 @@ int pattern_command(const std::filesystem::path& input, const std::filesystem::p
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   try {
     io::write_patterns(output, panels, x, ps.warp, ps.fill, ps.seam_allowance);
+    io::write_roundtrip_model(in, x, panels, ps.warp, ps.fill, output / "roundtrip.yaml");
   } catch (const std::runtime_error& e) {
     say(stderr, "error: {}\n", e.what());
     return kExitIo;

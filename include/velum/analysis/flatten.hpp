@@ -16,10 +16,17 @@ using NodePositions = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 /// A panel's triangles on the nodes of its 3-D shape (corner nodes, indices into `x`).
 struct PanelMesh {
   std::vector<std::array<int, 3>> triangles;
+  /// Per triangle: the warp (the section's first sheet axis) on the 3-D shape, or empty: the
+  /// flat panel's warp u then runs along its longest extent.
+  std::vector<Vec3> warp;
 };
 
 struct FlattenSettings {
-  double nu = 0.3;           ///< Poisson's ratio of the isotropic energy minimised
+  double nu = 0.3;  ///< Poisson's ratio of the isotropic energy minimised without `stiffness`
+  /// The panel's law at zero strain in its sheet axes (Voigt, engineering shear; any scale):
+  /// with PanelMesh::warp the energy is the law's, the axes carried into each flat triangle.
+  /// Zero: isotropic with `nu`.
+  Mat3 stiffness = Mat3::Zero();
   int max_iterations = 100;  ///< Gauss-Newton iterations
   double tolerance = 1e-13;  ///< relative energy decrease at which the iterations stop
 };
@@ -32,6 +39,7 @@ struct FlatPanel {
   std::vector<double> strain;  ///< per triangle: the largest |principal Green strain|
   double area_3d = 0, area_flat = 0, max_strain = 0;
   int iterations = 0;
+  bool warp_from_axes = false;  ///< u is the mean of the given warp directions (PanelMesh::warp)
 };
 
 /// Why the triangles are not one disc (several pieces, holes: Euler characteristic, an edge

@@ -113,6 +113,9 @@ class ElementBlock {
   /// The section's prestress in the sheet axes [s11, s22, s12] (membranes; zero for cables):
   /// form finding names a warp ≠ fill one when it finds no equilibrium shape.
   virtual Vec3 sheet_prestress() const { return Vec3::Zero(); }
+  /// The section's law's stiffness at zero strain in the sheet axes (Voigt, engineering shear;
+  /// membranes; zero for cables): cutting patterns flatten a panel for its own law.
+  virtual Mat3 sheet_stiffness() const { return Mat3::Zero(); }
 
   /// Keeps the section data (integration points, reference geometry) of the listed elements
   /// only (ascending), freeing the others': under mpirun a process computes its own elements

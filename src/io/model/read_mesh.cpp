@@ -30,7 +30,8 @@ void Reader::add_node(long id, const Vec3& x, const Node& at, const std::string&
 
 void Reader::parse_mesh(const Node& mesh) {
   if (!check_map(mesh, "mesh",
-                 {"file", "nodes", "elements", "node_sets", "positions", "reference_positions"}))
+                 {"file", "nodes", "elements", "node_sets", "positions", "reference_positions",
+                  "panel_references"}))
     return;
   mesh_ok_ = true;
   if (!has(mesh, "file") && !has(mesh, "nodes")) {
@@ -147,6 +148,7 @@ void Reader::parse_mesh(const Node& mesh) {
     }
   }
   if (has(mesh, "reference_positions")) parse_reference_positions(mesh["reference_positions"]);
+  if (has(mesh, "panel_references")) parse_panel_references(mesh["panel_references"]);
 }
 
 // The stress-free coordinates of the listed nodes: the model's reference X becomes them and

@@ -198,6 +198,9 @@ std::optional<SheetAxes> Reader::parse_axes(const Node& a, const std::string& p)
 void Reader::build_blocks(const std::string& set, const ElementSet& es, const MaterialDef& md,
                           double size, const SheetAxes* axes, shape::Integration integration,
                           const Node& at, const std::string& p) {
+  // A panel of a cutting pattern measures strain from its own flat reference.
+  const std::optional<NodePositions> panel = panel_reference_of(set, es, at, p);
+  const NodePositions& X = panel ? *panel : in_.model.X;
   for (const auto& g : es.groups) {
     std::vector<int> conn;
     conn.reserve(g.node_ids.size());
@@ -214,7 +217,7 @@ void Reader::build_blocks(const std::string& set, const ElementSet& es, const Ma
     if (!ok) continue;
     const bool sliding = g.type == "sliding_cable";
     if (const ShapeProblem bad =
-            sliding ? ShapeProblem{} : check_shapes(g.type, conn, in_.model.X, in_.model.node_ids);
+            sliding ? ShapeProblem{} : check_shapes(g.type, conn, X, in_.model.node_ids);
         bad.element >= 0) {
       const std::string where = g.line > 0 ? fmt::format("{}:{}", name_, g.line)
                                            : fmt::format("{}:{}", name_, line_of(at));
@@ -231,17 +234,17 @@ void Reader::build_blocks(const std::string& set, const ElementSet& es, const Ma
     try {
       if (md.cable && sliding)
         block = make_sliding_cable_block(
-            set, chain_nodes, std::move(conn), in_.model.X,
+            set, chain_nodes, std::move(conn), X,
             CableLaw{md.cable_law.E, md.cable_law.compression, md.cable_prestress / size},
             md.density, size, report);
       else if (md.cable)
         block = make_cable_block(
-            g.type, set, std::move(conn), in_.model.X,
+            g.type, set, std::move(conn), X,
             CableLaw{md.cable_law.E, md.cable_law.compression, md.cable_prestress / size},
             md.density, size, integration, report);
       else
-        block = make_membrane_block(g.type, set, std::move(conn), in_.model.X, md.sheet_law(),
-                                    md.density, size, axes, integration, report);
+        block = make_membrane_block(g.type, set, std::move(conn), X, md.sheet_law(), md.density,
+                                    size, axes, integration, report);
     } catch (const std::exception& e) {
       error(at, p, fmt::format("set '{}': {}", set, e.what()));
       continue;

@@ -71,6 +71,11 @@ class Reader : public ReaderContext {
   void add_node(long id, const Vec3& x, const Node& at, const std::string& path);
   void parse_mesh(const Node& mesh);
   void parse_reference_positions(const Node& ps);
+  // read_panel_references.cpp: stress-free flat panels per element set (a pattern's round trip)
+  void parse_panel_references(const Node& list);
+  /// X with the set's panel reference, or null when the set has none (reports missing nodes).
+  std::optional<NodePositions> panel_reference_of(const std::string& set, const ElementSet& es,
+                                                  const Node& at, const std::string& p);
   void parse_inline_elements(const Node& els, long max_file_id);
   /// Node indices from a node reference: an id, a list of ids, a set name or {box: [...]}.
   std::optional<std::vector<int>> node_list(const Node& n, const std::string& path,
@@ -176,6 +181,8 @@ class Reader : public ReaderContext {
   std::map<std::string, std::vector<long>> file_node_sets_;
   std::map<std::string, std::vector<int>> node_sets_;
   std::map<std::string, std::vector<int>> set_blocks_;
+  /// mesh.panel_references: per element set, node index -> its stress-free position there.
+  std::map<std::string, std::map<int, Vec3>> panel_refs_;
   /// Each section's prestress as given (its node and path) with its least and greatest
   /// principal value (a cable's force twice): form finding needs tension.
   struct PrestressSite {

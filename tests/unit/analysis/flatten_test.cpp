@@ -150,13 +150,83 @@ TEST(Flatten, PanelsThatAreNotDiscsAreRefused) {
   EXPECT_THROW(flatten_panel(ring.x, closed), std::invalid_argument);
   // Two pieces.
   const Grid g = grid(3, 1, [](double s, double t) { return Vec3(s, t, 0); });
-  const PanelMesh two{{g.mesh.triangles[0], g.mesh.triangles[4]}};
+  const PanelMesh two{{g.mesh.triangles[0], g.mesh.triangles[4]}, {}};
   EXPECT_NE(disc_problem(two, static_cast<int>(g.x.cols())).find("2 separate pieces"),
             std::string::npos);
   EXPECT_EQ(disc_problem(g.mesh, static_cast<int>(g.x.cols())), "");
   // Two triangles that touch at a corner only.
-  const PanelMesh bowtie{{g.mesh.triangles[0], g.mesh.triangles[2]}};
+  const PanelMesh bowtie{{g.mesh.triangles[0], g.mesh.triangles[2]}, {}};
   EXPECT_NE(disc_problem(bowtie, static_cast<int>(g.x.cols())).find("at node"), std::string::npos);
+}
+
+// The flat panel's warp u follows the section's warp on the shape (PanelMesh::warp), not its
+// longest extent: a long strip whose warp runs across it at 30 degrees.
+TEST(Flatten, WarpAlongTheGivenSheetAxis) {
+  Grid g = grid(8, 2, [](double s, double t) { return Vec3(4 * s, 0.5 * t, 0.2 * s); });
+  const Vec3 along = (g.x.col(g.at(1, 0)) - g.x.col(g.at(0, 0))).normalized();
+  const Vec3 across = Vec3::UnitY();
+  const double a = 30 * M_PI / 180;
+  const Vec3 warp = std::cos(a) * along + std::sin(a) * across;
+  g.mesh.warp.assign(g.mesh.triangles.size(), warp);
+  const FlatPanel p = flatten_panel(g.x, g.mesh);
+  EXPECT_TRUE(p.warp_from_axes);
+  // A flat segment along the 3-D warp direction lies along u.
+  const Vec2 d = p.uv[local_of(p, g.at(1, 0))] - p.uv[local_of(p, g.at(0, 0))];
+  const Vec2 e = p.uv[local_of(p, g.at(0, 1))] - p.uv[local_of(p, g.at(0, 0))];
+  const Vec2 w = std::cos(a) * d.normalized() + std::sin(a) * e.normalized();
+  EXPECT_NEAR(std::abs(w.y()) / w.norm(), 0.0, 1e-9);
+  // Without it, the strip's length runs along u.
+  g.mesh.warp.clear();
+  const FlatPanel q = flatten_panel(g.x, g.mesh);
+  EXPECT_FALSE(q.warp_from_axes);
+  const Vec2 dq = q.uv[local_of(q, g.at(8, 0))] - q.uv[local_of(q, g.at(0, 0))];
+  EXPECT_NEAR(std::abs(dq.y()) / dq.norm(), 0.0, 1e-9);
+}
+
+// Flattened for its own law: a warp twenty times stiffer than the fill takes the strain
+// flattening must leave mostly across the warp (a spherical patch, warp along its meridian
+// s). The area-weighted mean square warp strain falls well below the isotropic flattening's,
+// the fill strain rises.
+TEST(Flatten, StiffWarpKeepsItsLength) {
+  const double R = 2.0;
+  auto sphere = [&](double s, double t) {
+    const double a = 0.8 * (s - 0.5), b = 0.8 * (t - 0.5);
+    return Vec3(R * std::cos(b) * std::cos(a), R * std::cos(b) * std::sin(a), R * std::sin(b));
+  };
+  Grid g = grid(10, 10, sphere);
+  for (const auto& t : g.mesh.triangles) {  // along the parallels at the centroid
+    const Vec3 c = g.x.col(t[0]) + g.x.col(t[1]) + g.x.col(t[2]);
+    g.mesh.warp.push_back(Vec3(-c.y(), c.x(), 0).normalized());
+  }
+  auto strains = [&](const FlatPanel& p) {
+    double w = 0, f = 0, area = 0;
+    for (size_t i = 0; i < p.triangles.size(); ++i) {
+      const auto& t = p.triangles[i];
+      Eigen::Matrix<double, 3, 2> G;
+      G << g.x.col(p.nodes[t[1]]) - g.x.col(p.nodes[t[0]]),
+          g.x.col(p.nodes[t[2]]) - g.x.col(p.nodes[t[0]]);
+      Mat2 D;
+      D << p.uv[t[1]] - p.uv[t[0]], p.uv[t[2]] - p.uv[t[0]];
+      const Eigen::Matrix<double, 3, 2> F = G * D.inverse();
+      const Mat2 E = (F.transpose() * F - Mat2::Identity()) / 2;
+      const Vec2 d = (F.transpose() * F).ldlt().solve(F.transpose() * g.mesh.warp[i]).normalized();
+      const Vec2 n(-d.y(), d.x());
+      const double A = D.determinant() / 2;
+      w += A * std::pow(d.dot(E * d), 2), f += A * std::pow(n.dot(E * n), 2), area += A;
+    }
+    return std::pair(w / area, f / area);
+  };
+  const FlatPanel iso = flatten_panel(g.x, g.mesh);
+  FlattenSettings ortho;
+  const double E1 = 20, E2 = 1, nu12 = 0.05, nu21 = nu12 * E2 / E1, G12 = 0.5;
+  ortho.stiffness << E1 / (1 - nu12 * nu21), nu21 * E1 / (1 - nu12 * nu21), 0,
+      nu12 * E2 / (1 - nu12 * nu21), E2 / (1 - nu12 * nu21), 0, 0, 0, G12;
+  const FlatPanel stiff = flatten_panel(g.x, g.mesh, ortho);
+  const auto [w_iso, f_iso] = strains(iso);
+  const auto [w_stiff, f_stiff] = strains(stiff);
+  EXPECT_LT(w_stiff, 0.25 * w_iso);
+  EXPECT_GT(f_stiff, f_iso);
+  EXPECT_NEAR(stiff.area_flat, stiff.area_3d, 0.01 * stiff.area_3d);
 }
 
 }  // namespace
