@@ -141,6 +141,7 @@ void MechanicalSystem::set_positions(double t, const VecX& u) {
   apply_prescribed(t, U_);
   dofs_.scatter(u, U_);
   x_ = model_.X + U_;
+  for (const auto& b : model_.blocks) b->set_time(t);  // sections that change in time
 }
 
 void MechanicalSystem::start_loads(double t, const VecX& u, const VecX& v) {
@@ -435,6 +436,7 @@ NodePositions MechanicalSystem::reactions(double t, const VecX& u, const VecX& v
 double MechanicalSystem::strain_energy(double t, const VecX& u) const {
   const NodePositions x = model_.X + displacements(t, u);
   double U = 0;
+  for (const auto& b : model_.blocks) b->set_time(t);
   for (size_t b = 0; b < model_.blocks.size(); ++b)
     U += model_.blocks[b]->strain_energy(assembler_.own(static_cast<int>(b)), x);
   if (processes::count() > 1) processes::sum(&U, 1);  // each process's elements
