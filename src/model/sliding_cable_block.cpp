@@ -4,6 +4,7 @@
 // interior nodes committed at accepted states (the law-history seam of ElementBlock).
 #include <fmt/format.h>
 
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -70,6 +71,9 @@ class SlidingCableBlock final : public ElementBlock, public SlidingChains {
   }
 
   const SlidingChains* sliding() const override { return this; }
+  bool changes_in_time() const override {
+    return section_.reefing || section_.cut_time < std::numeric_limits<double>::infinity();
+  }
   void set_time(double t) override {
     g_ = section_.reefing ? (*section_.reefing)(t) : 1.0;
     cut_ = t >= section_.cut_time;

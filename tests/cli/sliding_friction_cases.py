@@ -96,4 +96,53 @@ for name, body, expect in cases:
     check(name, r.returncode == 1 and expect in r.stderr,
           f"exit {r.returncode}: {r.stderr.strip().splitlines()[0] if r.stderr else ''}")
 
+# Reefing: eight rings held out by prestressed springs (EA 1e3 N, 100 N, anchors at radius 2)
+# and pushed in by 50 N each, drawn in by a line through them (a closed loop, EA 1e5 N) whose
+# length falls to 0.6 of its meshed length at t = 1, cut at t = 1.2. By symmetry the rings stay
+# on a circle: 2 T sin(pi/8) + 50 = S, T from the line's stretch r / g, S from the spring's.
+reef = os.path.join(data, "sliding", "ring_reef.yaml")
+s8 = math.sin(math.pi / 8)
+
+
+def radius(g, cut=False):
+    lo, hi = 0.3, 1.9
+    for _ in range(200):
+        r = 0.5 * (lo + hi)
+        ls = 2 - r
+        S = (1e3 * 0.5 * (ls * ls - 1) + 100) * ls
+        T = 0 if cut else 1e5 * 0.5 * ((r / g) ** 2 - 1) * (r / g)
+        lo, hi = (lo, r) if 2 * T * s8 + 50 - S > 0 else (r, hi)
+    return 0.5 * (lo + hi), T
+
+
+reef_text = open(reef).read()
+variants = [("static", reef_text, 1e-8),
+            ("static, friction 0.1", reef_text.replace("reefing: reef", "friction: 0.1, reefing: reef"), 1e-8),
+            ("relaxation", reef_text.replace("type: static", "type: relaxation"), 1e-9),
+            ("dynamic", reef_text.replace("{type: static, time: {end: 1.5, step: 0.1}}",
+                                          "{type: dynamic, time: {end: 1.5, step: 0.005}, damping: {mass: 20.0}}"), 2e-2),
+            ("explicit", reef_text.replace("{type: static, time: {end: 1.5, step: 0.1}}",
+                                           "{type: dynamic, integrator: {scheme: central-difference}, "
+                                           "time: {end: 1.5, step: 1.0e-4}, damping: {mass: 20.0}}"), 2e-2)]
+for name, body, tol in variants:
+    path = os.path.join(out, "reef_" + name.replace(" ", "_").replace(",", "") + ".yaml")
+    open(path, "w").write(body)
+    where = path[:-5]
+    r = run(path, where)
+    if r.returncode != 0 or "warning" in r.stderr:
+        check(f"reefing, {name}", False, f"exit {r.returncode} {r.stderr.strip()}")
+        continue
+    h = {round(row["time"], 6): row for row in history(where)}
+    errs = []
+    for t in (0.5, 1.0):
+        rc, Tc = radius(1 - 0.4 * t)
+        errs.append(max(abs(h[t]["r1"] - rc) / rc, abs(h[t]["T"] - Tc) / Tc))
+    cut_ok = h[1.25]["T"] == 0 and h[1.5]["T"] == 0
+    if name.startswith("static") or name == "relaxation":
+        rc, _ = radius(1, cut=True)
+        errs.append(abs(h[1.5]["r1"] - rc) / rc)
+    check(f"reefing, {name}", max(errs) < tol and cut_ok,
+          f"largest relative error (radius, line force; cut) {max(errs):.1e}, "
+          f"line force after the cut {h[1.5]['T']}")
+
 sys.exit(1 if failed else 0)

@@ -111,6 +111,9 @@ class ElementBlock {
   // A section that changes in time (a reefing line's length, a cut line): the time of the
   // positions it is next evaluated at, set with them (MechanicalSystem). Others ignore it.
   virtual void set_time(double /*t*/) {}
+  /// Whether the section changes in time (its strain energy then changes at fixed positions:
+  /// work done on the model that the energy account books).
+  virtual bool changes_in_time() const { return false; }
 
   /// Doubles of history held (0: the law keeps none).
   virtual size_t history_size() const { return 0; }
