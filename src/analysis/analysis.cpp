@@ -69,8 +69,9 @@ class StabilityWatch {
 
 // The energy balance, step by step: the work of the loads by the trapezoidal rule on
 // Fext·ΔU (full vectors: loads on prescribed nodes included), the work of prescribed motions
-// likewise on the reactions (R·ΔU at eliminated components), the damping work on the
-// mass-proportional Rayleigh force.
+// likewise on the reactions (R·ΔU at eliminated components), the work of sections that change
+// in time (MechanicalSystem::section_work), the damping work on the mass-proportional
+// Rayleigh force.
 class EnergyAccount {
  public:
   EnergyAccount(MechanicalSystem& sys, bool dynamic, double t0, const State& s, Energies& E)
@@ -95,6 +96,7 @@ class EnergyAccount {
     }
     // Several processes: each process's forces are its share, nonzero only at nodes it holds.
     dW = sys_.sum_over_processes(dW);
+    dW += sys_.section_work(st.t - st.h, U_prev_, st.t, U);  // reefing lines, cuts
     E.external_work += dW;
     work_scale_ += std::abs(dW);
     peak_work_ = std::max(peak_work_, std::abs(E.external_work));

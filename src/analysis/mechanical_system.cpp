@@ -141,6 +141,7 @@ void MechanicalSystem::set_positions(double t, const VecX& u) {
   apply_prescribed(t, U_);
   dofs_.scatter(u, U_);
   x_ = model_.X + U_;
+  for (const auto& b : model_.blocks) b->set_time(t);  // sections that change in time
 }
 
 void MechanicalSystem::start_loads(double t, const VecX& u, const VecX& v) {
@@ -435,10 +436,33 @@ NodePositions MechanicalSystem::reactions(double t, const VecX& u, const VecX& v
 double MechanicalSystem::strain_energy(double t, const VecX& u) const {
   const NodePositions x = model_.X + displacements(t, u);
   double U = 0;
+  for (const auto& b : model_.blocks) b->set_time(t);
   for (size_t b = 0; b < model_.blocks.size(); ++b)
     U += model_.blocks[b]->strain_energy(assembler_.own(static_cast<int>(b)), x);
   if (processes::count() > 1) processes::sum(&U, 1);  // each process's elements
   return U;
+}
+
+double MechanicalSystem::section_work(double t0, const NodePositions& U0, double t1,
+                                      const NodePositions& U1) const {
+  double W = 0;
+  bool any = false;
+  for (size_t b = 0; b < model_.blocks.size(); ++b) {
+    ElementBlock& blk = *model_.blocks[b];
+    if (!blk.changes_in_time()) continue;
+    any = true;
+    const auto own = assembler_.own(static_cast<int>(b));
+    const NodePositions x0 = model_.X + U0, x1 = model_.X + U1;
+    double at[2][2];  // [time][positions]
+    for (int k = 0; k < 2; ++k) {
+      blk.set_time(k == 0 ? t0 : t1);
+      at[k][0] = blk.strain_energy(own, x0);
+      at[k][1] = blk.strain_energy(own, x1);
+    }
+    W += 0.5 * ((at[1][0] - at[0][0]) + (at[1][1] - at[0][1]));
+  }
+  if (any && processes::count() > 1) processes::sum(&W, 1);
+  return W;
 }
 
 std::string MechanicalSystem::inverted_element(double t_from, const VecX& u_from, double t_to,

@@ -372,6 +372,10 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
     case Q::kForce:
       return a.owns(h.block, h.element) ? model.blocks[h.block]->output(h.element, x).cable_force
                                         : 0.0;
+    case Q::kSlip:
+      return a.owns(h.block, h.element)
+                 ? model.blocks[h.block]->sliding()->slip(h.element, h.node, x)
+                 : 0.0;
     case Q::kKineticEnergy:
       return first ? snap.energy.kinetic : 0.0;
     case Q::kStrainEnergy:

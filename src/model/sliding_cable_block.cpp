@@ -1,13 +1,19 @@
 // The sliding cable block: each element is one chain (docs/cables.md), its node count the
-// chain's; the block's shape row is made for that count (a VTK poly-line in frames).
+// chain's; the block's shape row is made for that count (a VTK poly-line in frames). Without
+// friction one force acts along the chain; with it, each segment's own, the slips at the
+// interior nodes committed at accepted states (the law-history seam of ElementBlock).
 #include <fmt/format.h>
 
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <span>
 #include <stdexcept>
 
 #include "velum/element/sliding_cable.hpp"
+#include "velum/element/sliding_cable_friction.hpp"
 #include "velum/model/element_block.hpp"
 
 namespace velum {
@@ -32,13 +38,15 @@ const shape::ShapeInfo& chain_shape(int k) {
   return *row;
 }
 
-class SlidingCableBlock final : public ElementBlock {
+class SlidingCableBlock final : public ElementBlock, public SlidingChains {
  public:
   SlidingCableBlock(std::string set, int chain_nodes, std::vector<int> conn, const NodePositions& X,
-                    const CableLaw& law, double density, double area, BlockSetupReport& report)
+                    const CableLaw& law, double density, double area, BlockSetupReport& report,
+                    const SlidingCableSection& section)
       : ElementBlock(chain_shape(chain_nodes), std::move(set), std::move(conn), density),
         law_(law),
-        area_(area) {
+        area_(area),
+        section_(section) {
     const int ne = size();
     const int k = nodes_per_element();
     segments_.resize(static_cast<size_t>(ne) * static_cast<size_t>(k - 1));
@@ -58,6 +66,17 @@ class SlidingCableBlock final : public ElementBlock {
         report.worst_element = e;
       }
     }
+    if (section_.friction > 0) slips_.assign(static_cast<size_t>(ne) * (k - 2), 0.0);
+    set_time(0);
+  }
+
+  const SlidingChains* sliding() const override { return this; }
+  bool changes_in_time() const override {
+    return section_.reefing || section_.cut_time < std::numeric_limits<double>::infinity();
+  }
+  void set_time(double t) override {
+    g_ = section_.reefing ? (*section_.reefing)(t) : 1.0;
+    cut_ = t >= section_.cut_time;
   }
 
   bool prestressed() const override { return law_.S0 != 0; }
@@ -69,7 +88,7 @@ class SlidingCableBlock final : public ElementBlock {
     CableLaw law = law_;
     if (stabilizer > 0 && law_.S0 > 0) law.E = stabilizer * law_.S0;
     auto out = make_sliding_cable_block(set_name(), nodes_per_element(), std::move(connectivity), X,
-                                        law, density(), area_, report);
+                                        law, density(), area_, report, section_);
     if (any && !(report.worst_jacobian > 0))
       throw std::invalid_argument(
           fmt::format("sliding_cable element {} of set '{}' has a zero-length segment on the new "
@@ -83,13 +102,21 @@ class SlidingCableBlock final : public ElementBlock {
     const int nd = dofs_per_element();
     for (size_t i = 0; i < elements.size(); ++i) {
       const int e = elements[i];
-      const Chain& xe = gather(x, e);
       sliding_cable::VectorMap re(r + i * nd, nd);
-      if (K) {
-        sliding_cable::MatrixMap Ke(K + i * nd * nd, nd, nd);
-        sliding_cable::force_tangent(xe, L0(e), area_, law_, re, &Ke);
+      std::optional<sliding_cable::MatrixMap> Ke;
+      if (K) Ke.emplace(K + i * nd * nd, nd, nd);
+      if (cut_) {  // a cut line carries nothing
+        re.setZero();
+        if (Ke) Ke->setZero();
+        continue;
+      }
+      const Chain& xe = gather(x, e);
+      if (section_.friction > 0) {
+        FrictionScratch& w = scratch();
+        sliding_cable::friction_force_tangent(xe, friction_chain(e), area_, law_, re,
+                                              Ke ? &*Ke : nullptr, w.slips, w.work);
       } else {
-        sliding_cable::force_tangent(xe, L0(e), area_, law_, re, nullptr);
+        sliding_cable::force_tangent(xe, g_ * L0(e), area_, law_, re, Ke ? &*Ke : nullptr);
       }
     }
   }
@@ -118,7 +145,12 @@ class SlidingCableBlock final : public ElementBlock {
   double measure(int e) const override { return L0(e); }
   double strain_energy(std::span<const int> elements, const NodePositions& x) const override {
     double U = 0;
-    for (int e : elements) U += sliding_cable::strain_energy(gather(x, e), L0(e), area_, law_);
+    if (cut_) return U;
+    for (int e : elements)
+      U += section_.friction > 0
+               ? sliding_cable::friction_strain_energy(gather(x, e), friction_chain(e), area_, law_,
+                                                       scratch().work)
+               : sliding_cable::strain_energy(gather(x, e), g_ * L0(e), area_, law_);
     return U;
   }
   int first_inverted(std::span<const int> elements, const NodePositions& from,
@@ -140,14 +172,66 @@ class SlidingCableBlock final : public ElementBlock {
                  segments_.begin() + static_cast<long>((at + 1) * s));
       L0.push_back(L0_[at]);
     }
+    std::vector<double> slips;
+    for (int e : elements) {
+      const auto c = committed(e);
+      slips.insert(slips.end(), c.begin(), c.end());
+    }
     segments_ = std::move(seg);
     L0_ = std::move(L0);
+    if (!slips_.empty()) slips_ = std::move(slips);
     set_kept(elements);
   }
+  // The mean force along the chain (each segment's force weighted by its length); one force
+  // without friction.
   ElementOutput output(int e, const NodePositions& x) const override {
     ElementOutput out;
-    out.cable_force = sliding_cable::true_force(gather(x, e), L0(e), area_, law_);
+    if (cut_) return out;
+    out.cable_force = section_.friction > 0
+                          ? sliding_cable::friction_mean_force(gather(x, e), friction_chain(e),
+                                                               area_, law_, scratch().work)
+                          : sliding_cable::true_force(gather(x, e), g_ * L0(e), area_, law_);
     return out;
+  }
+  double slip(int e, int j, const NodePositions& x) const override {
+    FrictionScratch& w = scratch();
+    w.slips.resize(static_cast<size_t>(nodes_per_element() - 2));
+    if (section_.friction == 0) {
+      sliding_cable::frictionless_slips(gather(x, e), reference_segments(e), w.slips);
+    } else if (cut_) {
+      const auto c = committed(e);
+      std::copy(c.begin(), c.end(), w.slips.begin());
+    } else {
+      sliding_cable::solve_slips(gather(x, e), friction_chain(e), area_, law_, w.slips, w.work);
+    }
+    return w.slips[static_cast<size_t>(j - 1)];
+  }
+
+  // With friction, the slips at the interior nodes (k − 2 per chain) are the history: the
+  // forces are evaluated from those committed at the last accepted state.
+  size_t history_size() const override { return slips_.size(); }
+  void commit_history(const NodePositions& x) override {
+    if (cut_ || slips_.empty()) return;
+    FrictionScratch& w = scratch();
+    for (int e = 0; e < size(); ++e) {
+      if (!holds(e)) continue;
+      if (!sliding_cable::solve_slips(gather(x, e), friction_chain(e), area_, law_, w.slips,
+                                      w.work))
+        continue;  // keeps the last state (an accepted state has converged slips)
+      const auto at = static_cast<std::ptrdiff_t>(slot(e) * (nodes_per_element() - 2));
+      std::copy(w.slips.begin(), w.slips.end(), slips_.begin() + at);
+    }
+  }
+  void save_history(std::vector<double>& out) const override {
+    out.insert(out.end(), slips_.begin(), slips_.end());
+  }
+  size_t restore_history(const std::vector<double>& in, size_t at) override {
+    if (at + slips_.size() > in.size())
+      throw std::invalid_argument(
+          fmt::format("the saved slips of sliding cable set '{}' are cut short", set_name()));
+    std::copy(in.begin() + static_cast<std::ptrdiff_t>(at),
+              in.begin() + static_cast<std::ptrdiff_t>(at + slips_.size()), slips_.begin());
+    return at + slips_.size();
   }
 
  private:
@@ -161,6 +245,28 @@ class SlidingCableBlock final : public ElementBlock {
     for (size_t j = 0; j < n.size(); ++j) out.col(static_cast<Eigen::Index>(j)) = x.col(n[j]);
     return out;
   }
+  // Per thread: the friction solve's scratch and a chain's slips.
+  struct FrictionScratch {
+    sliding_cable::FrictionWork work;
+    std::vector<double> slips;
+  };
+  FrictionScratch& scratch() const {
+    thread_local FrictionScratch w;
+    w.slips.resize(static_cast<size_t>(nodes_per_element() - 2));
+    return w;
+  }
+  std::span<const double> reference_segments(int e) const {
+    const auto s = static_cast<size_t>(nodes_per_element() - 1);
+    return {segments_.data() + static_cast<size_t>(slot(e)) * s, s};
+  }
+  std::span<const double> committed(int e) const {
+    if (slips_.empty()) return {};
+    const auto s = static_cast<size_t>(nodes_per_element() - 2);
+    return {slips_.data() + static_cast<size_t>(slot(e)) * s, s};
+  }
+  sliding_cable::FrictionChain friction_chain(int e) const {
+    return {reference_segments(e), committed(e), section_.friction, g_};
+  }
   double L0(int e) const { return L0_[static_cast<size_t>(slot(e))]; }
   double segment(int e, int j) const {
     return segments_[static_cast<size_t>(slot(e) * (nodes_per_element() - 1) + j)];
@@ -168,8 +274,12 @@ class SlidingCableBlock final : public ElementBlock {
 
   CableLaw law_;
   double area_;
+  SlidingCableSection section_;
   std::vector<double> segments_;  // reference segment lengths, k − 1 per element
   std::vector<double> L0_;        // reference length of each chain
+  std::vector<double> slips_;     // with friction: committed slips, k − 2 per element
+  double g_ = 1;                  // the reefing factor at the time set
+  bool cut_ = false;              // the line cut at the time set
 };
 
 }  // namespace
@@ -178,13 +288,17 @@ std::unique_ptr<ElementBlock> make_sliding_cable_block(std::string set_name, int
                                                        std::vector<int> connectivity,
                                                        const NodePositions& X, const CableLaw& law,
                                                        double density, double area,
-                                                       BlockSetupReport& report) {
+                                                       BlockSetupReport& report,
+                                                       const SlidingCableSection& section) {
   if (chain_nodes < 3)
     throw std::invalid_argument(
         "a sliding_cable runs through at least 3 nodes (2 segments); use a cable2 element for "
         "one segment");
-  return std::make_unique<SlidingCableBlock>(
-      std::move(set_name), chain_nodes, std::move(connectivity), X, law, density, area, report);
+  if (!(section.friction >= 0))
+    throw std::invalid_argument("a sliding_cable's friction coefficient must be >= 0");
+  return std::make_unique<SlidingCableBlock>(std::move(set_name), chain_nodes,
+                                             std::move(connectivity), X, law, density, area, report,
+                                             section);
 }
 
 }  // namespace velum

@@ -117,6 +117,11 @@ class MechanicalSystem final : public SecondOrderSystem {
     return squared_norm(v) == 0 ? 0.0 : 0.5 * dot(v, mass_times(v));
   }
   double strain_energy(double t, const VecX& u) const;
+  /// The work done on the model from (t0, U0) to (t1, U1) (full displacements) by sections
+  /// that change in time (a reefing line drawn in, a line cut): the trapezoidal rule on their
+  /// strain energy's change in time at fixed positions; 0 without such sections. A collective
+  /// call on several processes.
+  double section_work(double t0, const NodePositions& U0, double t1, const NodePositions& U1) const;
 
  private:
   void apply_prescribed(double t, NodePositions& U) const;

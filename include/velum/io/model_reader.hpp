@@ -39,11 +39,12 @@ struct HistoryEntry {
     kContactForce,
     kRigidPosition,
     kRigidVelocity,
-    kForce  ///< a cable element's axial force (cable2, cable3, sliding_cable)
+    kForce,  ///< a cable element's axial force (cable2, cable3, sliding_cable)
+    kSlip    ///< a sliding cable's material slip through an interior node
   };
   std::string name;
   Quantity quantity = Quantity::kDisplacement;
-  int node = -1;                   ///< displacement, velocity, position: node index
+  int node = -1;  ///< displacement, velocity, position: node index; slip: its place in the chain
   std::vector<int> nodes;          ///< reaction: node indices
   int component = 0;               ///< x y z: 0 1 2; stress: kStressComponents index
   Vec3 point = Vec3::Zero();       ///< fiber_angle_change, stress: reference point

@@ -5,7 +5,9 @@
 #pragma once
 
 #include <cassert>
+#include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -15,6 +17,7 @@
 #include "velum/material/axes.hpp"
 #include "velum/material/cable_law.hpp"
 #include "velum/material/sheet_law.hpp"
+#include "velum/model/time_function.hpp"
 #include "velum/shape/shape_info.hpp"
 
 namespace velum {
@@ -33,6 +36,7 @@ struct ElementOutput {
 };
 
 class SurfaceBlock;
+class SlidingChains;
 
 /// What every block answers. A capability only some blocks have (loads on a surface, points
 /// located on it) is its own interface, reached through an accessor that is null elsewhere:
@@ -47,6 +51,8 @@ class ElementBlock {
   /// The surface capability (membranes), or null (lines).
   virtual const SurfaceBlock* surface() const { return nullptr; }
   ElementKind kind() const { return surface() ? ElementKind::kMembrane : ElementKind::kCable; }
+  /// The sliding capability (sliding_cable chains: the material's slip), or null.
+  virtual const SlidingChains* sliding() const { return nullptr; }
   int nodes_per_element() const { return shape_->nodes; }
   int dofs_per_element() const { return 3 * nodes_per_element(); }
   int size() const { return static_cast<int>(connectivity_.size()) / nodes_per_element(); }
@@ -102,6 +108,13 @@ class ElementBlock {
   // forces are evaluated from the history committed at the last accepted step (a trial state
   // never stored: a step that fails leaves it as it was); MechanicalSystem::accept commits it
   // at the accepted positions; checkpoints and staged runs carry it as numbers.
+  // A section that changes in time (a reefing line's length, a cut line): the time of the
+  // positions it is next evaluated at, set with them (MechanicalSystem). Others ignore it.
+  virtual void set_time(double /*t*/) {}
+  /// Whether the section changes in time (its strain energy then changes at fixed positions:
+  /// work done on the model that the energy account books).
+  virtual bool changes_in_time() const { return false; }
+
   /// Doubles of history held (0: the law keeps none).
   virtual size_t history_size() const { return 0; }
   /// Advances each held point's history to the positions x of an accepted step.
@@ -209,6 +222,19 @@ class SurfaceBlock : public ElementBlock {
   using ElementBlock::ElementBlock;
 };
 
+/// The sliding capability (docs/cables.md): the material of a chain slips through its
+/// interior nodes.
+class SlidingChains {
+ public:
+  /// Reference (unreefed) length of material that has moved through interior node j (1 .. k−2,
+  /// its place in the chain) of chain e at positions x, from the segment before it into the
+  /// one after it (negative: the other way), since the reference state.
+  virtual double slip(int e, int j, const NodePositions& x) const = 0;
+
+ protected:
+  ~SlidingChains() = default;
+};
+
 /// Diagnostics of a block's set-up: the worst element found, for validation messages.
 struct BlockSetupReport {
   int worst_element = -1;  ///< element with the smallest Jacobian / length
@@ -234,12 +260,22 @@ std::unique_ptr<ElementBlock> make_cable_block(std::string_view type, std::strin
                                                shape::Integration integration,
                                                BlockSetupReport& report);
 
+/// What a sliding cable's section adds to its law: Coulomb friction at the interior nodes (the
+/// capstan ratio e^(μθ)), a reefing factor in time (the line's material length over its
+/// reference length, > 0) and the time the line is cut (no force from then on).
+struct SlidingCableSection {
+  double friction = 0;
+  std::optional<TimeFunction> reefing;
+  double cut_time = std::numeric_limits<double>::infinity();
+};
+
 /// Sliding cable block (docs/cables.md): each element one chain of `chain_nodes` nodes (>= 3)
 /// whose material slides over its interior nodes. Throws std::invalid_argument for fewer nodes.
 std::unique_ptr<ElementBlock> make_sliding_cable_block(std::string set_name, int chain_nodes,
                                                        std::vector<int> connectivity,
                                                        const NodePositions& X, const CableLaw& law,
                                                        double density, double area,
-                                                       BlockSetupReport& report);
+                                                       BlockSetupReport& report,
+                                                       const SlidingCableSection& section = {});
 
 }  // namespace velum

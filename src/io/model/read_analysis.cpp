@@ -393,7 +393,7 @@ void Reader::parse_output(const Node& o, const Node& root) {
       "displacement",   "velocity",        "position",      "reaction",      "fiber_angle_change",
       "stress",         "kinetic_energy",  "strain_energy", "external_work", "gas_volume",
       "gas_pressure",   "gas_temperature", "gas_mass",      "gas_mass_flow", "contact_force",
-      "rigid_position", "rigid_velocity",  "force"};
+      "rigid_position", "rigid_velocity",  "force",         "slip"};
   std::set<std::string> names;
   for (size_t i = 0; i < h.size(); ++i) {
     const Node e = h[i];
@@ -505,6 +505,9 @@ void Reader::parse_output(const Node& o, const Node& root) {
       case Q::kForce:
         ok = locate_cable(e, p, he);
         break;
+      case Q::kSlip:
+        ok = parse_slip_history(e, p, he);
+        break;
       default:
         break;
     }
@@ -514,7 +517,8 @@ void Reader::parse_output(const Node& o, const Node& root) {
 
 // `element: id` of a cable element (cable2, cable3 or a sliding_cable chain) for the history
 // quantity `force`: its block and position there.
-bool Reader::locate_cable(const Node& e, const std::string& p, HistoryEntry& he) {
+bool Reader::locate_cable(const Node& e, const std::string& p, HistoryEntry& he,
+                          const char* quantity) {
   if (!require(e, "element", p)) return false;
   auto id = integer(e["element"], sub(p, "element"), "element id");
   if (!id) return false;
@@ -524,9 +528,12 @@ bool Reader::locate_cable(const Node& e, const std::string& p, HistoryEntry& he)
     if (at == ids.end()) continue;
     if (in_.model.blocks[b]->surface()) {
       error(e["element"], sub(p, "element"),
-            fmt::format("element {} is a membrane: the quantity 'force' is a cable's axial force "
-                        "(use 'stress' with a point for membranes)",
-                        *id));
+            std::string_view(quantity) == "force"
+                ? fmt::format("element {} is a membrane: the quantity 'force' is a cable's axial "
+                              "force (use 'stress' with a point for membranes)",
+                              *id)
+                : fmt::format("element {} is a membrane: the quantity '{}' is a sliding cable's",
+                              *id, quantity));
       return false;
     }
     he.block = static_cast<int>(b);

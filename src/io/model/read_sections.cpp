@@ -22,7 +22,7 @@ void Reader::parse_sections(const Node& ss) {
     const std::string p = item("sections", i);
     if (!check_map(s, p,
                    {"elements", "material", "thickness", "area", "axes", "integration", "wrinkling",
-                    "wrinkling_stiffness", "prestress"}))
+                    "wrinkling_stiffness", "prestress", "friction", "reefing", "cut_time"}))
       continue;
     auto set = text(s, "elements", p, true);
     auto mat = text(s, "material", p, true);
@@ -156,8 +156,10 @@ void Reader::parse_sections(const Node& ss) {
         }
       }
     }
-    if (!size || !md.ok || !axes_ok || !integration_ok || !law_ok || !mesh_ok_) continue;
-    build_blocks(*set, es, law, *size, axes ? &*axes : nullptr, integration, s, p);
+    const auto sliding = parse_sliding_section(s, p, es, md);
+    if (!size || !md.ok || !axes_ok || !integration_ok || !law_ok || !mesh_ok_ || !sliding)
+      continue;
+    build_blocks(*set, es, law, *size, axes ? &*axes : nullptr, integration, s, p, *sliding);
     in_.block_materials.resize(in_.model.blocks.size(), *mat);
   }
 }
@@ -197,7 +199,8 @@ std::optional<SheetAxes> Reader::parse_axes(const Node& a, const std::string& p)
 
 void Reader::build_blocks(const std::string& set, const ElementSet& es, const MaterialDef& md,
                           double size, const SheetAxes* axes, shape::Integration integration,
-                          const Node& at, const std::string& p) {
+                          const Node& at, const std::string& p,
+                          const SlidingCableSection& sliding_section) {
   // A panel of a cutting pattern measures strain from its own flat reference.
   const std::optional<NodePositions> panel = panel_reference_of(set, es, at, p);
   const NodePositions& X = panel ? *panel : in_.model.X;
@@ -236,7 +239,7 @@ void Reader::build_blocks(const std::string& set, const ElementSet& es, const Ma
         block = make_sliding_cable_block(
             set, chain_nodes, std::move(conn), X,
             CableLaw{md.cable_law.E, md.cable_law.compression, md.cable_prestress / size},
-            md.density, size, report);
+            md.density, size, report, sliding_section);
       else if (md.cable)
         block = make_cable_block(
             g.type, set, std::move(conn), X,

@@ -98,7 +98,12 @@ class Reader : public ReaderContext {
                             long& next_id);
   void build_blocks(const std::string& set, const ElementSet& es, const MaterialDef& md,
                     double size, const SheetAxes* axes, shape::Integration integration,
-                    const Node& at, const std::string& p);
+                    const Node& at, const std::string& p,
+                    const SlidingCableSection& sliding_section = {});
+  // read_sliding.cpp: a sliding_cable section's friction, reefing and cut_time.
+  std::optional<SlidingCableSection> parse_sliding_section(const Node& s, const std::string& p,
+                                                           const ElementSet& es,
+                                                           const MaterialDef& md);
 
   // read_loads.cpp
   void parse_functions(const Node& fs);
@@ -172,7 +177,10 @@ class Reader : public ReaderContext {
   void parse_path(const Node& pa);
   void parse_output(const Node& o, const Node& root);
   bool locate(HistoryEntry& he) const;
-  bool locate_cable(const Node& e, const std::string& p, HistoryEntry& he);
+  bool locate_cable(const Node& e, const std::string& p, HistoryEntry& he,
+                    const char* quantity = "force");
+  // read_sliding.cpp: `slip` (element: a sliding_cable's id, node: one of its interior nodes).
+  bool parse_slip_history(const Node& e, const std::string& p, HistoryEntry& he);
 
   bool mesh_ok_ = false;
   std::map<std::string, int> functions_;
