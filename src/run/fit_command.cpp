@@ -1,12 +1,8 @@
 #include "velum/run/fit_command.hpp"
 
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cerrno>
-#include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 
 #include "run_parts.hpp"
@@ -14,8 +10,6 @@
 
 namespace velum::run {
 namespace {
-
-constexpr const char* kPython = "/usr/bin/python3";
 
 // The build tree's package folder (python/velum/fit.py beside the executable), if there.
 std::string build_tree_package_dir() {
@@ -37,35 +31,14 @@ int fit_command(const std::vector<std::string>& args) {
         kPython);
     return kExitIo;
   }
-  std::vector<std::string> words = {kPython, "-m", "velum.fit"};
+  std::vector<std::string> words = {"-m", "velum.fit"};
   words.insert(words.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& w : words) argv.push_back(w.data());
-  argv.push_back(nullptr);
-  const std::string package = build_tree_package_dir();
-  std::fflush(stdout);
-  std::fflush(stderr);
-  const pid_t child = fork();
-  if (child < 0) {
-    say(stderr, "error: velum fit: cannot start {}: {}\n", kPython, std::strerror(errno));
-    return kExitIo;
+  std::vector<std::pair<std::string, std::string>> environment = {{"VELUM_FIT_PROG", "velum fit"}};
+  if (const std::string package = build_tree_package_dir(); !package.empty()) {
+    const char* old = std::getenv("PYTHONPATH");
+    environment.emplace_back("PYTHONPATH", old && *old ? package + ":" + old : package);
   }
-  if (child == 0) {
-    if (!package.empty()) {
-      const char* old = std::getenv("PYTHONPATH");
-      const std::string path = old && *old ? package + ":" + old : package;
-      setenv("PYTHONPATH", path.c_str(), 1);
-    }
-    setenv("VELUM_FIT_PROG", "velum fit", 1);
-    execv(kPython, argv.data());
-    _exit(127);
-  }
-  int status = 0;
-  while (waitpid(child, &status, 0) < 0)
-    if (errno != EINTR) return kExitIo;
-  if (!WIFEXITED(status)) return kExitIo;
-  const int code = WEXITSTATUS(status);
-  return code == 127 ? kExitIo : code == 2 ? kExitBadInput : code;  // 2: argparse's usage error
+  return run_python("velum fit", std::move(words), environment);
 }
 
 }  // namespace velum::run

@@ -1,11 +1,6 @@
 #include "velum/run/plot_command.hpp"
 
-#include <sys/wait.h>
 #include <unistd.h>
-
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
 
 #include "run_parts.hpp"
 #include "velum/io/run_control.hpp"
@@ -13,7 +8,6 @@
 namespace velum::run {
 namespace {
 
-constexpr const char* kPython = "/usr/bin/python3";
 constexpr const char* kScript = "velum_plot.py";
 
 }  // namespace
@@ -46,29 +40,9 @@ int plot_command(const std::vector<std::string>& args) {
         kPython);
     return kExitIo;
   }
-  std::vector<std::string> words = {kPython, script->string()};
+  std::vector<std::string> words = {script->string()};
   words.insert(words.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& w : words) argv.push_back(w.data());
-  argv.push_back(nullptr);
-  std::fflush(stdout);
-  std::fflush(stderr);
-  const pid_t child = fork();
-  if (child < 0) {
-    say(stderr, "error: velum plot: cannot start {}: {}\n", kPython, std::strerror(errno));
-    return kExitIo;
-  }
-  if (child == 0) {
-    execv(kPython, argv.data());
-    _exit(127);
-  }
-  int status = 0;
-  while (waitpid(child, &status, 0) < 0)
-    if (errno != EINTR) return kExitIo;
-  if (!WIFEXITED(status)) return kExitIo;
-  const int code = WEXITSTATUS(status);
-  return code == 127 ? kExitIo : code == 2 ? kExitBadInput : code;  // 2: argparse's usage error
-  return kExitIo;
+  return run_python("velum plot", std::move(words));
 }
 
 }  // namespace velum::run

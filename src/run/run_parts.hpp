@@ -36,6 +36,14 @@ void renumber_history(std::vector<HistoryEntry>& history, const std::vector<int>
 /// to write steps.csv: that failure is raised after it. Throws OutputError.
 void write_step_output(ResultsWriter& writer, const StepSnapshot& snap, bool several);
 
+/// Debian's interpreter (the `python3` first on PATH may lack numpy).
+inline constexpr const char* kPython = "/usr/bin/python3";
+/// Runs kPython with `words` (and `environment` set in the child) for `command` (its name in
+/// messages); the child's exit status, argparse's usage error (2) as bad input, kExitIo when
+/// it cannot start (python_child.cpp).
+int run_python(const std::string& command, std::vector<std::string> words,
+               const std::vector<std::pair<std::string, std::string>>& environment = {});
+
 /// Writes DIR/checkpoint.bin (restart.cpp). Throws OutputError.
 void save_checkpoint(const ResultsWriter& writer, const ModelInput& input, int dofs,
                      Checkpoint run);
