@@ -446,22 +446,21 @@ double MechanicalSystem::strain_energy(double t, const VecX& u) const {
 double MechanicalSystem::section_work(double t0, const NodePositions& U0, double t1,
                                       const NodePositions& U1) const {
   double W = 0;
-  bool any = false;
+  std::optional<NodePositions> x0, x1;  // made once, for the first block that changes in time
   for (size_t b = 0; b < model_.blocks.size(); ++b) {
     ElementBlock& blk = *model_.blocks[b];
     if (!blk.changes_in_time()) continue;
-    any = true;
+    if (!x0) x0 = model_.X + U0, x1 = model_.X + U1;
     const auto own = assembler_.own(static_cast<int>(b));
-    const NodePositions x0 = model_.X + U0, x1 = model_.X + U1;
     double at[2][2];  // [time][positions]
     for (int k = 0; k < 2; ++k) {
       blk.set_time(k == 0 ? t0 : t1);
-      at[k][0] = blk.strain_energy(own, x0);
-      at[k][1] = blk.strain_energy(own, x1);
+      at[k][0] = blk.strain_energy(own, *x0);
+      at[k][1] = blk.strain_energy(own, *x1);
     }
     W += 0.5 * ((at[1][0] - at[0][0]) + (at[1][1] - at[0][1]));
   }
-  if (any && processes::count() > 1) processes::sum(&W, 1);
+  if (x0 && processes::count() > 1) processes::sum(&W, 1);
   return W;
 }
 

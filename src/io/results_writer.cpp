@@ -374,7 +374,7 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
                                         : 0.0;
     case Q::kSlip:
       return a.owns(h.block, h.element)
-                 ? model.blocks[h.block]->sliding()->slip(h.element, h.node, x)
+                 ? model.blocks[h.block]->sliding()->slip(h.element, h.chain_place, x)
                  : 0.0;
     case Q::kKineticEnergy:
       return first ? snap.energy.kinetic : 0.0;

@@ -4,11 +4,36 @@
 // Fixed size, allocation-free: called for every node of a contact set at every residual.
 #pragma once
 
+#include <fmt/format.h>
+
 #include <cmath>
+#include <functional>
+#include <string>
 
 #include "velum/math/types.hpp"
 
 namespace velum::contact {
+
+/// Penetrations past this many tolerances go through the contact thickness (the default
+/// tolerance is 1% of it): the answer is not one of contact.
+inline constexpr double kThroughRatio = 100;
+
+/// A contact's end-of-run check (LoadTerm::end_check) from its largest penetration over its
+/// tolerance at the last accepted step: past kThroughRatio why the run fails, past 1 a
+/// warning. `what` names the contact ("contact 0 with 'floor'"), `where` the penetration
+/// ("inside the body, through the contact thickness").
+inline std::string penetration_check(double ratio, const std::string& what, std::string_view where,
+                                     const std::function<void(std::string)>& warn) {
+  if (ratio > kThroughRatio)
+    return fmt::format(
+        "{} not kept: a node is {:.3g} tolerances {}: the penalty is too soft for the load "
+        "(raise penalty_scale)",
+        what, ratio, where);
+  if (ratio > 1)
+    warn(fmt::format("{} penetrates {:.3g} times its tolerance at the end (raise penalty_scale)",
+                     what, ratio));
+  return {};
+}
 
 enum class Status : int { kOpen = 0, kStick = 1, kSlip = 2 };
 

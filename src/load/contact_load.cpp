@@ -163,22 +163,13 @@ class ContactTerm final : public LoadTerm {
         most = std::max(most, k_[i] * (1 + load_.friction) / m);
     return most;
   }
-  // Contact not kept: past its tolerance a warning; past the contact thickness (ratio 100 at
-  // the default 1% tolerance; at least ten tolerances) the sheet is through the body and the
-  // answer is not one of contact.
+  // Contact not kept: past its tolerance a warning; past the contact thickness the sheet is
+  // through the body.
   std::string end_check(const std::function<void(std::string)>& warn) const override {
-    const double worst = processes::max(penetration_ratio_);
-    if (worst > kThroughRatio)
-      return fmt::format(
-          "contact {} with '{}' not kept: a node is {:.3g} tolerances inside the body, through "
-          "the contact thickness: the penalty is too soft for the load (raise penalty_scale)",
-          load_.index, load_.body.name, worst);
-    if (worst > 1)
-      warn(
-          fmt::format("contact {} with '{}' penetrates {:.3g} times its tolerance at the end "
-                      "(raise penalty_scale)",
-                      load_.index, load_.body.name, worst));
-    return {};
+    return contact::penetration_check(
+        processes::max(penetration_ratio_),
+        fmt::format("contact {} with '{}'", load_.index, load_.body.name),
+        "inside the body, through the contact thickness", warn);
   }
   std::string account_json() const override {
     return fmt::format(
@@ -234,7 +225,6 @@ class ContactTerm final : public LoadTerm {
   std::vector<Vec3> anchor_;      // friction: the body's point (at s = 0) each node sticks to
   std::vector<Vec3> f_accepted_;  // the force on each node at the state accepted last
   double k_min_ = 0, k_max_ = 0;
-  static constexpr double kThroughRatio = 100;
   double penetration_ratio_ = 0;  // the largest penetration / tolerance at the last accepted step
 };
 

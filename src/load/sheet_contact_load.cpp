@@ -12,6 +12,7 @@
 #include <span>
 #include <stdexcept>
 
+#include "contact_law.hpp"
 #include "face_contact.hpp"
 #include "face_tree.hpp"
 #include "sheet_contact.hpp"
@@ -173,18 +174,28 @@ class SheetContactTerm final : public LoadTerm {
     });
   }
   void commit(const LoadState& s) override;
+  // The pairs, the steps taken and the initial penetrations with their relaxation offsets
+  // (a restart inside the relaxation goes on shrinking the same offsets).
   void save_state(std::vector<double>& out) const override {
     out.push_back(static_cast<double>(pairs_.size()));
-    for (const Pair& p : pairs_) out.push_back(p.face), out.push_back(p.side);
+    for (size_t k = 0; k < pairs_.size(); ++k)
+      out.push_back(pairs_[k].face), out.push_back(pairs_[k].side), out.push_back(offset_[k]);
     out.push_back(steps_);
+    out.push_back(initial_count_);
+    out.push_back(initial_depth_);
   }
   size_t restore_state(const std::vector<double>& in, size_t at) override {
     if (at >= in.size() || in[at] != static_cast<double>(pairs_.size()) ||
-        in.size() < at + 2 + 2 * pairs_.size())
+        in.size() < at + 4 + 3 * pairs_.size())
       throw std::invalid_argument("the sheet contact's saved state does not fit its nodes");
     ++at;
-    for (Pair& p : pairs_) p.face = static_cast<int>(in[at]), p.side = in[at + 1], at += 2;
+    for (size_t k = 0; k < pairs_.size(); ++k, at += 3)
+      pairs_[k].face = static_cast<int>(in[at]), pairs_[k].side = in[at + 1],
+      offset_[k] = in[at + 2];
     steps_ = static_cast<int>(in[at++]);
+    initial_count_ = static_cast<int>(in[at++]);
+    initial_depth_ = in[at++];
+    started_ = true;  // the state is the saved one, not a new start's
     return at;
   }
   std::optional<double> quantity(std::string_view name) const override {
@@ -217,17 +228,8 @@ class SheetContactTerm final : public LoadTerm {
                        load_.relax_steps > 0
                            ? fmt::format(" (relaxed over the first {} steps)", load_.relax_steps)
                            : std::string(" (pushed out at the first step)")));
-    if (penetration_ratio_ > kThroughRatio)
-      return fmt::format(
-          "contact {} not kept: a node is {:.3g} tolerances through a face, past the contact "
-          "thickness: the penalty is too soft for the load (raise penalty_scale)",
-          load_.index, penetration_ratio_);
-    if (penetration_ratio_ > 1)
-      warn(
-          fmt::format("contact {} penetrates {:.3g} times its tolerance at the end (raise "
-                      "penalty_scale)",
-                      load_.index, penetration_ratio_));
-    return {};
+    return contact::penetration_check(penetration_ratio_, fmt::format("contact {}", load_.index),
+                                      "through a face, past the contact thickness", warn);
   }
   std::string account_json() const override {
     return fmt::format(
@@ -240,7 +242,6 @@ class SheetContactTerm final : public LoadTerm {
   }
 
  private:
-  static constexpr double kThroughRatio = 100;
   static constexpr double kInside = 1e-3;  // barycentric slack at the faces' edges
   size_t slot(size_t p, size_t i) const { return first_[p] + i; }
   contact::Vec12 coordinates(const NodePositions& x, int node, const Face& f) const {

@@ -44,7 +44,10 @@ struct HistoryEntry {
   };
   std::string name;
   Quantity quantity = Quantity::kDisplacement;
-  int node = -1;  ///< displacement, velocity, position: node index; slip: its place in the chain
+  int node = -1;  ///< displacement, velocity, position: node index (renumbered on MPI pieces)
+  /// slip: the interior node's place in its chain, 1 .. k − 2 (not a node index: it stays as
+  /// it is when the model is cut into MPI pieces)
+  int chain_place = -1;
   std::vector<int> nodes;          ///< reaction: node indices
   int component = 0;               ///< x y z: 0 1 2; stress: kStressComponents index
   Vec3 point = Vec3::Zero();       ///< fiber_angle_change, stress: reference point

@@ -117,7 +117,7 @@ bool Reader::parse_slip_history(const Node& e, const std::string& p, HistoryEntr
                       *id, eid));
     return false;
   }
-  he.node = j;
+  he.chain_place = j;
   return true;
 }
 
