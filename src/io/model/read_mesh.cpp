@@ -76,18 +76,12 @@ void Reader::parse_mesh(const Node& mesh) {
       for (size_t i = 0; i < nodes.size(); ++i) {
         const Node n = nodes[i];
         const std::string p = item("mesh.nodes", i);
-        if (!n.IsSequence() || n.size() != 4) {
-          error(n, p, "expected [id, x, y, z]");
+        const auto row = node_row(n, p);
+        if (!row) {
           mesh_ok_ = false;
           continue;
         }
-        auto id = integer(n[0], p, "node id");
-        auto x = number(n[1], p), y = number(n[2], p), z = number(n[3], p);
-        if (!id || !x || !y || !z) {
-          mesh_ok_ = false;
-          continue;
-        }
-        add_node(*id, Vec3(*x, *y, *z), n, p);
+        add_node(row->first, row->second, n, p);
       }
     }
   }
@@ -132,23 +126,29 @@ void Reader::parse_mesh(const Node& mesh) {
     for (size_t i = 0; i < ps.size(); ++i) {
       const Node n = ps[i];
       const std::string p = item("mesh.positions", i);
-      if (!n.IsSequence() || n.size() != 4) {
-        error(n, p, "expected [id, x, y, z]");
-        continue;
-      }
-      auto id = integer(n[0], p, "node id");
-      auto x = number(n[1], p), y = number(n[2], p), z = number(n[3], p);
-      if (!id || !x || !y || !z) continue;
-      auto it = in_.model.node_index.find(*id);
+      const auto row = node_row(n, p);
+      if (!row) continue;
+      auto it = in_.model.node_index.find(row->first);
       if (it == in_.model.node_index.end()) {
-        error(n, p, fmt::format("node {} is not in the mesh", *id));
+        error(n, p, fmt::format("node {} is not in the mesh", row->first));
         continue;
       }
-      in_.model.X.col(it->second) = Vec3(*x, *y, *z);
+      in_.model.X.col(it->second) = row->second;
     }
   }
   if (has(mesh, "reference_positions")) parse_reference_positions(mesh["reference_positions"]);
   if (has(mesh, "panel_references")) parse_panel_references(mesh["panel_references"]);
+}
+
+std::optional<std::pair<long, Vec3>> Reader::node_row(const Node& n, const std::string& p) {
+  if (!n.IsSequence() || n.size() != 4) {
+    error(n, p, "expected [id, x, y, z]");
+    return std::nullopt;
+  }
+  auto id = integer(n[0], p, "node id");
+  auto x = number(n[1], p), y = number(n[2], p), z = number(n[3], p);
+  if (!id || !x || !y || !z) return std::nullopt;
+  return std::pair{*id, Vec3(*x, *y, *z)};
 }
 
 // The stress-free coordinates of the listed nodes: the model's reference X becomes them and
@@ -166,23 +166,18 @@ void Reader::parse_reference_positions(const Node& ps) {
   for (size_t i = 0; i < ps.size(); ++i) {
     const Node n = ps[i];
     const std::string p = item(path, i);
-    if (!n.IsSequence() || n.size() != 4) {
-      error(n, p, "expected [id, x, y, z]");
-      continue;
-    }
-    auto id = integer(n[0], p, "node id");
-    auto x = number(n[1], p), y = number(n[2], p), z = number(n[3], p);
-    if (!id || !x || !y || !z) continue;
-    auto it = m.node_index.find(*id);
+    const auto row = node_row(n, p);
+    if (!row) continue;
+    const auto& [id, ref] = *row;
+    auto it = m.node_index.find(id);
     if (it == m.node_index.end()) {
-      error(n, p, fmt::format("node {} is not in the mesh", *id));
+      error(n, p, fmt::format("node {} is not in the mesh", id));
       continue;
     }
-    if (!seen.insert(*id).second) {
-      error(n, p, fmt::format("node {} is given a reference position twice", *id));
+    if (!seen.insert(id).second) {
+      error(n, p, fmt::format("node {} is given a reference position twice", id));
       continue;
     }
-    const Vec3 ref(*x, *y, *z);
     U0.col(it->second) = m.X.col(it->second) - ref;
     m.X.col(it->second) = ref;
   }

@@ -53,20 +53,16 @@ void Reader::parse_panel_references(const Node& list) {
     for (size_t k = 0; k < ps.size(); ++k) {
       const Node n = ps[k];
       const std::string q = item(pp, k);
-      if (!n.IsSequence() || n.size() != 4) {
-        error(n, q, "expected [id, x, y, z]");
+      const auto row = node_row(n, q);
+      if (!row) continue;
+      const auto& [id, position] = *row;
+      auto at = in_.model.node_index.find(id);
+      if (at == in_.model.node_index.end() || !of_set.count(id)) {
+        error(n, q, fmt::format("node {} is not a node of set '{}'", id, *set));
         continue;
       }
-      auto id = integer(n[0], q, "node id");
-      auto x = number(n[1], q), y = number(n[2], q), z = number(n[3], q);
-      if (!id || !x || !y || !z) continue;
-      auto at = in_.model.node_index.find(*id);
-      if (at == in_.model.node_index.end() || !of_set.count(*id)) {
-        error(n, q, fmt::format("node {} is not a node of set '{}'", *id, *set));
-        continue;
-      }
-      if (!refs.emplace(at->second, Vec3(*x, *y, *z)).second)
-        error(n, q, fmt::format("node {} is given a reference position twice", *id));
+      if (!refs.emplace(at->second, position).second)
+        error(n, q, fmt::format("node {} is given a reference position twice", id));
     }
   }
 }

@@ -71,6 +71,9 @@ class Reader : public ReaderContext {
   void add_node(long id, const Vec3& x, const Node& at, const std::string& path);
   void parse_mesh(const Node& mesh);
   void parse_reference_positions(const Node& ps);
+  /// A row [id, x, y, z] of a node list at `p` (mesh.nodes, positions, references); nullopt,
+  /// the error reported, when it is not one.
+  std::optional<std::pair<long, Vec3>> node_row(const Node& n, const std::string& p);
   // read_panel_references.cpp: stress-free flat panels per element set (a pattern's round trip)
   void parse_panel_references(const Node& list);
   /// X with the set's panel reference, or null when the set has none (reports missing nodes).
