@@ -186,9 +186,8 @@ void Reader::parse_contact(const Node& cs) {
     const std::string body = s.size() == 2 ? s[1].as<std::string>() : std::string();
     const bool sheets = load.self || (!rigid_bodies_.count(body) && element_sets_.count(body));
     ok = parts_of(s[0], set, sheets, load.parts);
-    if (sheets && !load.self) {
-      ok = parts_of(s[1], body, true, load.other) && ok;
-    } else if (load.self) {
+    if (sheets) {
+      if (!load.self) ok = parts_of(s[1], body, true, load.other) && ok;
     } else if (auto bit = rigid_bodies_.find(body); bit == rigid_bodies_.end()) {
       error(s[1], sp,
             fmt::format("undefined rigid body '{}'{}", body,
@@ -199,11 +198,6 @@ void Reader::parse_contact(const Node& cs) {
       contact_bodies_.insert(body);
       if (auto f = free_bodies_.find(body); f != free_bodies_.end())
         load.body_node = f->second.node;
-    }
-    if (sheets && has(c, "friction")) {
-      error(c["friction"], sub(p, "friction"),
-            "friction between element sets (or in self contact) is not implemented yet");
-      ok = false;
     }
     if (has(c, "relax_steps")) {
       if (!sheets) {
@@ -223,6 +217,12 @@ void Reader::parse_contact(const Node& cs) {
         load.friction = *mu;
       else
         ok = false;
+      // (friction: 0, the default, is what sheet contact does)
+      if (sheets && load.friction > 0) {
+        error(c["friction"], sub(p, "friction"),
+              "friction between element sets (or in self contact) is not implemented yet");
+        ok = false;
+      }
     }
     if (has(c, "thickness")) {
       if (auto t = non_negative(c, "thickness", p, "the contact thickness"))
