@@ -81,6 +81,12 @@ FrameFields evaluate_cells(const Model& model, const NodePositions& x,
   });
   const size_t thickness_at = f.cells.size();
   if (thinning) f.cells.push_back({"thickness", 1, std::vector<double>(ne, kAbsent), true});
+  // The equivalent plastic strain, only where a law yields.
+  const bool yielding = std::any_of(model.blocks.begin(), model.blocks.end(), [](const auto& b) {
+    return b->surface() && b->surface()->yields();
+  });
+  const size_t plastic_at = f.cells.size();
+  if (yielding) f.cells.push_back({"plastic_strain", 1, std::vector<double>(ne, kAbsent), true});
   auto& c = f.cells;
   size_t base = 0;
   for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
@@ -129,6 +135,7 @@ FrameFields evaluate_cells(const Model& model, const NodePositions& x,
         f.wrinkle_state[k] = s.wrinkle_state;
       }
       if (thinning) put(c[thickness_at], k, o.current_thickness);
+      if (yielding) put(c[plastic_at], k, o.plastic_strain);
     }
     base += static_cast<size_t>(count);
   }

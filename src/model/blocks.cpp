@@ -151,6 +151,7 @@ class MembraneBlock final : public SurfaceBlock {
   }
   bool tension_field() const override { return law_->wrinkling(); }
   bool thins() const override { return law_->thins(); }
+  bool yields() const override { return law_->yields(); }
 
   void internal(std::span<const int> elements, const NodePositions& x, double* r,
                 double* Kout) const override {
@@ -252,6 +253,14 @@ class MembraneBlock final : public SurfaceBlock {
     out.thickness = t0_;
     const Vec3& E = out.stress.strain;  // tensor E12: the law takes 2 E12
     out.current_thickness = t0_ * law_->thickness_ratio(Vec3(E[0], E[1], 2 * E[2]));
+    if constexpr (kHistory) {
+      // The committed history's equivalent plastic strain, averaged over the points.
+      const size_t n = static_cast<size_t>(policy_.size);
+      const double* h = history_.data() + static_cast<size_t>(slot(e)) * Shape::kPoints * n;
+      for (int q = 0; q < Shape::kPoints; ++q)
+        out.plastic_strain += law_->plastic_strain(std::span<const double>(h + q * n, n));
+      out.plastic_strain /= Shape::kPoints;
+    }
     return out;
   }
 

@@ -12,6 +12,7 @@ usage: plastic_cases.py VELUM WORK_DIR
 """
 import csv
 import os
+import xml.etree.ElementTree as ET
 import shutil
 import subprocess
 import sys
@@ -103,7 +104,7 @@ def history(out):
     return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open(os.path.join(out, "history.csv")))]
 
 
-whole = run("whole", HEAD + BOUNDARY + ANALYSIS + OUTPUT)
+whole = run("whole", HEAD + BOUNDARY + ANALYSIS + OUTPUT.replace("fields: false", "fields: true"))
 rows = history(whole)
 # The peak strain the load reached (the load is given, the strain found): the unloading branch
 # and the strain left start from there.
@@ -129,6 +130,22 @@ check(abs(rows[-1]["ux"] - URES) < 1e-9, f"unloaded: the strip keeps the elongat
       f"{rows[-1]['ux']:.9f} (closed form {URES:.9f})")
 print(f"peak reaction {rows[8]['R']:.6g} N; residual elongation {URES:.6f} (the plastic strain "
       f"{ERES:.6f})")
+
+# The frames' cell field plastic_strain: the equivalent plastic strain α of the committed
+# history, e − σ/E on the loading branch past yield (0 before), the peak's on unloading.
+import meshio  # noqa: E402  (Debian's python3-meshio; only this part needs it)
+
+frames = ET.parse(os.path.join(whole, "results.pvd")).getroot().findall("./Collection/DataSet")
+worst_alpha = 0
+for d, r in zip(frames, rows):
+    mesh = meshio.read(os.path.join(whole, d.get("file")))
+    alpha = mesh.cell_data["plastic_strain"][0]
+    e = gl(r["ux"])
+    expect = ERES if r["time"] > 1 + 1e-9 else max(0.0, e - loading(e) / E)
+    worst_alpha = max(worst_alpha, max(abs(a - expect) for a in alpha) / ERES)
+check(len(frames) == len(rows) and worst_alpha < 1e-6,
+      f"cell field plastic_strain against the closed form: worst {worst_alpha:.2e} of the "
+      f"residual plastic strain {ERES:.6f} over {len(frames)} frames")
 
 # Restart from a checkpoint written while loaded: the same history, byte for byte.
 first = run("first", HEAD + BOUNDARY + ANALYSIS.replace("end: 2.0", "end: 1.25") +

@@ -37,6 +37,8 @@ class PlasticSheetLaw final : public SheetLawBase {
   int state_size() const override { return kStateSize; }
   void initial_state(std::span<double> h) const override;
   void update_state(const Vec3& E, std::span<double> h) const override;
+  double plastic_strain(std::span<const double> h) const override { return h[3]; }
+  bool yields() const override { return true; }
   std::unique_ptr<SheetLawBase> clone() const override {
     return std::make_unique<PlasticSheetLaw>(*this);
   }

@@ -60,6 +60,9 @@ class SheetLaw {
   /// The current thickness over the reference thickness at E (1 unless the law thins).
   double thickness_ratio(const Vec3& E) const { return law_->thickness_ratio(E, {}); }
   bool thins() const { return law_->thins(); }
+  /// The equivalent plastic strain in the history h (0 unless the law yields).
+  double plastic_strain(std::span<const double> h) const { return law_->plastic_strain(h); }
+  bool yields() const { return law_->yields(); }
 
   // What a section adds: the linear law's own closed forms, or for any other law its wrappers
   // (sheet_law_wrappers.hpp).

@@ -65,6 +65,14 @@ class SheetLawBase {
   }
   /// Whether thickness_ratio() can differ from 1.
   virtual bool thins() const { return false; }
+  /// The equivalent plastic strain held in the history h (0 for a law that does not yield).
+  /// Output only.
+  virtual double plastic_strain(std::span<const double> h) const {
+    (void)h;
+    return 0.0;
+  }
+  /// Whether plastic_strain() can differ from 0.
+  virtual bool yields() const { return false; }
 
   /// Doubles of history kept at each integration point (0: none).
   virtual int state_size() const { return 0; }

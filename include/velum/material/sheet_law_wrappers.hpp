@@ -27,6 +27,10 @@ class PrestressedSheetLaw final : public SheetLawBase {
     return law_->thickness_ratio(E, h);
   }
   bool thins() const override { return law_->thins(); }
+  double plastic_strain(std::span<const double> h) const override {
+    return law_->plastic_strain(h);
+  }
+  bool yields() const override { return law_->yields(); }
   int state_size() const override { return law_->state_size(); }
   void initial_state(std::span<double> h) const override { law_->initial_state(h); }
   void update_state(const Vec3& E, std::span<double> h) const override { law_->update_state(E, h); }
@@ -65,6 +69,10 @@ class TensionFieldSheetLaw final : public SheetLawBase {
   /// The law's thickness at the elastic strain E − β t⊗t (a slack point keeps E's).
   double thickness_ratio(const Vec3& E, std::span<const double> h) const override;
   bool thins() const override { return law_->thins(); }
+  double plastic_strain(std::span<const double> h) const override {
+    return law_->plastic_strain(h);
+  }
+  bool yields() const override { return law_->yields(); }
   int state_size() const override { return law_->state_size(); }
   void initial_state(std::span<double> h) const override { law_->initial_state(h); }
   /// The law's history moves on at the strain it is evaluated at: E where taut, the elastic

@@ -33,6 +33,7 @@ struct ElementOutput {
   double thickness = 0;    ///< membranes: the reference thickness t0 (σ t0 = force per length)
   double cable_force = 0;  ///< cables: true axial force, mean over the points
   double current_thickness = 0;  ///< membranes: the thickness as deformed (t0 unless the law thins)
+  double plastic_strain = 0;     ///< membranes: equivalent plastic strain, mean over the points
 };
 
 class SurfaceBlock;
@@ -197,6 +198,8 @@ class SurfaceBlock : public ElementBlock {
   virtual bool tension_field() const { return false; }
   /// True when the law changes the thickness (outputs carry the current thickness).
   virtual bool thins() const { return false; }
+  /// True when the law yields (outputs carry the equivalent plastic strain).
+  virtual bool yields() const { return false; }
   /// Follower pressure forces and (when K non-null) load stiffness df/dx.
   virtual void pressure(std::span<const int> elements, const NodePositions& x, double p, double* f,
                         double* K) const = 0;
