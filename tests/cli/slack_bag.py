@@ -91,11 +91,19 @@ def run(velum, work, name, text, budget):
 
 
 def main():
+    # Optional: the mesh size and the analysis types (static,relaxation). At 15 x 15 the
+    # wrinkled bag has two equilibria near 9.35 kPa (the seam corner's ux -0.0864 and -0.0822):
+    # gas by static and pressure by relaxation reach the first, the other two routes the second.
+    global N
     velum, work = sys.argv[1], sys.argv[2]
+    if len(sys.argv) > 3:
+        N = int(sys.argv[3])
+    kinds = sys.argv[4].split(",") if len(sys.argv) > 4 else ["static", "relaxation"]
     os.makedirs(work, exist_ok=True)
     failures = []
-    gas = {kind: run(velum, work, f"gas_{kind}", model(kind, "gas", step), 120)
-           for kind, step in (("static", 0.1), ("relaxation", 1.0))}
+    steps = {"static": 0.1, "relaxation": 1.0}
+    gas = {kind: run(velum, work, f"gas_{kind}", model(kind, "gas", steps[kind]), 120)
+           for kind in kinds}
     for kind, r in gas.items():
         gauge = r["p"] - 101325.0
         if not gauge > 1e3:  # taut at the end: the amount exceeds what the unfolded bag holds
@@ -108,9 +116,10 @@ def main():
                   f"(relative {err:.1e})")
             if not err < 1e-4:
                 failures.append(f"gas {kind}: {key} {r[key]} against the pressure route's {ref[key]}")
-    a, b = gas["static"], gas["relaxation"]
-    if not abs(a["V"] - b["V"]) < 1e-4 * b["V"]:
-        failures.append(f"volumes differ: static {a['V']}, relaxation {b['V']}")
+    if len(gas) == 2:
+        a, b = gas["static"], gas["relaxation"]
+        if not abs(a["V"] - b["V"]) < 1e-4 * b["V"]:
+            failures.append(f"volumes differ: static {a['V']}, relaxation {b['V']}")
     for f in failures:
         print("FAIL:", f)
     sys.exit(1 if failures else 0)

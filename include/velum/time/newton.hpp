@@ -17,6 +17,14 @@
 
 namespace velum {
 
+/// Newton's iteration budget by default where a section wrinkles. A tension field's stress is
+/// smooth but its tangent jumps where a point turns taut, wrinkled or slack; when a bag goes
+/// taut, many points switch within one step and Newton spends iterations finding which points
+/// are in which state before it converges fast (the 15 x 15 slack bag of tests/cli/slack_bag.py:
+/// up to 41 iterations in a step of a tenth of the load; with 25 it cut back to the minimum step
+/// and failed). A smaller step does not help there: the states switch all the same.
+inline constexpr int kWrinklingMaxIterations = 60;
+
 struct NewtonSettings {
   double tolerance = 1e-8;      ///< relative, on the residual and on the increment
   double abs_residual = 1e-12;  ///< absolute floor on the residual norm

@@ -56,6 +56,8 @@ void Reader::parse_analysis(const Node& a) {
                   "predictor", "path", "petsc_options", "partition", "form_finding"}))
     return;
   AnalysisSettings& s = in_.analysis;
+  // (sections are read before the analysis; analysis.newton.max_iterations overrides)
+  if (wrinkles_) s.newton.max_iterations = kWrinklingMaxIterations;
   if (auto t = text(a, "type", "analysis", false)) {
     const AnalysisTypeInfo* found = nullptr;
     std::vector<std::string> names;

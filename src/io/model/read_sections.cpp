@@ -104,6 +104,7 @@ void Reader::parse_sections(const Node& ss) {
         law_ok = false;
       }
       law.wrinkling = w.value_or(false);
+      wrinkles_ = wrinkles_ || law.wrinkling;
       law_ok = law_ok && w.has_value();
     }
     if (has(s, "wrinkling_stiffness")) {

@@ -186,6 +186,7 @@ class Reader : public ReaderContext {
   bool parse_slip_history(const Node& e, const std::string& p, HistoryEntry& he);
 
   bool mesh_ok_ = false;
+  bool wrinkles_ = false;  ///< some section wrinkles (a tension field): Newton's own default
   std::map<std::string, int> functions_;
   std::map<std::string, MaterialDef> materials_;
   std::map<std::string, ElementSet> element_sets_;
