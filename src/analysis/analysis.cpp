@@ -212,8 +212,8 @@ class EnergyAccount {
 // with wrinkling it needed ρ∞ 0). A failed energy balance says so.
 std::string weak_dissipation_hint(const AnalysisSettings& settings, const std::string& why) {
   if (why.find("energy balance fails") == std::string::npos ||
-      settings.type != AnalysisSettings::Type::kDynamic ||
-      settings.scheme != "generalized-alpha" || settings.rho_inf <= 0.5)
+      settings.type != AnalysisSettings::Type::kDynamic || settings.scheme != "generalized-alpha" ||
+      settings.rho_inf <= 0.5)
     return {};
   return fmt::format(
       "; generalized-alpha with rho_inf {:g} keeps most of the highest frequencies, which a "
