@@ -180,6 +180,34 @@ output:
     return failures
 
 
+def other_equilibrium(velum, work, kind, gauge):
+    """Whether the gas route's shape (its last frame), where it differs from the pressure
+    route's, is another stable equilibrium of the same follower pressure: a static step
+    started there (mesh positions, the bulge as reference) meets the tolerance at once and
+    its tangent has no negative pivot. The 15 x 15 bag has two such shapes near 9.35 kPa."""
+    import meshio  # Debian's python3-meshio; only this check needs it
+    out = os.path.join(work, f"gas_{kind}", "out")
+    with open(os.path.join(out, "results.pvd")) as f:
+        last = f.read().rsplit('file="', 1)[1].split('"', 1)[0]
+    frame = meshio.read(os.path.join(out, last))
+    ids, d = frame.point_data["node_id"], frame.point_data["displacement"]
+    text = model("static", "pressure", 1.0, gauge)
+    line = next(l for l in text.splitlines() if l.startswith("  nodes: "))
+    reference = eval(line[len("  nodes: "):])  # the bulge: the list model() wrote
+    where = {n[0]: n[1:] for n in reference}
+    start = [[int(i)] + [where[int(i)][c] + float(d[k][c]) for c in range(3)] for k, i in enumerate(ids)]
+    text = text.replace(line, f"  nodes: {start}\n  reference_positions: {reference}")
+    r = run(velum, work, f"pressure_from_gas_{kind}", text, 120)
+    with open(os.path.join(work, f"pressure_from_gas_{kind}", "out", "steps.csv")) as f:
+        rows = list(csv.DictReader(f))
+    first = float(rows[0]["residuals"].split()[0])
+    pivots = int(rows[-1]["negative_pivots"])
+    moved = max(abs(r[k] - float(v)) for k, v in (("w0", d[0][2]), ("ux", d[N][0])))
+    print(f"gas {kind}'s shape under the pressure alone: first residual {first:.2e}, moved "
+          f"{moved:.1e} m, {pivots} negative pivots")
+    return len(rows) == 1 and moved < 1e-8 and pivots == 0
+
+
 def main():
     # Optional: the mesh size and the analysis types (static,relaxation). At 15 x 15 the
     # wrinkled bag has two equilibria near 9.35 kPa (the seam corner's ux -0.0864 and -0.0822):
@@ -192,7 +220,8 @@ def main():
     os.makedirs(work, exist_ok=True)
     failures = []
     steps = {"static": 0.1, "relaxation": 1.0}
-    gas = {kind: run(velum, work, f"gas_{kind}", model(kind, "gas", steps[kind]), 120)
+    gas = {kind: run(velum, work, f"gas_{kind}",
+                     model(kind, "gas", steps[kind]).replace("fields: false", "fields: true"), 120)
            for kind in kinds if kind in steps}
     for kind, r in gas.items():
         gauge = r["p"] - 101325.0
@@ -200,11 +229,14 @@ def main():
             failures.append(f"gas {kind}: gauge pressure {gauge:.1f} Pa, the bag never went taut")
             continue
         ref = run(velum, work, f"pressure_{kind}", model("relaxation", "pressure", 1.0, gauge), 120)
+        other = None  # whether the gas's shape is another equilibrium, asked once
         for key in ("w0", "ux"):
             err = abs(r[key] - ref[key]) / abs(ref[key])
             print(f"gas {kind} vs pressure {gauge:.1f} Pa: {key} {r[key]:.6f} against {ref[key]:.6f} "
                   f"(relative {err:.1e})")
-            if not err < 1e-4:
+            if not err < 1e-4 and other is None:
+                other = other_equilibrium(velum, work, kind, gauge)
+            if not err < 1e-4 and not other:
                 failures.append(f"gas {kind}: {key} {r[key]} against the pressure route's {ref[key]}")
     if "relaxation" in kinds and N == 8:
         failures += slack_everywhere(velum, work)
