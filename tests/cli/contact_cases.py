@@ -52,7 +52,9 @@ BASE = {
         {"name": "f0", "quantity": "contact_force", "contact": 0, "component": "magnitude"},
         {"name": "rz", "quantity": "reaction", "nodes": edge, "component": "z"},
         {"name": "bz", "quantity": "rigid_position", "body": "ball", "component": "z"},
-        {"name": "vz", "quantity": "rigid_velocity", "body": "ball", "component": "z"}]},
+        {"name": "vz", "quantity": "rigid_velocity", "body": "ball", "component": "z"},
+        {"name": "area", "quantity": "contact_area", "body": "ball"},
+        {"name": "a0", "quantity": "contact_area", "contact": 0}]},
 }
 failures = []
 
@@ -107,8 +109,14 @@ for kind in ("static", "relaxation", "dynamic", "explicit"):
           "the ball's velocity")
     frames = sorted(os.listdir(os.path.join(out, "frames")))
     text = open(os.path.join(out, "frames", frames[-1]), "rb").read()
-    check(b'Name="contact_pressure"' in text and b'Name="contact_gap"' in text,
-          f"{kind}: frames carry contact_pressure and contact_gap")
+    check(b'Name="contact_pressure"' in text and b'Name="contact_gap"' in text
+          and b'Name="contact_status"' in text,
+          f"{kind}: frames carry contact_pressure, contact_gap and contact_status")
+    # The area in contact: a cap of the sphere, under the area of the sheet, the same by body
+    # and by contact index, and growing as the ball goes down.
+    area, a0 = float(last["area"]), float(last["a0"])
+    check(0 < area < A * A and area == a0 and area >= float(rows[1]["area"]),
+          f"{kind}: contact area {area:.4g} m2 (by index {a0:.4g}, earlier {rows[1]['area']})")
     summary = json.load(open(os.path.join(out, "summary.json")))
     check(summary.get("contact", [{}])[0].get("kept") is True,
           f"{kind}: penetration within its tolerance ({summary.get('contact')})")
@@ -216,6 +224,8 @@ BAD = [
      "friction between element sets", "contact[1].friction"),
     ("relax_with_body", lambda m: m["contact"][0].update(relax_steps=2),
      "relax_steps applies", "contact[0].relax_steps"),
+    ("area_component", lambda m: m["output"]["history"][5].update(component="z"),
+     "contact_area has no component", "output.history[5].component"),
 ]
 for name, edit, message, key in BAD:
     m = copy.deepcopy(BASE)

@@ -253,10 +253,12 @@ void Reader::check_free_bodies() {
 
 bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryEntry& he) {
   using Q = HistoryEntry::Quantity;
+  const bool area = he.quantity == Q::kContactArea;  // one value: no component
   const char* what = he.quantity == Q::kContactForce    ? "contact_force"
+                     : area                             ? "contact_area"
                      : he.quantity == Q::kRigidPosition ? "rigid_position"
                                                         : "rigid_velocity";
-  auto c = text(e, "component", p, true);
+  auto c = area ? std::optional<std::string>("magnitude") : text(e, "component", p, true);
   if (!c) return false;
   const std::vector<std::string> components = {"x", "y", "z", "magnitude"};
   const auto ci = std::find(components.begin(), components.end(), *c) - components.begin();
@@ -265,7 +267,14 @@ bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryE
           fmt::format("unknown component '{}'{}", *c, suggestion(*c, components)));
     return false;
   }
-  if (he.quantity == Q::kContactForce && has(e, "contact")) {
+  if (area && has(e, "component")) {
+    error(e["component"], sub(p, "component"), "contact_area has no component");
+    return false;
+  }
+  const auto name = [&](const std::string& which) {
+    return area ? fmt::format("{}:{}", what, which) : fmt::format("{}:{}:{}", what, which, ci);
+  };
+  if ((he.quantity == Q::kContactForce || area) && has(e, "contact")) {
     auto k = integer(e["contact"], sub(p, "contact"), "a contact index");
     if (!k) return false;
     if (*k < 0 || *k >= contact_count_) {
@@ -273,7 +282,7 @@ bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryE
             fmt::format("no contact {} (the model has {}, counted from 0)", *k, contact_count_));
       return false;
     }
-    he.flow = fmt::format("{}:contact={}:{}", what, *k, ci);
+    he.flow = name(fmt::format("contact={}", *k));
     return true;
   }
   auto body = text(e, "body", p, true);
@@ -289,7 +298,7 @@ bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryE
     return false;
   }
   if (auto f = free_bodies_.find(*body);
-      f != free_bodies_.end() && he.quantity != Q::kContactForce) {
+      f != free_bodies_.end() && he.quantity != Q::kContactForce && !area) {
     // A free body's motion is its node's.
     if (ci == 3) {
       error(e["component"], sub(p, "component"),
@@ -300,8 +309,8 @@ bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryE
     he.node = f->second.node, he.component = static_cast<int>(ci);
     return true;
   }
-  he.flow = he.quantity == Q::kContactForce ? fmt::format("{}:body={}:{}", what, *body, ci)
-                                            : fmt::format("{}:{}:{}", what, *body, ci);
+  he.flow = he.quantity == Q::kContactForce || area ? name(fmt::format("body={}", *body))
+                                                    : fmt::format("{}:{}:{}", what, *body, ci);
   return true;
 }
 
