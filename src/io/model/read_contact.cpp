@@ -4,9 +4,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
+#include <filesystem>
+#include <map>
 #include <optional>
 
 #include "reader.hpp"
+#include "velum/io/mesh_data.hpp"
 #include "velum/load/contact_load.hpp"
 
 namespace velum::io::model_file {
@@ -61,13 +65,13 @@ void Reader::parse_rigid_bodies(const Node& bs) {
       auto r = positive(b, "radius", p, true, "the radius");
       ok = pt && a && r;
       if (ok) body.point = *pt, body.direction = *a, body.radius = *r;
+    } else if (*shape == "mesh") {
+      body.shape = RigidBody::Shape::kMesh;
+      ok = read_rigid_mesh(b, p, body);
     } else {
       error(b["shape"], sub(p, "shape"),
-            *shape == "mesh"
-                ? std::string("rigid meshes read from a Gmsh file are not implemented yet; use "
-                              "plane, sphere or cylinder")
-                : fmt::format("unknown shape '{}'{}", *shape,
-                              suggestion(*shape, {"plane", "sphere", "cylinder", "mesh"})));
+            fmt::format("unknown shape '{}'{}", *shape,
+                        suggestion(*shape, {"plane", "sphere", "cylinder", "mesh"})));
       continue;
     }
     std::optional<double> mass;
@@ -120,6 +124,67 @@ void Reader::parse_rigid_bodies(const Node& bs) {
       free_bodies_[*name] = {node, b["mass"], sub(p, "mass")};
     }
   }
+}
+
+bool Reader::read_rigid_mesh(const Node& b, const std::string& p, RigidBody& body) {
+  auto f = text(b, "file", p, true);
+  if (!f) return false;
+  std::filesystem::path path = *f;
+  if (path.is_relative()) path = base_dir_ / path;
+  try {
+    const MeshData m = read_gmsh(path);
+    std::map<long, int> index;
+    std::vector<Vec3> vertices;
+    for (const MeshNode& n : m.nodes) index.emplace(n.id, static_cast<int>(index.size()));
+    vertices.reserve(m.nodes.size());
+    for (const MeshNode& n : m.nodes) vertices.push_back(n.x);
+    std::vector<std::array<int, 3>> triangles;
+    std::vector<bool> used(vertices.size(), false);
+    for (const ElementGroup& g : m.groups) {
+      const bool tri = g.type == "tri3" || g.type == "tri6";
+      const bool quad = g.type == "quad4" || g.type == "quad8" || g.type == "quad9";
+      if (!tri && !quad) continue;  // lines and points: not a surface
+      const size_t per = g.node_ids.size() / std::max<size_t>(1, g.ids.size());
+      for (size_t e = 0; e < g.ids.size(); ++e) {
+        std::array<int, 4> c{};
+        for (size_t k = 0; k < (tri ? 3u : 4u); ++k) {
+          const auto it = index.find(g.node_ids[e * per + k]);
+          if (it == index.end())
+            throw MeshFileError(
+                fmt::format("{}: element {} names node {}, which the file does not define",
+                            path.string(), g.ids[e], g.node_ids[e * per + k]));
+          c[k] = it->second;
+          used[static_cast<size_t>(it->second)] = true;
+        }
+        triangles.push_back({c[0], c[1], c[2]});
+        if (quad) triangles.push_back({c[0], c[2], c[3]});
+      }
+    }
+    if (triangles.empty()) {
+      error(
+          b["file"], sub(p, "file"),
+          fmt::format("{} holds no triangles or quads: a rigid mesh is a surface", path.string()));
+      return false;
+    }
+    // The body's point: `point`, else the centroid of the surface's vertices.
+    Vec3 sum = Vec3::Zero();
+    int count = 0;
+    for (size_t v = 0; v < vertices.size(); ++v)
+      if (used[v]) sum += vertices[v], ++count;
+    body.point = sum / count;
+    if (has(b, "point")) {
+      auto pt = vec3(b, "point", p, true);
+      if (!pt) return false;
+      body.point = *pt;
+    }
+    body.mesh = make_rigid_mesh(std::move(vertices), std::move(triangles));
+    return true;
+  } catch (const MeshFileError& e) {
+    error(b["file"], sub(p, "file"), e.what());
+  } catch (const std::invalid_argument& e) {
+    error(b["file"], sub(p, "file"), fmt::format("{}: {}", path.string(), e.what()));
+  }
+  return false;
 }
 
 void Reader::parse_contact(const Node& cs) {
