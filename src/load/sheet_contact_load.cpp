@@ -159,6 +159,7 @@ class SheetContactTerm final : public LoadTerm {
   void add(const LoadState& s, LoadOutput& out) override;
   int low_rank_columns() const override { return 6 * budget_; }
   void start(const LoadState& s) override {
+    if (load_.friction > 0) x_accepted_ = s.x;  // also after a restart
     if (started_) return;
     started_ = true;
     // Initial penetrations: reported, and with relax_steps relaxed (their depth an offset on
@@ -180,18 +181,31 @@ class SheetContactTerm final : public LoadTerm {
     out.push_back(static_cast<double>(pairs_.size()));
     for (size_t k = 0; k < pairs_.size(); ++k)
       out.push_back(pairs_[k].face), out.push_back(pairs_[k].side), out.push_back(offset_[k]);
+    if (load_.friction > 0)  // the friction anchors
+      for (size_t k = 0; k < pairs_.size(); ++k) {
+        out.push_back(anchor_face_[k]);
+        out.insert(out.end(), anchor_xi_[k].data(), anchor_xi_[k].data() + 2);
+        out.insert(out.end(), last_x_[k].data(), last_x_[k].data() + 3);
+      }
     out.push_back(steps_);
     out.push_back(initial_count_);
     out.push_back(initial_depth_);
   }
   size_t restore_state(const std::vector<double>& in, size_t at) override {
+    const size_t per = load_.friction > 0 ? 9 : 3;
     if (at >= in.size() || in[at] != static_cast<double>(pairs_.size()) ||
-        in.size() < at + 4 + 3 * pairs_.size())
+        in.size() < at + 4 + per * pairs_.size())
       throw std::invalid_argument("the sheet contact's saved state does not fit its nodes");
     ++at;
     for (size_t k = 0; k < pairs_.size(); ++k, at += 3)
       pairs_[k].face = static_cast<int>(in[at]), pairs_[k].side = in[at + 1],
       offset_[k] = in[at + 2];
+    if (load_.friction > 0)
+      for (size_t k = 0; k < pairs_.size(); ++k, at += 6) {
+        anchor_face_[k] = static_cast<int>(in[at]);
+        anchor_xi_[k] = Vec2(in[at + 1], in[at + 2]);
+        last_x_[k] = Vec3(in[at + 3], in[at + 4], in[at + 5]);
+      }
     steps_ = static_cast<int>(in[at++]);
     initial_count_ = static_cast<int>(in[at++]);
     initial_depth_ = in[at++];
@@ -219,7 +233,8 @@ class SheetContactTerm final : public LoadTerm {
     for (size_t p = 0; p < load_.passes.size(); ++p)
       for (size_t i = 0; i < load_.passes[p].nodes.size(); ++i)
         if (const double m = node_mass[static_cast<size_t>(load_.passes[p].nodes[i])]; m > 0)
-          most = std::max(most, 2 * k_[slot(p, i)] / m);  // the node and a face node
+          most = std::max(
+              most, 2 * k_[slot(p, i)] * (1 + load_.friction) / m);  // the node and a face node
     return most;
   }
   std::string end_check(const std::function<void(std::string)>& warn) const override {
@@ -281,6 +296,22 @@ class SheetContactTerm final : public LoadTerm {
     return offset_[k] * std::max(0.0, 1.0 - static_cast<double>(steps_ + 1) / load_.relax_steps);
   }
   void add_block(int i, int j, const Mat3& D, SparseMatrix& K) const;
+  // Friction: slot k's anchor on `face` (barycentric coordinates of its b and c): the anchor's
+  // face point carried to a new face, or the node's accepted position for a new pair, both
+  // by the faces' accepted positions (so the anchor holds within a step: the tangent stays
+  // consistent).
+  Vec2 anchor_on(size_t k, const Face& face, int face_index, int faces_of) const {
+    const NodePositions& x = x_accepted_;
+    if (anchor_face_[k] == face_index) return anchor_xi_[k];
+    Vec3 y = last_x_[k];
+    if (anchor_face_[k] >= 0) {
+      const Face& was =
+          load_.faces[static_cast<size_t>(faces_of)][static_cast<size_t>(anchor_face_[k])];
+      const Vec2& xi = anchor_xi_[k];
+      y = (1 - xi[0] - xi[1]) * x.col(was.n[0]) + xi[0] * x.col(was.n[1]) + xi[1] * x.col(was.n[2]);
+    }
+    return contact::plane_coordinates(y, x.col(face.n[0]), x.col(face.n[1]), x.col(face.n[2]));
+  }
   template <class Column>
   void put(int n, const Vec3& v, Column&& to) const {
     const Vec3 l = site_.dofs.to_local(n, v);
@@ -295,6 +326,11 @@ class SheetContactTerm final : public LoadTerm {
   std::vector<Pair> pairs_;    ///< per slot: the pair at the last accepted state
   std::vector<double> offset_, gap_accepted_;
   std::vector<double> transmitted_;  ///< per model node: the contact force it carries
+  std::vector<int> anchor_face_;     ///< friction, per slot: the face of the anchor (-1: none)
+  std::vector<Vec2> anchor_xi_;      ///< its barycentric coordinates of b and c
+  std::vector<Vec3> last_x_;         ///< the node's accepted position (a new pair's anchor)
+  NodePositions x_accepted_;         ///< friction: the positions at the last accepted state
+  std::vector<double> node_status_;  ///< per model node: 0 open, 1 stick, 2 slip (accepted)
   std::array<contact::FaceTree, 2> tree_;
   std::array<std::vector<contact::Box>, 2> boxes_;
   double reach_ = 0;   ///< the largest node contact thickness
@@ -334,6 +370,14 @@ SheetContactTerm::SheetContactTerm(const SheetContact& load, const LoadSite& sit
   offset_.assign(slots, 0.0);
   gap_accepted_.assign(slots, std::numeric_limits<double>::quiet_NaN());
   transmitted_.assign(static_cast<size_t>(site.model.num_nodes()), 0.0);
+  node_status_.assign(static_cast<size_t>(site.model.num_nodes()), 0.0);
+  anchor_face_.assign(slots, -1);
+  anchor_xi_.assign(slots, Vec2::Zero());
+  last_x_.resize(slots);
+  if (load.friction > 0) x_accepted_ = site.model.X;
+  for (size_t p = 0; p < load.passes.size(); ++p)
+    for (size_t i = 0; i < load.passes[p].nodes.size(); ++i)
+      last_x_[slot(p, i)] = site.model.X.col(load.passes[p].nodes[i]);
   // The node–face coupling's columns: six a pair, for as many pairs as keep U and W within
   // about 32 MB (the pairs past it lose that coupling: Newton slows, the answer holds).
   const double per_column = 2.0 * 8.0 * std::max(1, site.dofs.num_equations());
@@ -421,9 +465,13 @@ void SheetContactTerm::add(const LoadState& s, LoadOutput& out) {
     const Face& face = load_.faces[static_cast<size_t>(pass.faces)][static_cast<size_t>(pair.face)];
     const int node = pass.nodes[i];
     const double c = pass.half[i] + face.half - relaxed(k);
-    if (!contact::pair_force(coordinates(s.x, node, face), pair.side, c, k_[k], out.K != nullptr,
-                             r))
-      return;
+    const contact::Vec12 X = coordinates(s.x, node, face);
+    if (!contact::pair_force(X, pair.side, c, k_[k], out.K != nullptr, r)) return;
+    if (load_.friction > 0) {
+      Vec3 slip;
+      contact::pair_friction(X, pair.side, c, k_[k], load_.friction,
+                             anchor_on(k, face, pair.face, pass.faces), out.K != nullptr, r, slip);
+    }
     const std::array<int, 4> nodes = {node, face.n[0], face.n[1], face.n[2]};
     for (int a = 0; a < 4; ++a) out.F.col(nodes[static_cast<size_t>(a)]) += r.f.segment<3>(3 * a);
     if (!out.K) return;
@@ -469,7 +517,17 @@ void SheetContactTerm::commit(const LoadState& s) {
   force_on_other_.setZero();
   std::fill(gap_accepted_.begin(), gap_accepted_.end(), std::numeric_limits<double>::quiet_NaN());
   std::fill(transmitted_.begin(), transmitted_.end(), 0.0);
+  std::fill(node_status_.begin(), node_status_.end(), 0.0);
   for (Pair& p : pairs_) p.face = -1;
+  // Friction: the anchors as the step found them; every slot starts anew at its node unless
+  // it is in contact.
+  const std::vector<int> anchor_face = anchor_face_;
+  const std::vector<Vec2> anchor_xi = anchor_xi_;
+  const std::vector<Vec3> last_x = last_x_;
+  std::fill(anchor_face_.begin(), anchor_face_.end(), -1);
+  for (size_t p = 0; p < load_.passes.size(); ++p)
+    for (size_t i = 0; i < load_.passes[p].nodes.size(); ++i)
+      last_x_[slot(p, i)] = s.x.col(load_.passes[p].nodes[i]);
   contact::PairResult r;
   scan(s.x, [&](size_t p, size_t i, const Pair& pair, double gap) {
     const Pass& pass = load_.passes[p];
@@ -478,9 +536,26 @@ void SheetContactTerm::commit(const LoadState& s) {
     pairs_[k] = pair;
     gap_accepted_[k] = gap;
     const double c = pass.half[i] + face.half - relaxed(k);
-    if (!contact::pair_force(coordinates(s.x, pass.nodes[i], face), pair.side, c, k_[k], false, r))
-      return;
+    const contact::Vec12 X = coordinates(s.x, pass.nodes[i], face);
+    if (!contact::pair_force(X, pair.side, c, k_[k], false, r)) return;
+    contact::Status status = contact::Status::kSlip;  // frictionless: slides
+    if (load_.friction > 0) {
+      anchor_face_[k] = anchor_face[k], anchor_xi_[k] = anchor_xi[k], last_x_[k] = last_x[k];
+      const Vec2 xi0 = anchor_on(k, face, pair.face, pass.faces);
+      Vec3 slip;
+      status = contact::pair_friction(X, pair.side, c, k_[k], load_.friction, xi0, false, r, slip);
+      // The anchor: the face's point at xi0 moved on by the slip.
+      const Vec3 a = s.x.col(face.n[0]), b = s.x.col(face.n[1]), cc = s.x.col(face.n[2]);
+      const Vec3 y = (1 - xi0[0] - xi0[1]) * a + xi0[0] * b + xi0[1] * cc + slip;
+      anchor_face_[k] = pair.face;
+      anchor_xi_[k] = contact::plane_coordinates(y, a, b, cc);
+    }
     ++active_accepted_;
+    const double st = static_cast<double>(status);
+    node_status_[static_cast<size_t>(pass.nodes[i])] =
+        std::max(node_status_[static_cast<size_t>(pass.nodes[i])], st);
+    for (int q : face.n)
+      node_status_[static_cast<size_t>(q)] = std::max(node_status_[static_cast<size_t>(q)], st);
     // Each node's share of the pair's force: the node's own and the face nodes'.
     transmitted_[static_cast<size_t>(pass.nodes[i])] += r.f.segment<3>(0).norm();
     for (int a = 0; a < 3; ++a)
@@ -497,6 +572,7 @@ void SheetContactTerm::commit(const LoadState& s) {
     const double tol = std::max(0.01 * 2 * pass.half[i], 1e-3 * pass.size[i]);
     if (tol > 0) penetration_ratio_ = std::max(penetration_ratio_, (-gap - relaxed(k)) / tol);
   });
+  if (load_.friction > 0) x_accepted_ = s.x;
   ++steps_;
 }
 
@@ -533,8 +609,8 @@ bool SheetContactTerm::node_field(std::string_view name, double, const NodePosit
       const size_t k = slot(p, i), n = static_cast<size_t>(load_.passes[p].nodes[i]);
       double& v = per_node[n];
       if (status) {
-        // 0 open, 2 slip: frictionless pairs slide.
-        const double s = transmitted_[n] > 0 ? 2.0 : 0.0;
+        // 0 open, 1 stick, 2 slip (frictionless pairs slide).
+        const double s = node_status_[n];
         v = std::isnan(v) ? s : std::max(v, s);
       } else if (pressure) {
         // Once per node (self contact and shared nodes list a node in one pass only).
@@ -553,9 +629,6 @@ std::unique_ptr<LoadTerm> SheetContact::bind(const LoadSite& site) const {
 }  // namespace
 
 std::unique_ptr<Load> make_sheet_contact(ContactLoad p) {
-  if (p.friction > 0)
-    throw std::invalid_argument(
-        "friction between element sets (or in self contact) is not implemented yet");
   return std::make_unique<SheetContact>(std::move(p));
 }
 

@@ -219,9 +219,9 @@ BAD = [
      "self contact takes one element set", "contact[0].surfaces"),
     ("one_set_without_self", lambda m: m["contact"][0].update(surfaces=["sheet"]),
      "needs self: true", "contact[0].surfaces"),
-    ("sheet_friction", lambda m: m["contact"].append(
-        {"surfaces": ["sheet"], "self": True, "friction": 0.2}),
-     "friction between element sets", "contact[1].friction"),
+    ("sheet_negative_friction", lambda m: m["contact"].append(
+        {"surfaces": ["sheet"], "self": True, "friction": -0.2}),
+     "friction", "contact[1].friction"),
     ("relax_with_body", lambda m: m["contact"][0].update(relax_steps=2),
      "relax_steps applies", "contact[0].relax_steps"),
     ("area_component", lambda m: m["output"]["history"][5].update(component="z"),

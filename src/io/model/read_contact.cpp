@@ -282,12 +282,6 @@ void Reader::parse_contact(const Node& cs) {
         load.friction = *mu;
       else
         ok = false;
-      // (friction: 0, the default, is what sheet contact does)
-      if (sheets && load.friction > 0) {
-        error(c["friction"], sub(p, "friction"),
-              "friction between element sets (or in self contact) is not implemented yet");
-        ok = false;
-      }
     }
     if (has(c, "thickness")) {
       if (auto t = non_negative(c, "thickness", p, "the contact thickness"))
