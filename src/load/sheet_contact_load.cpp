@@ -9,10 +9,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <span>
 #include <stdexcept>
 
 #include "contact_law.hpp"
+#include "edge_contact.hpp"
 #include "face_contact.hpp"
 #include "face_tree.hpp"
 #include "sheet_contact.hpp"
@@ -28,6 +30,12 @@ struct Face {
   std::array<int, 3> n{};        ///< the triangle's nodes
   std::array<int, 4> element{};  ///< its element's corners (-1: none): never against these
   double half = 0;               ///< its contact thickness
+};
+
+// An element's side (edges: true): its two corners and its contact thickness.
+struct Edge {
+  int a = -1, b = -1;
+  double half = 0;
 };
 
 // One direction of the contact: these nodes against those faces.
@@ -67,6 +75,7 @@ class SheetContact final : public Load, public ContactLoad {
   std::unique_ptr<LoadTerm> bind(const LoadSite& site) const override;
 
   std::array<std::vector<Face>, 2> faces;
+  std::array<std::vector<Edge>, 2> edge_lists;  ///< edges: true: each set's element sides
   std::vector<Pass> passes;
   std::vector<int> ring_start, ring;  ///< per model node: the nodes sharing an element with it
   std::vector<double> stiffness;      ///< per model node: the largest diagonal of its elements'
@@ -79,9 +88,11 @@ void SheetContact::set_up(const Model& model, const ElementNamer&) {
   stiffness.assign(N, 0.0);
   // The kernels store fixed-size Eigen blocks into these: aligned as Eigen wants.
   std::vector<double, Eigen::aligned_allocator<double>> r, Ke;
+  std::array<std::map<std::pair<int, int>, size_t>, 2> edge_index;
   auto collect = [&](const std::vector<Part>& set, int which) {
     half[which].assign(N, -1.0), size[which].assign(N, 0.0);
     faces[which].clear();
+    edge_lists[which].clear();
     for (const Part& part : set) {
       const ElementBlock& b = *model.blocks[static_cast<size_t>(part.block)];
       if (!b.surface()) continue;  // cables: no faces (their nodes are not in sheet contact)
@@ -110,6 +121,15 @@ void SheetContact::set_up(const Model& model, const ElementNamer&) {
           for (size_t c = 3 * a; c < 3 * a + 3; ++c)
             stiffness[static_cast<size_t>(en[a])] =
                 std::max(stiffness[static_cast<size_t>(en[a])], Ke[c * nd + c]);
+        if (edges)
+          for (int a = 0; a < corners; ++a) {
+            const auto key = std::minmax(en[a], en[(a + 1) % corners]);
+            const auto [it, fresh] =
+                edge_index[which].try_emplace({key.first, key.second}, edge_lists[which].size());
+            if (fresh) edge_lists[which].push_back({key.first, key.second, h});
+            Edge& ed = edge_lists[which][it->second];
+            ed.half = std::max(ed.half, h);
+          }
         for (int a : en) {
           half[which][static_cast<size_t>(a)] = std::max(half[which][static_cast<size_t>(a)], h);
           size[which][static_cast<size_t>(a)] = std::max(size[which][static_cast<size_t>(a)], sz);
@@ -159,7 +179,7 @@ class SheetContactTerm final : public LoadTerm {
   void add(const LoadState& s, LoadOutput& out) override;
   int low_rank_columns() const override { return 6 * budget_; }
   void start(const LoadState& s) override {
-    if (load_.friction > 0) x_accepted_ = s.x;  // also after a restart
+    if (load_.friction > 0 || load_.edges) x_accepted_ = s.x;  // also after a restart
     if (started_) return;
     started_ = true;
     // Initial penetrations: reported, and with relax_steps relaxed (their depth an offset on
@@ -284,6 +304,26 @@ class SheetContactTerm final : public LoadTerm {
     return false;
   }
   void refit(const NodePositions& x);
+  // Edge pairs: calls found(i, j, X, side, thickness) for every pair of a first-list edge i
+  // and a second-list edge j (self: j > i) away from each other's rings whose closest points
+  // lie inside both and within reach.
+  template <class Found>
+  void scan_edges(const NodePositions& x, Found&& found);
+  bool near(int n, int m) const {
+    if (n == m) return true;
+    const int* r0 = load_.ring.data() + load_.ring_start[static_cast<size_t>(n)];
+    const int* r1 = load_.ring.data() + load_.ring_start[static_cast<size_t>(n) + 1];
+    if (std::binary_search(r0, r1, m)) return true;
+    if (load_.self)
+      for (const int* r = r0; r != r1; ++r) {
+        const int* s0 = load_.ring.data() + load_.ring_start[static_cast<size_t>(*r)];
+        const int* s1 = load_.ring.data() + load_.ring_start[static_cast<size_t>(*r) + 1];
+        if (std::binary_search(s0, s1, m)) return true;
+      }
+    return false;
+  }
+  void add_edges(const LoadState& s, LoadOutput& out);
+  void commit_edges(const NodePositions& x);
   // A node's area: a third of its triangles' current areas (the faces of set `which`, or of
   // both sets: -1).
   std::vector<double> node_areas(const NodePositions& x, int which) const;
@@ -329,7 +369,14 @@ class SheetContactTerm final : public LoadTerm {
   std::vector<int> anchor_face_;     ///< friction, per slot: the face of the anchor (-1: none)
   std::vector<Vec2> anchor_xi_;      ///< its barycentric coordinates of b and c
   std::vector<Vec3> last_x_;         ///< the node's accepted position (a new pair's anchor)
-  NodePositions x_accepted_;         ///< friction: the positions at the last accepted state
+  NodePositions x_accepted_;         ///< friction, edges: the positions at the last accepted state
+  // Edge pairs (edges: true): a tree over the second list's edges, and the side of each pair
+  // (first list's edge, second's) at the last accepted state.
+  contact::FaceTree edge_tree_;
+  std::vector<contact::Box> edge_boxes_;
+  std::map<std::pair<int, int>, double> edge_side_;
+  double edge_grow_ = 0;
+  int edge_active_ = 0;
   std::vector<double> node_status_;  ///< per model node: 0 open, 1 stick, 2 slip (accepted)
   std::array<contact::FaceTree, 2> tree_;
   std::array<std::vector<contact::Box>, 2> boxes_;
@@ -374,7 +421,7 @@ SheetContactTerm::SheetContactTerm(const SheetContact& load, const LoadSite& sit
   anchor_face_.assign(slots, -1);
   anchor_xi_.assign(slots, Vec2::Zero());
   last_x_.resize(slots);
-  if (load.friction > 0) x_accepted_ = site.model.X;
+  if (load.friction > 0 || load.edges) x_accepted_ = site.model.X;
   for (size_t p = 0; p < load.passes.size(); ++p)
     for (size_t i = 0; i < load.passes[p].nodes.size(); ++i)
       last_x_[slot(p, i)] = site.model.X.col(load.passes[p].nodes[i]);
@@ -384,6 +431,15 @@ SheetContactTerm::SheetContactTerm(const SheetContact& load, const LoadSite& sit
   budget_ = static_cast<int>(std::min<double>(static_cast<double>(slots), 32e6 / per_column / 6));
   budget_ = std::max(budget_, std::min(static_cast<int>(slots), 8));
   for (int w = 0; w < 2; ++w) boxes_[static_cast<size_t>(w)].resize(load.faces[w].size());
+  if (load.edges) {
+    const auto& B = load.edge_lists[load.self ? 0 : 1];
+    edge_boxes_.resize(B.size());
+    // A query asks at an edge's middle: the boxes grow by half the longest edge of the first
+    // list.
+    for (const Edge& e : load.edge_lists[0])
+      edge_grow_ =
+          std::max(edge_grow_, 0.5 * (site.model.X.col(e.b) - site.model.X.col(e.a)).norm());
+  }
   refit(site.model.X);
   for (int w = 0; w < 2; ++w) tree_[static_cast<size_t>(w)].build(boxes_[static_cast<size_t>(w)]);
 }
@@ -495,6 +551,7 @@ void SheetContactTerm::add(const LoadState& s, LoadOutput& out) {
       }
     }
   });
+  if (load_.edges) add_edges(s, out);
 }
 
 void SheetContactTerm::add_block(int i, int j, const Mat3& D, SparseMatrix& K) const {
@@ -572,8 +629,111 @@ void SheetContactTerm::commit(const LoadState& s) {
     const double tol = std::max(0.01 * 2 * pass.half[i], 1e-3 * pass.size[i]);
     if (tol > 0) penetration_ratio_ = std::max(penetration_ratio_, (-gap - relaxed(k)) / tol);
   });
-  if (load_.friction > 0) x_accepted_ = s.x;
+  commit_edges(s.x);
+  if (load_.friction > 0 || load_.edges) x_accepted_ = s.x;
   ++steps_;
+}
+
+template <class Found>
+void SheetContactTerm::scan_edges(const NodePositions& x, Found&& found) {
+  const auto& A = load_.edge_lists[0];
+  const auto& B = load_.edge_lists[load_.self ? 0 : 1];
+  if (B.empty()) return;
+  for (size_t j = 0; j < B.size(); ++j) {
+    contact::Box b(x.col(B[j].a));
+    b.extend(Vec3(x.col(B[j].b)));
+    const double grow = B[j].half + reach_ + margin_ + edge_grow_;
+    b.min().array() -= grow;
+    b.max().array() += grow;
+    edge_boxes_[j] = b;
+  }
+  if (edge_tree_.empty())
+    edge_tree_.build(edge_boxes_);
+  else
+    edge_tree_.refit(edge_boxes_);
+  contact::Vec12 X;
+  for (size_t i = 0; i < A.size(); ++i) {
+    const Edge& e = A[i];
+    const Vec3 mid = 0.5 * (x.col(e.a) + x.col(e.b));
+    edge_tree_.query(mid, [&](int jj) {
+      const Edge& f = B[static_cast<size_t>(jj)];
+      if (load_.self && jj <= static_cast<int>(i)) return;
+      if (near(e.a, f.a) || near(e.a, f.b) || near(e.b, f.a) || near(e.b, f.b)) return;
+      double sp = 0, tp = 0;
+      if (!contact::edge_parameters(x.col(e.a), x.col(e.b), x.col(f.a), x.col(f.b), sp, tp) ||
+          sp <= 0 || sp >= 1 || tp <= 0 || tp >= 1)
+        return;
+      X << x.col(e.a), x.col(e.b), x.col(f.a), x.col(f.b);
+      contact::Vec12 grad;
+      const double g = contact::edge_gap(X, grad, nullptr);
+      const double thickness = e.half + f.half;
+      if (std::abs(g) >= thickness + margin_) return;
+      // The side: the pair's at the last accepted state, else the edges' there.
+      double side = 1;
+      if (auto it = edge_side_.find({static_cast<int>(i), jj}); it != edge_side_.end()) {
+        side = it->second;
+      } else {
+        contact::Vec12 Y;
+        Y << x_accepted_.col(e.a), x_accepted_.col(e.b), x_accepted_.col(f.a), x_accepted_.col(f.b);
+        side = contact::edge_gap(Y, grad, nullptr) >= 0 ? 1.0 : -1.0;
+      }
+      found(static_cast<int>(i), jj, X, side, thickness);
+    });
+  }
+}
+
+void SheetContactTerm::add_edges(const LoadState& s, LoadOutput& out) {
+  const auto& A = load_.edge_lists[0];
+  const auto& B = load_.edge_lists[load_.self ? 0 : 1];
+  contact::PairResult r;
+  scan_edges(s.x, [&](int i, int j, const contact::Vec12& X, double side, double thickness) {
+    const Edge& e = A[static_cast<size_t>(i)];
+    const Edge& f = B[static_cast<size_t>(j)];
+    const double k = load_.penalty_scale * std::min(load_.stiffness[static_cast<size_t>(e.a)],
+                                                    load_.stiffness[static_cast<size_t>(f.a)]);
+    if (!contact::edge_pair_force(X, side, thickness, k, out.K != nullptr, r)) return;
+    const std::array<int, 4> nodes = {e.a, e.b, f.a, f.b};
+    for (int q = 0; q < 4; ++q) out.F.col(nodes[static_cast<size_t>(q)]) += r.f.segment<3>(3 * q);
+    if (!out.K) return;
+    // The blocks within each edge (in the pattern); those between the two edges are left out
+    // (Newton converges linearly while edge pairs act).
+    for (int q0 : {0, 2})
+      for (int q = q0; q < q0 + 2; ++q)
+        for (int w = q0; w < q0 + 2; ++w)
+          add_block(nodes[static_cast<size_t>(q)], nodes[static_cast<size_t>(w)],
+                    r.D.block<3, 3>(3 * q, 3 * w), *out.K);
+  });
+}
+
+void SheetContactTerm::commit_edges(const NodePositions& x) {
+  if (!load_.edges) return;
+  const auto& A = load_.edge_lists[0];
+  const auto& B = load_.edge_lists[load_.self ? 0 : 1];
+  std::map<std::pair<int, int>, double> sides;
+  edge_active_ = 0;
+  contact::PairResult r;
+  scan_edges(x, [&](int i, int j, const contact::Vec12& X, double side, double thickness) {
+    const Edge& e = A[static_cast<size_t>(i)];
+    const Edge& f = B[static_cast<size_t>(j)];
+    sides[{i, j}] = side;
+    const double k = load_.penalty_scale * std::min(load_.stiffness[static_cast<size_t>(e.a)],
+                                                    load_.stiffness[static_cast<size_t>(f.a)]);
+    if (!contact::edge_pair_force(X, side, thickness, k, false, r)) return;
+    ++edge_active_;
+    const std::array<int, 4> nodes = {e.a, e.b, f.a, f.b};
+    for (int q = 0; q < 4; ++q) {
+      const auto n = static_cast<size_t>(nodes[static_cast<size_t>(q)]);
+      transmitted_[n] += r.f.segment<3>(3 * q).norm();
+      node_status_[n] = std::max(node_status_[n], 2.0);  // frictionless: slides
+    }
+    if (load_.self)
+      force_on_other_ += (r.f.segment<3>(0) + r.f.segment<3>(3)).cwiseAbs();
+    else
+      force_on_other_ += r.f.segment<3>(6) + r.f.segment<3>(9);
+    const double tol = std::max(0.01 * thickness, 1e-3 * margin_);
+    if (tol > 0) penetration_ratio_ = std::max(penetration_ratio_, -r.gap / tol);
+  });
+  edge_side_ = std::move(sides);
 }
 
 std::vector<double> SheetContactTerm::node_areas(const NodePositions& x, int which) const {

@@ -180,7 +180,8 @@ for scale, through in ((1e-6, True), (0.05, False)):
 # Self contact through the command line: a flat sheet pushed by the sphere has no fold, so
 # the entry finds no pair; it runs, and summary.json describes it.
 m = copy.deepcopy(BASE)
-m["contact"].append({"surfaces": ["sheet"], "self": True, "relax_steps": 2})
+m["contact"].append({"surfaces": ["sheet"], "self": True, "relax_steps": 2, "edges": True,
+                     "friction": 0.1})
 p, out, _ = run("self_contact", m)
 summary = json.load(open(os.path.join(out, "summary.json"))) if p.returncode == 0 else {}
 entries = [c for c in summary.get("contact", []) if c.get("self")]
@@ -224,6 +225,8 @@ BAD = [
      "friction", "contact[1].friction"),
     ("relax_with_body", lambda m: m["contact"][0].update(relax_steps=2),
      "relax_steps applies", "contact[0].relax_steps"),
+    ("edges_with_body", lambda m: m["contact"][0].update(edges=True),
+     "edges applies", "contact[0].edges"),
     ("area_component", lambda m: m["output"]["history"][5].update(component="z"),
      "contact_area has no component", "output.history[5].component"),
 ]

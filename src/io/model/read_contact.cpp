@@ -198,7 +198,7 @@ void Reader::parse_contact(const Node& cs) {
     const std::string p = item("contact", i);
     if (!check_map(c, p,
                    {"surfaces", "self", "friction", "thickness", "penalty_scale", "augmented",
-                    "relax_steps"}))
+                    "relax_steps", "edges"}))
       continue;
     ContactLoad load;
     load.index = static_cast<int>(i);
@@ -263,6 +263,17 @@ void Reader::parse_contact(const Node& cs) {
       contact_bodies_.insert(body);
       if (auto f = free_bodies_.find(body); f != free_bodies_.end())
         load.body_node = f->second.node;
+    }
+    if (has(c, "edges")) {
+      if (!sheets) {
+        error(c["edges"], sub(p, "edges"),
+              "edges applies to contact between element sets (or self contact)");
+        ok = false;
+      } else if (auto e = boolean(c, "edges", p)) {
+        load.edges = *e;
+      } else {
+        ok = false;
+      }
     }
     if (has(c, "relax_steps")) {
       if (!sheets) {
