@@ -271,10 +271,11 @@ class SheetContactTerm final : public LoadTerm {
     return fmt::format(
         "{{\"contact\": {}, \"sheets\": true, \"self\": {}, \"penalty\": [{:.6g}, {:.6g}], "
         "\"max_penetration_ratio\": {:.6g}, \"kept\": {}, \"initial_penetrations\": {}, "
-        "\"initial_max_depth\": {:.6g}, \"active_pairs\": {}, \"pair_budget\": {}}}",
+        "\"initial_max_depth\": {:.6g}, \"active_pairs\": {}, \"pair_budget\": {}{}}}",
         load_.index, load_.self ? "true" : "false", k_min_, k_max_, penetration_ratio_,
         penetration_ratio_ <= 1 ? "true" : "false", initial_count_, initial_depth_,
-        active_accepted_, budget_);
+        active_accepted_, budget_,
+        load_.edges ? fmt::format(", \"active_edge_pairs\": {}", edge_active_) : std::string());
   }
 
  private:

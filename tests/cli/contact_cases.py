@@ -185,7 +185,8 @@ m["contact"].append({"surfaces": ["sheet"], "self": True, "relax_steps": 2, "edg
 p, out, _ = run("self_contact", m)
 summary = json.load(open(os.path.join(out, "summary.json"))) if p.returncode == 0 else {}
 entries = [c for c in summary.get("contact", []) if c.get("self")]
-check(p.returncode == 0 and len(entries) == 1 and entries[0]["initial_penetrations"] == 0,
+check(p.returncode == 0 and len(entries) == 1 and entries[0]["initial_penetrations"] == 0
+      and entries[0].get("active_edge_pairs") == 0,
       f"self contact runs (exit {p.returncode}: {p.stderr.strip()[-200:]}; {entries})")
 
 # Bad input: exit 1, the file, the line and the key named.
