@@ -9,10 +9,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <span>
 #include <stdexcept>
 
 #include "contact_law.hpp"
+#include "edge_contact.hpp"
 #include "face_contact.hpp"
 #include "face_tree.hpp"
 #include "sheet_contact.hpp"
@@ -28,6 +30,12 @@ struct Face {
   std::array<int, 3> n{};        ///< the triangle's nodes
   std::array<int, 4> element{};  ///< its element's corners (-1: none): never against these
   double half = 0;               ///< its contact thickness
+};
+
+// An element's side (edges: true): its two corners and its contact thickness.
+struct Edge {
+  int a = -1, b = -1;
+  double half = 0;
 };
 
 // One direction of the contact: these nodes against those faces.
@@ -67,6 +75,7 @@ class SheetContact final : public Load, public ContactLoad {
   std::unique_ptr<LoadTerm> bind(const LoadSite& site) const override;
 
   std::array<std::vector<Face>, 2> faces;
+  std::array<std::vector<Edge>, 2> edge_lists;  ///< edges: true: each set's element sides
   std::vector<Pass> passes;
   std::vector<int> ring_start, ring;  ///< per model node: the nodes sharing an element with it
   std::vector<double> stiffness;      ///< per model node: the largest diagonal of its elements'
@@ -79,9 +88,11 @@ void SheetContact::set_up(const Model& model, const ElementNamer&) {
   stiffness.assign(N, 0.0);
   // The kernels store fixed-size Eigen blocks into these: aligned as Eigen wants.
   std::vector<double, Eigen::aligned_allocator<double>> r, Ke;
+  std::array<std::map<std::pair<int, int>, size_t>, 2> edge_index;
   auto collect = [&](const std::vector<Part>& set, int which) {
     half[which].assign(N, -1.0), size[which].assign(N, 0.0);
     faces[which].clear();
+    edge_lists[which].clear();
     for (const Part& part : set) {
       const ElementBlock& b = *model.blocks[static_cast<size_t>(part.block)];
       if (!b.surface()) continue;  // cables: no faces (their nodes are not in sheet contact)
@@ -110,6 +121,15 @@ void SheetContact::set_up(const Model& model, const ElementNamer&) {
           for (size_t c = 3 * a; c < 3 * a + 3; ++c)
             stiffness[static_cast<size_t>(en[a])] =
                 std::max(stiffness[static_cast<size_t>(en[a])], Ke[c * nd + c]);
+        if (edges)
+          for (int a = 0; a < corners; ++a) {
+            const auto key = std::minmax(en[a], en[(a + 1) % corners]);
+            const auto [it, fresh] =
+                edge_index[which].try_emplace({key.first, key.second}, edge_lists[which].size());
+            if (fresh) edge_lists[which].push_back({key.first, key.second, h});
+            Edge& ed = edge_lists[which][it->second];
+            ed.half = std::max(ed.half, h);
+          }
         for (int a : en) {
           half[which][static_cast<size_t>(a)] = std::max(half[which][static_cast<size_t>(a)], h);
           size[which][static_cast<size_t>(a)] = std::max(size[which][static_cast<size_t>(a)], sz);
@@ -159,6 +179,7 @@ class SheetContactTerm final : public LoadTerm {
   void add(const LoadState& s, LoadOutput& out) override;
   int low_rank_columns() const override { return 6 * budget_; }
   void start(const LoadState& s) override {
+    if (load_.friction > 0 || load_.edges) x_accepted_ = s.x;  // also after a restart
     if (started_) return;
     started_ = true;
     // Initial penetrations: reported, and with relax_steps relaxed (their depth an offset on
@@ -180,18 +201,31 @@ class SheetContactTerm final : public LoadTerm {
     out.push_back(static_cast<double>(pairs_.size()));
     for (size_t k = 0; k < pairs_.size(); ++k)
       out.push_back(pairs_[k].face), out.push_back(pairs_[k].side), out.push_back(offset_[k]);
+    if (load_.friction > 0)  // the friction anchors
+      for (size_t k = 0; k < pairs_.size(); ++k) {
+        out.push_back(anchor_face_[k]);
+        out.insert(out.end(), anchor_xi_[k].data(), anchor_xi_[k].data() + 2);
+        out.insert(out.end(), last_x_[k].data(), last_x_[k].data() + 3);
+      }
     out.push_back(steps_);
     out.push_back(initial_count_);
     out.push_back(initial_depth_);
   }
   size_t restore_state(const std::vector<double>& in, size_t at) override {
+    const size_t per = load_.friction > 0 ? 9 : 3;
     if (at >= in.size() || in[at] != static_cast<double>(pairs_.size()) ||
-        in.size() < at + 4 + 3 * pairs_.size())
+        in.size() < at + 4 + per * pairs_.size())
       throw std::invalid_argument("the sheet contact's saved state does not fit its nodes");
     ++at;
     for (size_t k = 0; k < pairs_.size(); ++k, at += 3)
       pairs_[k].face = static_cast<int>(in[at]), pairs_[k].side = in[at + 1],
       offset_[k] = in[at + 2];
+    if (load_.friction > 0)
+      for (size_t k = 0; k < pairs_.size(); ++k, at += 6) {
+        anchor_face_[k] = static_cast<int>(in[at]);
+        anchor_xi_[k] = Vec2(in[at + 1], in[at + 2]);
+        last_x_[k] = Vec3(in[at + 3], in[at + 4], in[at + 5]);
+      }
     steps_ = static_cast<int>(in[at++]);
     initial_count_ = static_cast<int>(in[at++]);
     initial_depth_ = in[at++];
@@ -199,11 +233,12 @@ class SheetContactTerm final : public LoadTerm {
     return at;
   }
   std::optional<double> quantity(std::string_view name) const override {
-    if (name.starts_with("contact_force")) return 0.0;
+    if (name.starts_with("contact_force") || name.starts_with("contact_area")) return 0.0;
     return {};
   }
   std::optional<double> quantity_at(std::string_view name, double,
-                                    const NodePositions&) const override {
+                                    const NodePositions& x) const override {
+    if (name == fmt::format("contact_area:contact={}", load_.index)) return contact_area(x);
     const auto last = name.rfind(':');
     if (last == std::string_view::npos ||
         name.substr(0, last) != fmt::format("contact_force:contact={}", load_.index))
@@ -218,7 +253,8 @@ class SheetContactTerm final : public LoadTerm {
     for (size_t p = 0; p < load_.passes.size(); ++p)
       for (size_t i = 0; i < load_.passes[p].nodes.size(); ++i)
         if (const double m = node_mass[static_cast<size_t>(load_.passes[p].nodes[i])]; m > 0)
-          most = std::max(most, 2 * k_[slot(p, i)] / m);  // the node and a face node
+          most = std::max(
+              most, 2 * k_[slot(p, i)] * (1 + load_.friction) / m);  // the node and a face node
     return most;
   }
   std::string end_check(const std::function<void(std::string)>& warn) const override {
@@ -235,10 +271,11 @@ class SheetContactTerm final : public LoadTerm {
     return fmt::format(
         "{{\"contact\": {}, \"sheets\": true, \"self\": {}, \"penalty\": [{:.6g}, {:.6g}], "
         "\"max_penetration_ratio\": {:.6g}, \"kept\": {}, \"initial_penetrations\": {}, "
-        "\"initial_max_depth\": {:.6g}, \"active_pairs\": {}, \"pair_budget\": {}}}",
+        "\"initial_max_depth\": {:.6g}, \"active_pairs\": {}, \"pair_budget\": {}{}}}",
         load_.index, load_.self ? "true" : "false", k_min_, k_max_, penetration_ratio_,
         penetration_ratio_ <= 1 ? "true" : "false", initial_count_, initial_depth_,
-        active_accepted_, budget_);
+        active_accepted_, budget_,
+        load_.edges ? fmt::format(", \"active_edge_pairs\": {}", edge_active_) : std::string());
   }
 
  private:
@@ -268,6 +305,30 @@ class SheetContactTerm final : public LoadTerm {
     return false;
   }
   void refit(const NodePositions& x);
+  // Edge pairs: calls found(i, j, X, side, thickness) for every pair of a first-list edge i
+  // and a second-list edge j (self: j > i) away from each other's rings whose closest points
+  // lie inside both and within reach.
+  template <class Found>
+  void scan_edges(const NodePositions& x, Found&& found);
+  bool near(int n, int m) const {
+    if (n == m) return true;
+    const int* r0 = load_.ring.data() + load_.ring_start[static_cast<size_t>(n)];
+    const int* r1 = load_.ring.data() + load_.ring_start[static_cast<size_t>(n) + 1];
+    if (std::binary_search(r0, r1, m)) return true;
+    if (load_.self)
+      for (const int* r = r0; r != r1; ++r) {
+        const int* s0 = load_.ring.data() + load_.ring_start[static_cast<size_t>(*r)];
+        const int* s1 = load_.ring.data() + load_.ring_start[static_cast<size_t>(*r) + 1];
+        if (std::binary_search(s0, s1, m)) return true;
+      }
+    return false;
+  }
+  void add_edges(const LoadState& s, LoadOutput& out);
+  void commit_edges(const NodePositions& x);
+  // A node's area: a third of its triangles' current areas (the faces of set `which`, or of
+  // both sets: -1).
+  std::vector<double> node_areas(const NodePositions& x, int which) const;
+  double contact_area(const NodePositions& x) const;
   // Calls found(pass, node index, pair, gap) for every node that has a face within reach.
   template <class Found>
   void scan(const NodePositions& x, Found&& found);
@@ -276,6 +337,22 @@ class SheetContactTerm final : public LoadTerm {
     return offset_[k] * std::max(0.0, 1.0 - static_cast<double>(steps_ + 1) / load_.relax_steps);
   }
   void add_block(int i, int j, const Mat3& D, SparseMatrix& K) const;
+  // Friction: slot k's anchor on `face` (barycentric coordinates of its b and c): the anchor's
+  // face point carried to a new face, or the node's accepted position for a new pair, both
+  // by the faces' accepted positions (so the anchor holds within a step: the tangent stays
+  // consistent).
+  Vec2 anchor_on(size_t k, const Face& face, int face_index, int faces_of) const {
+    const NodePositions& x = x_accepted_;
+    if (anchor_face_[k] == face_index) return anchor_xi_[k];
+    Vec3 y = last_x_[k];
+    if (anchor_face_[k] >= 0) {
+      const Face& was =
+          load_.faces[static_cast<size_t>(faces_of)][static_cast<size_t>(anchor_face_[k])];
+      const Vec2& xi = anchor_xi_[k];
+      y = (1 - xi[0] - xi[1]) * x.col(was.n[0]) + xi[0] * x.col(was.n[1]) + xi[1] * x.col(was.n[2]);
+    }
+    return contact::plane_coordinates(y, x.col(face.n[0]), x.col(face.n[1]), x.col(face.n[2]));
+  }
   template <class Column>
   void put(int n, const Vec3& v, Column&& to) const {
     const Vec3 l = site_.dofs.to_local(n, v);
@@ -290,6 +367,18 @@ class SheetContactTerm final : public LoadTerm {
   std::vector<Pair> pairs_;    ///< per slot: the pair at the last accepted state
   std::vector<double> offset_, gap_accepted_;
   std::vector<double> transmitted_;  ///< per model node: the contact force it carries
+  std::vector<int> anchor_face_;     ///< friction, per slot: the face of the anchor (-1: none)
+  std::vector<Vec2> anchor_xi_;      ///< its barycentric coordinates of b and c
+  std::vector<Vec3> last_x_;         ///< the node's accepted position (a new pair's anchor)
+  NodePositions x_accepted_;         ///< friction, edges: the positions at the last accepted state
+  // Edge pairs (edges: true): a tree over the second list's edges, and the side of each pair
+  // (first list's edge, second's) at the last accepted state.
+  contact::FaceTree edge_tree_;
+  std::vector<contact::Box> edge_boxes_;
+  std::map<std::pair<int, int>, double> edge_side_;
+  double edge_grow_ = 0;
+  int edge_active_ = 0;
+  std::vector<double> node_status_;  ///< per model node: 0 open, 1 stick, 2 slip (accepted)
   std::array<contact::FaceTree, 2> tree_;
   std::array<std::vector<contact::Box>, 2> boxes_;
   double reach_ = 0;   ///< the largest node contact thickness
@@ -329,12 +418,29 @@ SheetContactTerm::SheetContactTerm(const SheetContact& load, const LoadSite& sit
   offset_.assign(slots, 0.0);
   gap_accepted_.assign(slots, std::numeric_limits<double>::quiet_NaN());
   transmitted_.assign(static_cast<size_t>(site.model.num_nodes()), 0.0);
+  node_status_.assign(static_cast<size_t>(site.model.num_nodes()), 0.0);
+  anchor_face_.assign(slots, -1);
+  anchor_xi_.assign(slots, Vec2::Zero());
+  last_x_.resize(slots);
+  if (load.friction > 0 || load.edges) x_accepted_ = site.model.X;
+  for (size_t p = 0; p < load.passes.size(); ++p)
+    for (size_t i = 0; i < load.passes[p].nodes.size(); ++i)
+      last_x_[slot(p, i)] = site.model.X.col(load.passes[p].nodes[i]);
   // The node–face coupling's columns: six a pair, for as many pairs as keep U and W within
   // about 32 MB (the pairs past it lose that coupling: Newton slows, the answer holds).
   const double per_column = 2.0 * 8.0 * std::max(1, site.dofs.num_equations());
   budget_ = static_cast<int>(std::min<double>(static_cast<double>(slots), 32e6 / per_column / 6));
   budget_ = std::max(budget_, std::min(static_cast<int>(slots), 8));
   for (int w = 0; w < 2; ++w) boxes_[static_cast<size_t>(w)].resize(load.faces[w].size());
+  if (load.edges) {
+    const auto& B = load.edge_lists[load.self ? 0 : 1];
+    edge_boxes_.resize(B.size());
+    // A query asks at an edge's middle: the boxes grow by half the longest edge of the first
+    // list.
+    for (const Edge& e : load.edge_lists[0])
+      edge_grow_ =
+          std::max(edge_grow_, 0.5 * (site.model.X.col(e.b) - site.model.X.col(e.a)).norm());
+  }
   refit(site.model.X);
   for (int w = 0; w < 2; ++w) tree_[static_cast<size_t>(w)].build(boxes_[static_cast<size_t>(w)]);
 }
@@ -416,9 +522,13 @@ void SheetContactTerm::add(const LoadState& s, LoadOutput& out) {
     const Face& face = load_.faces[static_cast<size_t>(pass.faces)][static_cast<size_t>(pair.face)];
     const int node = pass.nodes[i];
     const double c = pass.half[i] + face.half - relaxed(k);
-    if (!contact::pair_force(coordinates(s.x, node, face), pair.side, c, k_[k], out.K != nullptr,
-                             r))
-      return;
+    const contact::Vec12 X = coordinates(s.x, node, face);
+    if (!contact::pair_force(X, pair.side, c, k_[k], out.K != nullptr, r)) return;
+    if (load_.friction > 0) {
+      Vec3 slip;
+      contact::pair_friction(X, pair.side, c, k_[k], load_.friction,
+                             anchor_on(k, face, pair.face, pass.faces), out.K != nullptr, r, slip);
+    }
     const std::array<int, 4> nodes = {node, face.n[0], face.n[1], face.n[2]};
     for (int a = 0; a < 4; ++a) out.F.col(nodes[static_cast<size_t>(a)]) += r.f.segment<3>(3 * a);
     if (!out.K) return;
@@ -442,6 +552,7 @@ void SheetContactTerm::add(const LoadState& s, LoadOutput& out) {
       }
     }
   });
+  if (load_.edges) add_edges(s, out);
 }
 
 void SheetContactTerm::add_block(int i, int j, const Mat3& D, SparseMatrix& K) const {
@@ -464,7 +575,17 @@ void SheetContactTerm::commit(const LoadState& s) {
   force_on_other_.setZero();
   std::fill(gap_accepted_.begin(), gap_accepted_.end(), std::numeric_limits<double>::quiet_NaN());
   std::fill(transmitted_.begin(), transmitted_.end(), 0.0);
+  std::fill(node_status_.begin(), node_status_.end(), 0.0);
   for (Pair& p : pairs_) p.face = -1;
+  // Friction: the anchors as the step found them; every slot starts anew at its node unless
+  // it is in contact.
+  const std::vector<int> anchor_face = anchor_face_;
+  const std::vector<Vec2> anchor_xi = anchor_xi_;
+  const std::vector<Vec3> last_x = last_x_;
+  std::fill(anchor_face_.begin(), anchor_face_.end(), -1);
+  for (size_t p = 0; p < load_.passes.size(); ++p)
+    for (size_t i = 0; i < load_.passes[p].nodes.size(); ++i)
+      last_x_[slot(p, i)] = s.x.col(load_.passes[p].nodes[i]);
   contact::PairResult r;
   scan(s.x, [&](size_t p, size_t i, const Pair& pair, double gap) {
     const Pass& pass = load_.passes[p];
@@ -473,9 +594,26 @@ void SheetContactTerm::commit(const LoadState& s) {
     pairs_[k] = pair;
     gap_accepted_[k] = gap;
     const double c = pass.half[i] + face.half - relaxed(k);
-    if (!contact::pair_force(coordinates(s.x, pass.nodes[i], face), pair.side, c, k_[k], false, r))
-      return;
+    const contact::Vec12 X = coordinates(s.x, pass.nodes[i], face);
+    if (!contact::pair_force(X, pair.side, c, k_[k], false, r)) return;
+    contact::Status status = contact::Status::kSlip;  // frictionless: slides
+    if (load_.friction > 0) {
+      anchor_face_[k] = anchor_face[k], anchor_xi_[k] = anchor_xi[k], last_x_[k] = last_x[k];
+      const Vec2 xi0 = anchor_on(k, face, pair.face, pass.faces);
+      Vec3 slip;
+      status = contact::pair_friction(X, pair.side, c, k_[k], load_.friction, xi0, false, r, slip);
+      // The anchor: the face's point at xi0 moved on by the slip.
+      const Vec3 a = s.x.col(face.n[0]), b = s.x.col(face.n[1]), cc = s.x.col(face.n[2]);
+      const Vec3 y = (1 - xi0[0] - xi0[1]) * a + xi0[0] * b + xi0[1] * cc + slip;
+      anchor_face_[k] = pair.face;
+      anchor_xi_[k] = contact::plane_coordinates(y, a, b, cc);
+    }
     ++active_accepted_;
+    const double st = static_cast<double>(status);
+    node_status_[static_cast<size_t>(pass.nodes[i])] =
+        std::max(node_status_[static_cast<size_t>(pass.nodes[i])], st);
+    for (int q : face.n)
+      node_status_[static_cast<size_t>(q)] = std::max(node_status_[static_cast<size_t>(q)], st);
     // Each node's share of the pair's force: the node's own and the face nodes'.
     transmitted_[static_cast<size_t>(pass.nodes[i])] += r.f.segment<3>(0).norm();
     for (int a = 0; a < 3; ++a)
@@ -492,29 +630,150 @@ void SheetContactTerm::commit(const LoadState& s) {
     const double tol = std::max(0.01 * 2 * pass.half[i], 1e-3 * pass.size[i]);
     if (tol > 0) penetration_ratio_ = std::max(penetration_ratio_, (-gap - relaxed(k)) / tol);
   });
+  commit_edges(s.x);
+  if (load_.friction > 0 || load_.edges) x_accepted_ = s.x;
   ++steps_;
+}
+
+template <class Found>
+void SheetContactTerm::scan_edges(const NodePositions& x, Found&& found) {
+  const auto& A = load_.edge_lists[0];
+  const auto& B = load_.edge_lists[load_.self ? 0 : 1];
+  if (B.empty()) return;
+  for (size_t j = 0; j < B.size(); ++j) {
+    contact::Box b(x.col(B[j].a));
+    b.extend(Vec3(x.col(B[j].b)));
+    const double grow = B[j].half + reach_ + margin_ + edge_grow_;
+    b.min().array() -= grow;
+    b.max().array() += grow;
+    edge_boxes_[j] = b;
+  }
+  if (edge_tree_.empty())
+    edge_tree_.build(edge_boxes_);
+  else
+    edge_tree_.refit(edge_boxes_);
+  contact::Vec12 X;
+  for (size_t i = 0; i < A.size(); ++i) {
+    const Edge& e = A[i];
+    const Vec3 mid = 0.5 * (x.col(e.a) + x.col(e.b));
+    edge_tree_.query(mid, [&](int jj) {
+      const Edge& f = B[static_cast<size_t>(jj)];
+      if (load_.self && jj <= static_cast<int>(i)) return;
+      if (near(e.a, f.a) || near(e.a, f.b) || near(e.b, f.a) || near(e.b, f.b)) return;
+      double sp = 0, tp = 0;
+      if (!contact::edge_parameters(x.col(e.a), x.col(e.b), x.col(f.a), x.col(f.b), sp, tp) ||
+          sp <= 0 || sp >= 1 || tp <= 0 || tp >= 1)
+        return;
+      X << x.col(e.a), x.col(e.b), x.col(f.a), x.col(f.b);
+      contact::Vec12 grad;
+      const double g = contact::edge_gap(X, grad, nullptr);
+      const double thickness = e.half + f.half;
+      if (std::abs(g) >= thickness + margin_) return;
+      // The side: the pair's at the last accepted state, else the edges' there.
+      double side = 1;
+      if (auto it = edge_side_.find({static_cast<int>(i), jj}); it != edge_side_.end()) {
+        side = it->second;
+      } else {
+        contact::Vec12 Y;
+        Y << x_accepted_.col(e.a), x_accepted_.col(e.b), x_accepted_.col(f.a), x_accepted_.col(f.b);
+        side = contact::edge_gap(Y, grad, nullptr) >= 0 ? 1.0 : -1.0;
+      }
+      found(static_cast<int>(i), jj, X, side, thickness);
+    });
+  }
+}
+
+void SheetContactTerm::add_edges(const LoadState& s, LoadOutput& out) {
+  const auto& A = load_.edge_lists[0];
+  const auto& B = load_.edge_lists[load_.self ? 0 : 1];
+  contact::PairResult r;
+  scan_edges(s.x, [&](int i, int j, const contact::Vec12& X, double side, double thickness) {
+    const Edge& e = A[static_cast<size_t>(i)];
+    const Edge& f = B[static_cast<size_t>(j)];
+    const double k = load_.penalty_scale * std::min(load_.stiffness[static_cast<size_t>(e.a)],
+                                                    load_.stiffness[static_cast<size_t>(f.a)]);
+    if (!contact::edge_pair_force(X, side, thickness, k, out.K != nullptr, r)) return;
+    const std::array<int, 4> nodes = {e.a, e.b, f.a, f.b};
+    for (int q = 0; q < 4; ++q) out.F.col(nodes[static_cast<size_t>(q)]) += r.f.segment<3>(3 * q);
+    if (!out.K) return;
+    // The blocks within each edge (in the pattern); those between the two edges are left out
+    // (Newton converges linearly while edge pairs act).
+    for (int q0 : {0, 2})
+      for (int q = q0; q < q0 + 2; ++q)
+        for (int w = q0; w < q0 + 2; ++w)
+          add_block(nodes[static_cast<size_t>(q)], nodes[static_cast<size_t>(w)],
+                    r.D.block<3, 3>(3 * q, 3 * w), *out.K);
+  });
+}
+
+void SheetContactTerm::commit_edges(const NodePositions& x) {
+  if (!load_.edges) return;
+  const auto& A = load_.edge_lists[0];
+  const auto& B = load_.edge_lists[load_.self ? 0 : 1];
+  std::map<std::pair<int, int>, double> sides;
+  edge_active_ = 0;
+  contact::PairResult r;
+  scan_edges(x, [&](int i, int j, const contact::Vec12& X, double side, double thickness) {
+    const Edge& e = A[static_cast<size_t>(i)];
+    const Edge& f = B[static_cast<size_t>(j)];
+    sides[{i, j}] = side;
+    const double k = load_.penalty_scale * std::min(load_.stiffness[static_cast<size_t>(e.a)],
+                                                    load_.stiffness[static_cast<size_t>(f.a)]);
+    if (!contact::edge_pair_force(X, side, thickness, k, false, r)) return;
+    ++edge_active_;
+    const std::array<int, 4> nodes = {e.a, e.b, f.a, f.b};
+    for (int q = 0; q < 4; ++q) {
+      const auto n = static_cast<size_t>(nodes[static_cast<size_t>(q)]);
+      transmitted_[n] += r.f.segment<3>(3 * q).norm();
+      node_status_[n] = std::max(node_status_[n], 2.0);  // frictionless: slides
+    }
+    if (load_.self)
+      force_on_other_ += (r.f.segment<3>(0) + r.f.segment<3>(3)).cwiseAbs();
+    else
+      force_on_other_ += r.f.segment<3>(6) + r.f.segment<3>(9);
+    const double tol = std::max(0.01 * thickness, 1e-3 * margin_);
+    if (tol > 0) penetration_ratio_ = std::max(penetration_ratio_, -r.gap / tol);
+  });
+  edge_side_ = std::move(sides);
+}
+
+std::vector<double> SheetContactTerm::node_areas(const NodePositions& x, int which) const {
+  std::vector<double> area(static_cast<size_t>(x.cols()), 0.0);
+  for (int w = 0; w < 2; ++w) {
+    if (which >= 0 && w != which) continue;
+    for (const Face& f : load_.faces[static_cast<size_t>(w)]) {
+      const double A =
+          (x.col(f.n[1]) - x.col(f.n[0])).cross(x.col(f.n[2]) - x.col(f.n[0])).norm() / 6;
+      for (int n : f.n) area[static_cast<size_t>(n)] += A;
+    }
+  }
+  return area;
+}
+
+double SheetContactTerm::contact_area(const NodePositions& x) const {
+  // The first set's nodes that carry a contact force at the accepted state (as a node or as a
+  // face's corner), each with its area; self contact touches with both layers: half of it.
+  const std::vector<double> area = node_areas(x, 0);
+  double sum = 0;
+  for (int n : load_.passes[0].nodes)
+    if (transmitted_[static_cast<size_t>(n)] > 0) sum += area[static_cast<size_t>(n)];
+  return load_.self ? sum / 2 : sum;
 }
 
 bool SheetContactTerm::node_field(std::string_view name, double, const NodePositions& x,
                                   std::vector<double>& per_node) const {
-  const bool pressure = name == "contact_pressure";
-  if (!pressure && name != "contact_gap") return false;
-  // A node's area: a third of its triangles' current areas (each face once).
-  std::vector<double> area;
-  if (pressure) {
-    area.assign(static_cast<size_t>(x.cols()), 0.0);
-    for (const auto& fs : load_.faces)
-      for (const Face& f : fs) {
-        const double A =
-            (x.col(f.n[1]) - x.col(f.n[0])).cross(x.col(f.n[2]) - x.col(f.n[0])).norm() / 6;
-        for (int n : f.n) area[static_cast<size_t>(n)] += A;
-      }
-  }
+  const bool pressure = name == "contact_pressure", status = name == "contact_status";
+  if (!pressure && !status && name != "contact_gap") return false;
+  const std::vector<double> area = pressure ? node_areas(x, -1) : std::vector<double>();
   for (size_t p = 0; p < load_.passes.size(); ++p)
     for (size_t i = 0; i < load_.passes[p].nodes.size(); ++i) {
       const size_t k = slot(p, i), n = static_cast<size_t>(load_.passes[p].nodes[i]);
       double& v = per_node[n];
-      if (pressure) {
+      if (status) {
+        // 0 open, 1 stick, 2 slip (frictionless pairs slide).
+        const double s = node_status_[n];
+        v = std::isnan(v) ? s : std::max(v, s);
+      } else if (pressure) {
         // Once per node (self contact and shared nodes list a node in one pass only).
         v = (std::isnan(v) ? 0.0 : v) + (area[n] > 0 ? transmitted_[n] / area[n] : 0.0);
       } else if (!std::isnan(gap_accepted_[k])) {
@@ -531,9 +790,6 @@ std::unique_ptr<LoadTerm> SheetContact::bind(const LoadSite& site) const {
 }  // namespace
 
 std::unique_ptr<Load> make_sheet_contact(ContactLoad p) {
-  if (p.friction > 0)
-    throw std::invalid_argument(
-        "friction between element sets (or in self contact) is not implemented yet");
   return std::make_unique<SheetContact>(std::move(p));
 }
 
