@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <stdexcept>
 
 #include "velum/assembly/assembler.hpp"
 
@@ -16,7 +15,8 @@ constexpr int kMostNodes = 9;  // the largest element (quad9)
 ElementScatter::ElementScatter(const ElementBlock& b, std::span<const int> elements,
                                const DofMap& dofs, const SparseMatrix& A)
     : nn_(b.nodes_per_element()), nd_(b.dofs_per_element()) {
-  if (nn_ > kMostNodes) throw std::logic_error("ElementScatter: an element with more than 9 nodes");
+  // A longer element (a sliding cable's chain) takes the full map: its blocks are not searched.
+  const bool compact = nn_ <= kMostNodes;
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
   auto position = [&](int row, int col) {
@@ -33,7 +33,7 @@ ElementScatter::ElementScatter(const ElementBlock& b, std::span<const int> eleme
     const auto nodes = b.nodes(elements[k]);
     int* s = start_.data() + k * per;
     int* L = s + nn_ * nn_;
-    bool regular = true;
+    bool regular = compact;
     std::array<int, kMostNodes> first{};  // a node's first equation
     for (int a = 0; a < nn_ && regular; ++a) {
       const int e0 = dofs.equation(nodes[a], 0), e1 = dofs.equation(nodes[a], 1),
