@@ -76,8 +76,8 @@ class MechanicalSystem final : public SecondOrderSystem {
   /// Whether last_external() after an evaluate() at an accepted state is what
   /// external_forces() gives there (to round-off: the follower pressures come fused with the
   /// internal pass): no load uses the velocity, keeps a state integrated in time or a low-rank
-  /// part (gas), no motion is prescribed and no section changes in time (reefing). The explicit energy account books its work from
-  /// them then, without a second pass over the loads.
+  /// part (gas), no motion is prescribed and no section changes in time (reefing). The explicit
+  /// energy account books its work from them then, without a second pass over the loads.
   bool external_forces_reusable() const { return external_reusable_; }
 
   /// Support reactions (full, global): internal minus external force at (t, u, v), kept only

@@ -65,16 +65,7 @@ struct PrestressedPoints {
   Vec3 S0 = Vec3::Zero();
   template <class Point>
   void stress(const Point& p, const Vec3& e, Vec3& S) const {
-    // Aᵀ S0 with A = sheet_strain_map(p.T), written out: the explicit step evaluates this at
-    // every point and step, where a 3x3 matrix built and multiplied in Eigen's generic
-    // assignment loop cost as much as the rest of the stress.
-    const Mat2& T = p.T;
-    const Vec3 s0(
-        T(0, 0) * T(0, 0) * S0[0] + T(1, 0) * T(1, 0) * S0[1] + 2 * T(0, 0) * T(1, 0) * S0[2],
-        T(0, 1) * T(0, 1) * S0[0] + T(1, 1) * T(1, 1) * S0[1] + 2 * T(0, 1) * T(1, 1) * S0[2],
-        T(0, 0) * T(0, 1) * S0[0] + T(1, 0) * T(1, 1) * S0[1] +
-            (T(0, 0) * T(1, 1) + T(0, 1) * T(1, 0)) * S0[2]);
-    S.noalias() = p.D * e + p.t0dA * s0;
+    S.noalias() = p.D * e + p.t0dA * (sheet_strain_map(p.T).transpose() * S0);
   }
   template <class Point>
   const Mat3& tangent(const Point& p, const Vec3& e, Vec3& S, Mat3&) const {
