@@ -209,7 +209,7 @@ void ResultsWriter::write(const StepSnapshot& snap) {
     averaged = frames_->average_to_nodes(f, assembler);
     gas = system_->load_cell_field("gas_pressure", t, x);  // collective
     node_fields_.clear();
-    for (const char* name : {"contact_pressure", "contact_gap"})
+    for (const char* name : {"contact_pressure", "contact_gap", "contact_status"})
       if (auto v = system_->load_node_field(name, t, x); !v.empty())
         node_fields_.emplace_back(name, std::move(v));
   }
@@ -400,6 +400,7 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
       return first ? q : 0.0;
     }
     case Q::kContactForce:
+    case Q::kContactArea:
     case Q::kRigidPosition:
     case Q::kRigidVelocity: {
       // A contact force: the sum of this process's nodes over the contacts with the body
@@ -407,7 +408,8 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
       double sum = 0;
       for (const auto& term : system_->loads())
         if (auto q = term->quantity_at(h.flow, snap.step.t, x)) {
-          if (h.quantity != Q::kContactForce) return first ? *q : 0.0;
+          if (h.quantity == Q::kRigidPosition || h.quantity == Q::kRigidVelocity)
+            return first ? *q : 0.0;
           sum += *q;
         }
       return sum;

@@ -149,7 +149,9 @@ class ContactTerm final : public LoadTerm {
   }
 
   std::optional<double> quantity(std::string_view name) const override {
-    if (name.starts_with("contact_force") || name.starts_with("rigid_")) return 0.0;
+    if (name.starts_with("contact_force") || name.starts_with("contact_area") ||
+        name.starts_with("rigid_"))
+      return 0.0;
     return {};
   }
   std::optional<double> quantity_at(std::string_view name, double t,
@@ -218,12 +220,15 @@ class ContactTerm final : public LoadTerm {
   // The outputs (history, fields) at the state accepted last: its forces as the residual
   // had them (before the multipliers moved on).
   Vec3 accepted_force(size_t i) const { return f_accepted_[i]; }
+  // The area about each node of the set (per model node) at positions x.
+  std::vector<double> node_areas(const NodePositions& x) const;
 
   const Contact& load_;
   LoadSite site_;
   std::vector<double> k_, lambda_;
   std::vector<Vec3> anchor_;      // friction: the body's point (at s = 0) each node sticks to
   std::vector<Vec3> f_accepted_;  // the force on each node at the state accepted last
+  std::vector<contact::Status> status_accepted_;  // and its status there
   double k_min_ = 0, k_max_ = 0;
   double penetration_ratio_ = 0;  // the largest penetration / tolerance at the last accepted step
 };
@@ -258,6 +263,7 @@ ContactTerm::ContactTerm(const Contact& load, const LoadSite& site) : load_(load
   lambda_.assign(N, 0.0);
   anchor_.resize(N);
   f_accepted_.assign(N, Vec3::Zero());
+  status_accepted_.assign(N, contact::Status::kOpen);
   for (size_t i = 0; i < N; ++i) anchor_[i] = site.model.X.col(load.nodes[i]);
 }
 
@@ -269,6 +275,7 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers) {
     const Vec3 x = s.x.col(load_.nodes[i]) - d;  // relative to a free body
     const contact::NodeResult r = evaluate(i, x, sf, false);
     f_accepted_[i] = r.f;
+    status_accepted_[i] = r.status;
     if (r.status == contact::Status::kOpen) {
       if (update_multipliers) lambda_[i] = 0;
       anchor_[i] = load_.body.unmoved(x, sf);
@@ -285,9 +292,21 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers) {
 }
 
 std::optional<double> ContactTerm::quantity_at(std::string_view name, double t,
-                                               const NodePositions& /*x*/) const {
+                                               const NodePositions& x) const {
   // contact_force:body=NAME:c, contact_force:contact=I:c, rigid_position:NAME:c,
-  // rigid_velocity:NAME:c (c = 0, 1, 2; 3: magnitude).
+  // rigid_velocity:NAME:c (c = 0, 1, 2; 3: magnitude); contact_area:body=NAME,
+  // contact_area:contact=I.
+  if (name == fmt::format("contact_area:body={}", load_.body.name) ||
+      name == fmt::format("contact_area:contact={}", load_.index)) {
+    // The areas about the nodes that touch at the accepted state (this process's nodes).
+    const std::vector<double> area = node_areas(x);
+    double sum = 0;
+    for (size_t i = 0; i < load_.nodes.size(); ++i)
+      if (status_accepted_[i] != contact::Status::kOpen &&
+          site_.assembler.keeps_node(load_.nodes[i]))
+        sum += area[static_cast<size_t>(load_.nodes[i])];
+    return sum;
+  }
   const auto last = name.rfind(':');
   if (last == std::string_view::npos) return {};
   const int c = name[last + 1] - '0';
@@ -312,35 +331,45 @@ std::optional<double> ContactTerm::quantity_at(std::string_view name, double t,
   return c == 3 ? sum.norm() : sum[c];  // a magnitude of one process's share: see the reader
 }
 
-bool ContactTerm::node_field(std::string_view name, double t, const NodePositions& x,
-                             std::vector<double>& per_node) const {
-  const bool pressure = name == "contact_pressure";
-  if (!pressure && name != "contact_gap") return false;
-  const double sf = site_.model.function_value(load_.body.function, t);
-  // The area about each node: the forces of a unit follower pressure on the set's
-  // membranes (their current vector area); a cable node's length instead.
-  std::vector<double> area;
-  if (pressure) {
-    area.assign(static_cast<size_t>(x.cols()), 0.0);
-    std::vector<double> f;
-    for (const ContactLoad::Part& part : load_.parts) {
-      const ElementBlock& b = *site_.model.blocks[static_cast<size_t>(part.block)];
-      f.assign(static_cast<size_t>(b.dofs_per_element()), 0.0);
-      for (int e : part.elements) {
-        if (!b.holds(e)) continue;
-        const auto nodes = b.nodes(e);
-        if (const SurfaceBlock* sb = b.surface()) {
-          std::fill(f.begin(), f.end(), 0.0);
-          sb->pressure(std::span<const int>(&e, 1), x, 1.0, f.data(), nullptr);
-          for (size_t a = 0; a < nodes.size(); ++a)
-            area[static_cast<size_t>(nodes[a])] += Eigen::Map<const Vec3>(&f[3 * a]).norm();
-        } else {
-          const double L = (x.col(nodes.back()) - x.col(nodes.front())).norm();
-          for (int n : nodes) area[static_cast<size_t>(n)] += L / static_cast<double>(nodes.size());
-        }
+std::vector<double> ContactTerm::node_areas(const NodePositions& x) const {
+  // The forces of a unit follower pressure on the set's membranes (their current vector
+  // area); a cable node's length instead. Empty parts on an MPI piece: no areas there.
+  std::vector<double> area(static_cast<size_t>(x.cols()), 0.0), f;
+  for (const ContactLoad::Part& part : load_.parts) {
+    const ElementBlock& b = *site_.model.blocks[static_cast<size_t>(part.block)];
+    f.assign(static_cast<size_t>(b.dofs_per_element()), 0.0);
+    for (int e : part.elements) {
+      if (!b.holds(e)) continue;
+      const auto nodes = b.nodes(e);
+      if (const SurfaceBlock* sb = b.surface()) {
+        std::fill(f.begin(), f.end(), 0.0);
+        sb->pressure(std::span<const int>(&e, 1), x, 1.0, f.data(), nullptr);
+        for (size_t a = 0; a < nodes.size(); ++a)
+          area[static_cast<size_t>(nodes[a])] += Eigen::Map<const Vec3>(&f[3 * a]).norm();
+      } else {
+        const double L = (x.col(nodes.back()) - x.col(nodes.front())).norm();
+        for (int n : nodes) area[static_cast<size_t>(n)] += L / static_cast<double>(nodes.size());
       }
     }
   }
+  return area;
+}
+
+bool ContactTerm::node_field(std::string_view name, double t, const NodePositions& x,
+                             std::vector<double>& per_node) const {
+  const bool pressure = name == "contact_pressure";
+  if (name == "contact_status") {
+    // 0 open, 1 stick, 2 slip (frictionless contact slides: 2); the most of the contacts.
+    for (size_t i = 0; i < load_.nodes.size(); ++i) {
+      double& v = per_node[static_cast<size_t>(load_.nodes[i])];
+      const double s = static_cast<double>(status_accepted_[i]);
+      v = std::isnan(v) ? s : std::max(v, s);
+    }
+    return true;
+  }
+  if (!pressure && name != "contact_gap") return false;
+  const double sf = site_.model.function_value(load_.body.function, t);
+  const std::vector<double> area = pressure ? node_areas(x) : std::vector<double>();
   const Vec3 d = translation(x);
   for (size_t i = 0; i < load_.nodes.size(); ++i) {
     const int n = load_.nodes[i];

@@ -9,6 +9,7 @@
 
 #include <cmath>
 
+#include "contact_law.hpp"
 #include "velum/math/types.hpp"
 
 namespace velum::contact {
@@ -90,6 +91,53 @@ inline bool pair_force(const Vec12& X, double side, double thickness, double k, 
   r.f = (r.p * side) * grad;
   if (tangent) r.D = -k * grad * grad.transpose() + (r.p * side) * H;
   return true;
+}
+
+}  // namespace velum::contact
+
+namespace velum::contact {
+
+/// Coulomb friction of a node–face pair (docs/contact.md, "Sheets"), added to a pair_force
+/// result r (its p > 0): the tangential penalty k on e, the part in the face's plane of the
+/// node's position minus the anchor (the face's point at barycentric coordinates xi0 of b and
+/// c), returned to the cone |f_T| <= μ p (slip); the node takes f_T, the face's corners
+/// −N_a(xi0) f_T. ∂f_T/∂X by forward differentiation of the force (exact for a fixed anchor;
+/// unsymmetric). `slip`: the vector the anchor moves by at an accepted slip (0 in stick).
+inline Status pair_friction(const Vec12& X, double side, double thickness, double k, double mu,
+                            const Vec2& xi0, bool tangent, PairResult& r, Vec3& slip) {
+  using AD = Eigen::AutoDiffScalar<Vec12>;
+  using V = Eigen::Matrix<AD, 3, 1>;
+  Eigen::Matrix<AD, 12, 1> Y;
+  for (int i = 0; i < 12; ++i) Y[i] = tangent ? AD(X[i], 12, i) : AD(X[i]);
+  const V x = Y.segment<3>(0), a = Y.segment<3>(3), b = Y.segment<3>(6), c = Y.segment<3>(9);
+  const V m = (b - a).cross(c - a);
+  const V n = m / sqrt(m.squaredNorm());
+  const AD p = -k * (side * (x - a).dot(n) - thickness);
+  const double N0 = 1 - xi0[0] - xi0[1];
+  const V w = x - (N0 * a + xi0[0] * b + xi0[1] * c);
+  const V e = w - w.dot(n) * n;
+  const double en = std::sqrt(e[0].value() * e[0].value() + e[1].value() * e[1].value() +
+                              e[2].value() * e[2].value());
+  V fT;
+  Status status = Status::kStick;
+  slip.setZero();
+  if (k * en <= mu * p.value()) {
+    fT = -k * e;
+  } else {
+    status = Status::kSlip;
+    const AD len = sqrt(e.squaredNorm());
+    fT = -(mu * p / len) * e;
+    const double s = (en - mu * p.value() / k) / en;  // the anchor follows by this part of e
+    for (int i = 0; i < 3; ++i) slip[i] = s * e[i].value();
+  }
+  const double Ns[4] = {1, -N0, -xi0[0], -xi0[1]};
+  for (int q = 0; q < 4; ++q)
+    for (int i = 0; i < 3; ++i) {
+      const AD v = Ns[q] * fT[i];
+      r.f[3 * q + i] += v.value();
+      if (tangent) r.D.row(3 * q + i) += v.derivatives().transpose();
+    }
+  return status;
 }
 
 }  // namespace velum::contact

@@ -48,6 +48,36 @@ class FaceTree {
     }
   }
 
+  /// The face nearest to p: distance(f) gives p's squared distance to face f; boxes farther
+  /// than the best so far are skipped (branch and bound). `best`: in, an upper bound (infinity
+  /// for none); out, the least squared distance. -1: no face within the bound.
+  template <class Distance>
+  int nearest(const Vec3& p, Distance&& distance, double& best) const {
+    if (nodes_.empty()) return -1;
+    int stack[kMaxDepth];
+    int top = 0, found = -1;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[static_cast<size_t>(stack[--top])];
+      if (n.box.squaredExteriorDistance(p) >= best) continue;
+      if (n.count > 0) {
+        for (int i = n.first; i < n.first + n.count; ++i) {
+          const int f = faces_[static_cast<size_t>(i)];
+          if (boxes_[static_cast<size_t>(f)].squaredExteriorDistance(p) >= best) continue;
+          if (const double d = distance(f); d < best) best = d, found = f;
+        }
+        continue;
+      }
+      // The nearer child last: it is visited first.
+      const Node& l = nodes_[static_cast<size_t>(n.first)];
+      const Node& r = nodes_[static_cast<size_t>(n.first + 1)];
+      const bool left_first = l.box.squaredExteriorDistance(p) <= r.box.squaredExteriorDistance(p);
+      stack[top++] = left_first ? n.first + 1 : n.first;
+      stack[top++] = left_first ? n.first : n.first + 1;
+    }
+    return found;
+  }
+
  private:
   static constexpr int kLeaf = 4;
   static constexpr int kMaxDepth = 128;

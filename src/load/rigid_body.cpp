@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "rigid_mesh.hpp"
 #include "velum/load/contact_load.hpp"
 
 namespace velum {
@@ -15,6 +16,11 @@ Mat3 rotation_of(const Vec3& r, double s) {
 }
 
 }  // namespace
+
+std::shared_ptr<const RigidMesh> make_rigid_mesh(std::vector<Vec3> vertices,
+                                                 std::vector<std::array<int, 3>> triangles) {
+  return std::make_shared<const RigidMesh>(std::move(vertices), std::move(triangles));
+}
 
 Vec3 RigidBody::moved(const Vec3& Y, double s) const {
   return pivot + rotation_of(rotation, s) * (Y - pivot) + s * displacement;
@@ -58,6 +64,9 @@ double RigidBody::gap(const Vec3& x, double s, Vec3& n, Mat3& H) const {
         H0 = (Mat3::Identity() - direction * direction.transpose() - n0 * n0.transpose()) / r;
       break;
     }
+    case Shape::kMesh:
+      g = mesh->gap(y, n0, H0);
+      break;
   }
   n = R * n0;
   H = R * H0 * R.transpose();

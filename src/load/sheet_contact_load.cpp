@@ -4,73 +4,10 @@
 // penalty force of face_contact.hpp. The node's own 3 x 3 block and the face's 9 x 9 block
 // go into K (they are in the mesh's pattern); the node–face coupling (outside it) into the
 // Jacobian's low-rank part, six columns per pair up to a budget.
-#include <fmt/format.h>
-
-#include <algorithm>
-#include <array>
-#include <cmath>
-#include <span>
-#include <stdexcept>
-
-#include "contact_law.hpp"
-#include "face_contact.hpp"
-#include "face_tree.hpp"
-#include "sheet_contact.hpp"
-#include "velum/assembly/assembler.hpp"
-#include "velum/model/model.hpp"
-#include "velum/parallel/processes.hpp"
-#include "velum/time/second_order_system.hpp"
+#include "sheet_contact_term.hpp"
 
 namespace velum {
-namespace {
-
-struct Face {
-  std::array<int, 3> n{};        ///< the triangle's nodes
-  std::array<int, 4> element{};  ///< its element's corners (-1: none): never against these
-  double half = 0;               ///< its contact thickness
-};
-
-// One direction of the contact: these nodes against those faces.
-struct Pass {
-  std::vector<int> nodes;    ///< model nodes
-  std::vector<double> half;  ///< their contact thickness
-  std::vector<double> size;  ///< element size about each (penetration tolerance)
-  int faces = 0;             ///< which face list (0: the first set's, 1: the second's)
-};
-
-class SheetContact final : public Load, public ContactLoad {
- public:
-  explicit SheetContact(ContactLoad p) : ContactLoad(std::move(p)) {}
-  std::string_view kind() const override { return "contact"; }
-  LoadOrder order() const override { return LoadOrder::kContact; }
-  std::string_view counted_as() const override { return {}; }
-  std::unique_ptr<Load> clone() const override { return std::make_unique<SheetContact>(*this); }
-  std::unique_ptr<Load> held(double, const Model&, Model&) const override {
-    auto h = std::make_unique<SheetContact>(*this);
-    h->relax_steps = 0;  // a later step starts from the state the first one left
-    return h;
-  }
-  void set_up(const Model& model, const ElementNamer&) override;
-  bool keep_piece(const Model&, const std::vector<std::vector<int>>&,
-                  const std::vector<int>&) override {
-    throw std::invalid_argument(fmt::format(
-        "contact {}: contact between element sets (or self contact) runs on one process only "
-        "(docs/scaling.md)",
-        index));
-  }
-  std::string summary(int) const override {
-    size_t n = 0;
-    for (const Pass& p : passes) n += p.nodes.size();
-    return fmt::format("contact {}: {} nodes against {} faces{}", index, n,
-                       faces[0].size() + faces[1].size(), self ? " (self)" : "");
-  }
-  std::unique_ptr<LoadTerm> bind(const LoadSite& site) const override;
-
-  std::array<std::vector<Face>, 2> faces;
-  std::vector<Pass> passes;
-  std::vector<int> ring_start, ring;  ///< per model node: the nodes sharing an element with it
-  std::vector<double> stiffness;      ///< per model node: the largest diagonal of its elements'
-};
+namespace sheet_contact {
 
 void SheetContact::set_up(const Model& model, const ElementNamer&) {
   const size_t N = static_cast<size_t>(model.num_nodes());
@@ -79,9 +16,11 @@ void SheetContact::set_up(const Model& model, const ElementNamer&) {
   stiffness.assign(N, 0.0);
   // The kernels store fixed-size Eigen blocks into these: aligned as Eigen wants.
   std::vector<double, Eigen::aligned_allocator<double>> r, Ke;
+  std::array<std::map<std::pair<int, int>, size_t>, 2> edge_index;
   auto collect = [&](const std::vector<Part>& set, int which) {
     half[which].assign(N, -1.0), size[which].assign(N, 0.0);
     faces[which].clear();
+    edge_lists[which].clear();
     for (const Part& part : set) {
       const ElementBlock& b = *model.blocks[static_cast<size_t>(part.block)];
       if (!b.surface()) continue;  // cables: no faces (their nodes are not in sheet contact)
@@ -110,6 +49,15 @@ void SheetContact::set_up(const Model& model, const ElementNamer&) {
           for (size_t c = 3 * a; c < 3 * a + 3; ++c)
             stiffness[static_cast<size_t>(en[a])] =
                 std::max(stiffness[static_cast<size_t>(en[a])], Ke[c * nd + c]);
+        if (edges)
+          for (int a = 0; a < corners; ++a) {
+            const auto key = std::minmax(en[a], en[(a + 1) % corners]);
+            const auto [it, fresh] =
+                edge_index[which].try_emplace({key.first, key.second}, edge_lists[which].size());
+            if (fresh) edge_lists[which].push_back({key.first, key.second, h});
+            Edge& ed = edge_lists[which][it->second];
+            ed.half = std::max(ed.half, h);
+          }
         for (int a : en) {
           half[which][static_cast<size_t>(a)] = std::max(half[which][static_cast<size_t>(a)], h);
           size[which][static_cast<size_t>(a)] = std::max(size[which][static_cast<size_t>(a)], sz);
@@ -146,160 +94,22 @@ void SheetContact::set_up(const Model& model, const ElementNamer&) {
   if (!self) pass(1, 0);
 }
 
-// A node's pair: the face it is against and on which side.
-struct Pair {
-  int face = -1;
-  double side = 1;
-};
-
-class SheetContactTerm final : public LoadTerm {
- public:
-  SheetContactTerm(const SheetContact& load, const LoadSite& site);
-
-  void add(const LoadState& s, LoadOutput& out) override;
-  int low_rank_columns() const override { return 6 * budget_; }
-  void start(const LoadState& s) override {
-    if (started_) return;
-    started_ = true;
-    // Initial penetrations: reported, and with relax_steps relaxed (their depth an offset on
-    // the gap that shrinks to zero over the first steps).
-    scan(s.x, [&](size_t p, size_t i, const Pair& pair, double gap) {
-      const size_t k = slot(p, i);
-      pairs_[k] = pair;
-      if (gap < 0) {
-        ++initial_count_;
-        initial_depth_ = std::max(initial_depth_, -gap);
-        if (load_.relax_steps > 0) offset_[k] = -gap;
-      }
-    });
-  }
-  void commit(const LoadState& s) override;
-  // The pairs, the steps taken and the initial penetrations with their relaxation offsets
-  // (a restart inside the relaxation goes on shrinking the same offsets).
-  void save_state(std::vector<double>& out) const override {
-    out.push_back(static_cast<double>(pairs_.size()));
-    for (size_t k = 0; k < pairs_.size(); ++k)
-      out.push_back(pairs_[k].face), out.push_back(pairs_[k].side), out.push_back(offset_[k]);
-    out.push_back(steps_);
-    out.push_back(initial_count_);
-    out.push_back(initial_depth_);
-  }
-  size_t restore_state(const std::vector<double>& in, size_t at) override {
-    if (at >= in.size() || in[at] != static_cast<double>(pairs_.size()) ||
-        in.size() < at + 4 + 3 * pairs_.size())
-      throw std::invalid_argument("the sheet contact's saved state does not fit its nodes");
-    ++at;
-    for (size_t k = 0; k < pairs_.size(); ++k, at += 3)
-      pairs_[k].face = static_cast<int>(in[at]), pairs_[k].side = in[at + 1],
-      offset_[k] = in[at + 2];
-    steps_ = static_cast<int>(in[at++]);
-    initial_count_ = static_cast<int>(in[at++]);
-    initial_depth_ = in[at++];
-    started_ = true;  // the state is the saved one, not a new start's
-    return at;
-  }
-  std::optional<double> quantity(std::string_view name) const override {
-    if (name.starts_with("contact_force")) return 0.0;
-    return {};
-  }
-  std::optional<double> quantity_at(std::string_view name, double,
-                                    const NodePositions&) const override {
-    const auto last = name.rfind(':');
-    if (last == std::string_view::npos ||
-        name.substr(0, last) != fmt::format("contact_force:contact={}", load_.index))
-      return {};
-    const int c = name[last + 1] - '0';
-    return c == 3 ? force_on_other_.norm() : force_on_other_[c];
-  }
-  bool node_field(std::string_view name, double t, const NodePositions& x,
-                  std::vector<double>& per_node) const override;
-  double max_stiffness_over_mass(std::span<const double> node_mass) const override {
-    double most = 0;
-    for (size_t p = 0; p < load_.passes.size(); ++p)
-      for (size_t i = 0; i < load_.passes[p].nodes.size(); ++i)
-        if (const double m = node_mass[static_cast<size_t>(load_.passes[p].nodes[i])]; m > 0)
-          most = std::max(most, 2 * k_[slot(p, i)] / m);  // the node and a face node
-    return most;
-  }
-  std::string end_check(const std::function<void(std::string)>& warn) const override {
-    if (initial_count_ > 0)
-      warn(fmt::format("contact {}: {} initial penetrations, the deepest {:.4g}{}", load_.index,
-                       initial_count_, initial_depth_,
-                       load_.relax_steps > 0
-                           ? fmt::format(" (relaxed over the first {} steps)", load_.relax_steps)
-                           : std::string(" (pushed out at the first step)")));
-    return contact::penetration_check(penetration_ratio_, fmt::format("contact {}", load_.index),
-                                      "through a face, past the contact thickness", warn);
-  }
-  std::string account_json() const override {
-    return fmt::format(
-        "{{\"contact\": {}, \"sheets\": true, \"self\": {}, \"penalty\": [{:.6g}, {:.6g}], "
-        "\"max_penetration_ratio\": {:.6g}, \"kept\": {}, \"initial_penetrations\": {}, "
-        "\"initial_max_depth\": {:.6g}, \"active_pairs\": {}, \"pair_budget\": {}}}",
-        load_.index, load_.self ? "true" : "false", k_min_, k_max_, penetration_ratio_,
-        penetration_ratio_ <= 1 ? "true" : "false", initial_count_, initial_depth_,
-        active_accepted_, budget_);
-  }
-
- private:
-  static constexpr double kInside = 1e-3;  // barycentric slack at the faces' edges
-  size_t slot(size_t p, size_t i) const { return first_[p] + i; }
-  contact::Vec12 coordinates(const NodePositions& x, int node, const Face& f) const {
-    contact::Vec12 X;
-    X << x.col(node), x.col(f.n[0]), x.col(f.n[1]), x.col(f.n[2]);
-    return X;
-  }
-  bool excluded(int node, const Face& f) const {
-    const int* r0 = load_.ring.data() + load_.ring_start[static_cast<size_t>(node)];
-    const int* r1 = load_.ring.data() + load_.ring_start[static_cast<size_t>(node) + 1];
-    for (int e : f.element) {
-      if (e < 0) continue;
-      if (e == node) return true;
-      for (const int* r = r0; r != r1; ++r) {
-        if (*r == e) return true;
-        // Self contact: two rings (a face touching a neighbour of the node).
-        if (load_.self) {
-          const int* s0 = load_.ring.data() + load_.ring_start[static_cast<size_t>(*r)];
-          const int* s1 = load_.ring.data() + load_.ring_start[static_cast<size_t>(*r) + 1];
-          if (std::binary_search(s0, s1, e)) return true;
-        }
-      }
+void SheetContactTerm::start(const LoadState& s) {
+  if (load_.friction > 0 || load_.edges) x_accepted_ = s.x;  // also after a restart
+  if (started_) return;
+  started_ = true;
+  // Initial penetrations: reported, and with relax_steps relaxed (their depth an offset on
+  // the gap that shrinks to zero over the first steps).
+  scan(s.x, [&](size_t p, size_t i, const Pair& pair, double gap) {
+    const size_t k = slot(p, i);
+    pairs_[k] = pair;
+    if (gap < 0) {
+      ++initial_count_;
+      initial_depth_ = std::max(initial_depth_, -gap);
+      if (load_.relax_steps > 0) offset_[k] = -gap;
     }
-    return false;
-  }
-  void refit(const NodePositions& x);
-  // Calls found(pass, node index, pair, gap) for every node that has a face within reach.
-  template <class Found>
-  void scan(const NodePositions& x, Found&& found);
-  double relaxed(size_t k) const {
-    if (offset_[k] <= 0 || load_.relax_steps <= 0) return 0.0;
-    return offset_[k] * std::max(0.0, 1.0 - static_cast<double>(steps_ + 1) / load_.relax_steps);
-  }
-  void add_block(int i, int j, const Mat3& D, SparseMatrix& K) const;
-  template <class Column>
-  void put(int n, const Vec3& v, Column&& to) const {
-    const Vec3 l = site_.dofs.to_local(n, v);
-    for (int c = 0; c < 3; ++c)
-      if (const int eq = site_.dofs.equation(n, c); eq >= 0) to[eq] += l[c];
-  }
-
-  const SheetContact& load_;
-  LoadSite site_;
-  std::vector<size_t> first_;  ///< per pass: its first slot
-  std::vector<double> k_;      ///< per slot: the penalty
-  std::vector<Pair> pairs_;    ///< per slot: the pair at the last accepted state
-  std::vector<double> offset_, gap_accepted_;
-  std::vector<double> transmitted_;  ///< per model node: the contact force it carries
-  std::array<contact::FaceTree, 2> tree_;
-  std::array<std::vector<contact::Box>, 2> boxes_;
-  double reach_ = 0;   ///< the largest node contact thickness
-  double margin_ = 0;  ///< how far a node is followed past its contact distance (an element)
-  int budget_ = 0;
-  int steps_ = 0, initial_count_ = 0, active_accepted_ = 0;
-  bool started_ = false;
-  double initial_depth_ = 0, penetration_ratio_ = 0, k_min_ = 0, k_max_ = 0;
-  Vec3 force_on_other_ = Vec3::Zero();
-};
+  });
+}
 
 SheetContactTerm::SheetContactTerm(const SheetContact& load, const LoadSite& site)
     : load_(load), site_(site) {
@@ -329,12 +139,29 @@ SheetContactTerm::SheetContactTerm(const SheetContact& load, const LoadSite& sit
   offset_.assign(slots, 0.0);
   gap_accepted_.assign(slots, std::numeric_limits<double>::quiet_NaN());
   transmitted_.assign(static_cast<size_t>(site.model.num_nodes()), 0.0);
+  node_status_.assign(static_cast<size_t>(site.model.num_nodes()), 0.0);
+  anchor_face_.assign(slots, -1);
+  anchor_xi_.assign(slots, Vec2::Zero());
+  last_x_.resize(slots);
+  if (load.friction > 0 || load.edges) x_accepted_ = site.model.X;
+  for (size_t p = 0; p < load.passes.size(); ++p)
+    for (size_t i = 0; i < load.passes[p].nodes.size(); ++i)
+      last_x_[slot(p, i)] = site.model.X.col(load.passes[p].nodes[i]);
   // The node–face coupling's columns: six a pair, for as many pairs as keep U and W within
   // about 32 MB (the pairs past it lose that coupling: Newton slows, the answer holds).
   const double per_column = 2.0 * 8.0 * std::max(1, site.dofs.num_equations());
   budget_ = static_cast<int>(std::min<double>(static_cast<double>(slots), 32e6 / per_column / 6));
   budget_ = std::max(budget_, std::min(static_cast<int>(slots), 8));
   for (int w = 0; w < 2; ++w) boxes_[static_cast<size_t>(w)].resize(load.faces[w].size());
+  if (load.edges) {
+    const auto& B = load.edge_lists[load.self ? 0 : 1];
+    edge_boxes_.resize(B.size());
+    // A query asks at an edge's middle: the boxes grow by half the longest edge of the first
+    // list.
+    for (const Edge& e : load.edge_lists[0])
+      edge_grow_ =
+          std::max(edge_grow_, 0.5 * (site.model.X.col(e.b) - site.model.X.col(e.a)).norm());
+  }
   refit(site.model.X);
   for (int w = 0; w < 2; ++w) tree_[static_cast<size_t>(w)].build(boxes_[static_cast<size_t>(w)]);
 }
@@ -416,9 +243,13 @@ void SheetContactTerm::add(const LoadState& s, LoadOutput& out) {
     const Face& face = load_.faces[static_cast<size_t>(pass.faces)][static_cast<size_t>(pair.face)];
     const int node = pass.nodes[i];
     const double c = pass.half[i] + face.half - relaxed(k);
-    if (!contact::pair_force(coordinates(s.x, node, face), pair.side, c, k_[k], out.K != nullptr,
-                             r))
-      return;
+    const contact::Vec12 X = coordinates(s.x, node, face);
+    if (!contact::pair_force(X, pair.side, c, k_[k], out.K != nullptr, r)) return;
+    if (load_.friction > 0) {
+      Vec3 slip;
+      contact::pair_friction(X, pair.side, c, k_[k], load_.friction,
+                             anchor_on(k, face, pair.face, pass.faces), out.K != nullptr, r, slip);
+    }
     const std::array<int, 4> nodes = {node, face.n[0], face.n[1], face.n[2]};
     for (int a = 0; a < 4; ++a) out.F.col(nodes[static_cast<size_t>(a)]) += r.f.segment<3>(3 * a);
     if (!out.K) return;
@@ -442,6 +273,7 @@ void SheetContactTerm::add(const LoadState& s, LoadOutput& out) {
       }
     }
   });
+  if (load_.edges) add_edges(s, out);
 }
 
 void SheetContactTerm::add_block(int i, int j, const Mat3& D, SparseMatrix& K) const {
@@ -464,7 +296,17 @@ void SheetContactTerm::commit(const LoadState& s) {
   force_on_other_.setZero();
   std::fill(gap_accepted_.begin(), gap_accepted_.end(), std::numeric_limits<double>::quiet_NaN());
   std::fill(transmitted_.begin(), transmitted_.end(), 0.0);
+  std::fill(node_status_.begin(), node_status_.end(), 0.0);
   for (Pair& p : pairs_) p.face = -1;
+  // Friction: the anchors as the step found them; every slot starts anew at its node unless
+  // it is in contact.
+  const std::vector<int> anchor_face = anchor_face_;
+  const std::vector<Vec2> anchor_xi = anchor_xi_;
+  const std::vector<Vec3> last_x = last_x_;
+  std::fill(anchor_face_.begin(), anchor_face_.end(), -1);
+  for (size_t p = 0; p < load_.passes.size(); ++p)
+    for (size_t i = 0; i < load_.passes[p].nodes.size(); ++i)
+      last_x_[slot(p, i)] = s.x.col(load_.passes[p].nodes[i]);
   contact::PairResult r;
   scan(s.x, [&](size_t p, size_t i, const Pair& pair, double gap) {
     const Pass& pass = load_.passes[p];
@@ -473,9 +315,26 @@ void SheetContactTerm::commit(const LoadState& s) {
     pairs_[k] = pair;
     gap_accepted_[k] = gap;
     const double c = pass.half[i] + face.half - relaxed(k);
-    if (!contact::pair_force(coordinates(s.x, pass.nodes[i], face), pair.side, c, k_[k], false, r))
-      return;
+    const contact::Vec12 X = coordinates(s.x, pass.nodes[i], face);
+    if (!contact::pair_force(X, pair.side, c, k_[k], false, r)) return;
+    contact::Status status = contact::Status::kSlip;  // frictionless: slides
+    if (load_.friction > 0) {
+      anchor_face_[k] = anchor_face[k], anchor_xi_[k] = anchor_xi[k], last_x_[k] = last_x[k];
+      const Vec2 xi0 = anchor_on(k, face, pair.face, pass.faces);
+      Vec3 slip;
+      status = contact::pair_friction(X, pair.side, c, k_[k], load_.friction, xi0, false, r, slip);
+      // The anchor: the face's point at xi0 moved on by the slip.
+      const Vec3 a = s.x.col(face.n[0]), b = s.x.col(face.n[1]), cc = s.x.col(face.n[2]);
+      const Vec3 y = (1 - xi0[0] - xi0[1]) * a + xi0[0] * b + xi0[1] * cc + slip;
+      anchor_face_[k] = pair.face;
+      anchor_xi_[k] = contact::plane_coordinates(y, a, b, cc);
+    }
     ++active_accepted_;
+    const double st = static_cast<double>(status);
+    node_status_[static_cast<size_t>(pass.nodes[i])] =
+        std::max(node_status_[static_cast<size_t>(pass.nodes[i])], st);
+    for (int q : face.n)
+      node_status_[static_cast<size_t>(q)] = std::max(node_status_[static_cast<size_t>(q)], st);
     // Each node's share of the pair's force: the node's own and the face nodes'.
     transmitted_[static_cast<size_t>(pass.nodes[i])] += r.f.segment<3>(0).norm();
     for (int a = 0; a < 3; ++a)
@@ -492,49 +351,19 @@ void SheetContactTerm::commit(const LoadState& s) {
     const double tol = std::max(0.01 * 2 * pass.half[i], 1e-3 * pass.size[i]);
     if (tol > 0) penetration_ratio_ = std::max(penetration_ratio_, (-gap - relaxed(k)) / tol);
   });
+  commit_edges(s.x);
+  if (load_.friction > 0 || load_.edges) x_accepted_ = s.x;
   ++steps_;
-}
-
-bool SheetContactTerm::node_field(std::string_view name, double, const NodePositions& x,
-                                  std::vector<double>& per_node) const {
-  const bool pressure = name == "contact_pressure";
-  if (!pressure && name != "contact_gap") return false;
-  // A node's area: a third of its triangles' current areas (each face once).
-  std::vector<double> area;
-  if (pressure) {
-    area.assign(static_cast<size_t>(x.cols()), 0.0);
-    for (const auto& fs : load_.faces)
-      for (const Face& f : fs) {
-        const double A =
-            (x.col(f.n[1]) - x.col(f.n[0])).cross(x.col(f.n[2]) - x.col(f.n[0])).norm() / 6;
-        for (int n : f.n) area[static_cast<size_t>(n)] += A;
-      }
-  }
-  for (size_t p = 0; p < load_.passes.size(); ++p)
-    for (size_t i = 0; i < load_.passes[p].nodes.size(); ++i) {
-      const size_t k = slot(p, i), n = static_cast<size_t>(load_.passes[p].nodes[i]);
-      double& v = per_node[n];
-      if (pressure) {
-        // Once per node (self contact and shared nodes list a node in one pass only).
-        v = (std::isnan(v) ? 0.0 : v) + (area[n] > 0 ? transmitted_[n] / area[n] : 0.0);
-      } else if (!std::isnan(gap_accepted_[k])) {
-        v = std::isnan(v) ? gap_accepted_[k] : std::min(v, gap_accepted_[k]);
-      }
-    }
-  return true;
 }
 
 std::unique_ptr<LoadTerm> SheetContact::bind(const LoadSite& site) const {
   return std::make_unique<SheetContactTerm>(*this, site);
 }
 
-}  // namespace
+}  // namespace sheet_contact
 
 std::unique_ptr<Load> make_sheet_contact(ContactLoad p) {
-  if (p.friction > 0)
-    throw std::invalid_argument(
-        "friction between element sets (or in self contact) is not implemented yet");
-  return std::make_unique<SheetContact>(std::move(p));
+  return std::make_unique<sheet_contact::SheetContact>(std::move(p));
 }
 
 }  // namespace velum

@@ -98,7 +98,10 @@ bool DynamicRelaxation::relax(SecondOrderSystem& sys, double t, VecX& u, double 
       v_.setZero();
       ke = 0;
       restart = true;
-      update_masses(sys, t, u);
+      // Four times the masses that were too light, not four times the tangent's again (the
+      // same masses when nothing changed: a sheet slack everywhere, whose every point's
+      // stiffness is the residual κ Q, fired the guard every third iteration for ever). The
+      // next update at a peak goes back to the tangent's.
       m_ *= 4;
       since_masses = 0;
       continue;

@@ -52,7 +52,9 @@ BASE = {
         {"name": "f0", "quantity": "contact_force", "contact": 0, "component": "magnitude"},
         {"name": "rz", "quantity": "reaction", "nodes": edge, "component": "z"},
         {"name": "bz", "quantity": "rigid_position", "body": "ball", "component": "z"},
-        {"name": "vz", "quantity": "rigid_velocity", "body": "ball", "component": "z"}]},
+        {"name": "vz", "quantity": "rigid_velocity", "body": "ball", "component": "z"},
+        {"name": "area", "quantity": "contact_area", "body": "ball"},
+        {"name": "a0", "quantity": "contact_area", "contact": 0}]},
 }
 failures = []
 
@@ -107,8 +109,14 @@ for kind in ("static", "relaxation", "dynamic", "explicit"):
           "the ball's velocity")
     frames = sorted(os.listdir(os.path.join(out, "frames")))
     text = open(os.path.join(out, "frames", frames[-1]), "rb").read()
-    check(b'Name="contact_pressure"' in text and b'Name="contact_gap"' in text,
-          f"{kind}: frames carry contact_pressure and contact_gap")
+    check(b'Name="contact_pressure"' in text and b'Name="contact_gap"' in text
+          and b'Name="contact_status"' in text,
+          f"{kind}: frames carry contact_pressure, contact_gap and contact_status")
+    # The area in contact: a cap of the sphere, under the area of the sheet, the same by body
+    # and by contact index, and growing as the ball goes down.
+    area, a0 = float(last["area"]), float(last["a0"])
+    check(0 < area < A * A and area == a0 and area >= float(rows[1]["area"]),
+          f"{kind}: contact area {area:.4g} m2 (by index {a0:.4g}, earlier {rows[1]['area']})")
     summary = json.load(open(os.path.join(out, "summary.json")))
     check(summary.get("contact", [{}])[0].get("kept") is True,
           f"{kind}: penetration within its tolerance ({summary.get('contact')})")
@@ -172,11 +180,13 @@ for scale, through in ((1e-6, True), (0.05, False)):
 # Self contact through the command line: a flat sheet pushed by the sphere has no fold, so
 # the entry finds no pair; it runs, and summary.json describes it.
 m = copy.deepcopy(BASE)
-m["contact"].append({"surfaces": ["sheet"], "self": True, "relax_steps": 2})
+m["contact"].append({"surfaces": ["sheet"], "self": True, "relax_steps": 2, "edges": True,
+                     "friction": 0.1})
 p, out, _ = run("self_contact", m)
 summary = json.load(open(os.path.join(out, "summary.json"))) if p.returncode == 0 else {}
 entries = [c for c in summary.get("contact", []) if c.get("self")]
-check(p.returncode == 0 and len(entries) == 1 and entries[0]["initial_penetrations"] == 0,
+check(p.returncode == 0 and len(entries) == 1 and entries[0]["initial_penetrations"] == 0
+      and entries[0].get("active_edge_pairs") == 0,
       f"self contact runs (exit {p.returncode}: {p.stderr.strip()[-200:]}; {entries})")
 
 # Bad input: exit 1, the file, the line and the key named.
@@ -211,11 +221,15 @@ BAD = [
      "self contact takes one element set", "contact[0].surfaces"),
     ("one_set_without_self", lambda m: m["contact"][0].update(surfaces=["sheet"]),
      "needs self: true", "contact[0].surfaces"),
-    ("sheet_friction", lambda m: m["contact"].append(
-        {"surfaces": ["sheet"], "self": True, "friction": 0.2}),
-     "friction between element sets", "contact[1].friction"),
+    ("sheet_negative_friction", lambda m: m["contact"].append(
+        {"surfaces": ["sheet"], "self": True, "friction": -0.2}),
+     "friction", "contact[1].friction"),
     ("relax_with_body", lambda m: m["contact"][0].update(relax_steps=2),
      "relax_steps applies", "contact[0].relax_steps"),
+    ("edges_with_body", lambda m: m["contact"][0].update(edges=True),
+     "edges applies", "contact[0].edges"),
+    ("area_component", lambda m: m["output"]["history"][5].update(component="z"),
+     "contact_area has no component", "output.history[5].component"),
 ]
 for name, edit, message, key in BAD:
     m = copy.deepcopy(BASE)

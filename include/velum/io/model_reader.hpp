@@ -39,8 +39,9 @@ struct HistoryEntry {
     kContactForce,
     kRigidPosition,
     kRigidVelocity,
-    kForce,  ///< a cable element's axial force (cable2, cable3, sliding_cable)
-    kSlip    ///< a sliding cable's material slip through an interior node
+    kForce,       ///< a cable element's axial force (cable2, cable3, sliding_cable)
+    kSlip,        ///< a sliding cable's material slip through an interior node
+    kContactArea  ///< the area in contact of a contact entry (or the contacts with a body)
   };
   std::string name;
   Quantity quantity = Quantity::kDisplacement;
@@ -56,7 +57,7 @@ struct HistoryEntry {
   bool degrees = true;             ///< fiber_angle_change unit
   int load = -1;                   ///< gas_*: index into Model::gases
   std::string flow;                ///< gas_mass_flow: "vent:0" (inflator, vent, leakage, orifice);
-                                   ///< contact_force, rigid_*: the loads' quantity name
+                     ///< contact_force, contact_area, rigid_*: the loads' quantity name
 };
 
 /// Components of the `stress` history quantity, in order.

@@ -5,6 +5,7 @@
 // Units the model's; positions and forces in the global frame.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,20 +14,30 @@
 
 namespace velum {
 
+class RigidMesh;
+
+/// A rigid surface of triangles (quads given split in two), the solid on the side opposite
+/// their normals (right-hand rule on the corners' order). Throws std::invalid_argument on an
+/// empty mesh or a degenerate triangle (its message counts the triangles from 1).
+std::shared_ptr<const RigidMesh> make_rigid_mesh(std::vector<Vec3> vertices,
+                                                 std::vector<std::array<int, 3>> triangles);
+
 /// A rigid surface: a plane (solid on the side opposite its normal), a sphere or a circular
-/// cylinder (solid inside), moved by a prescribed motion: y = pivot + R(s)(Y − pivot) +
-/// s·displacement at s = function(t), R(s) the rotation by s·rotation (a rotation vector, radians).
+/// cylinder (solid inside), or a mesh of triangles, moved by a prescribed motion: y = pivot +
+/// R(s)(Y − pivot) + s·displacement at s = function(t), R(s) the rotation by s·rotation (a rotation
+/// vector, radians).
 struct RigidBody {
-  enum class Shape { kPlane, kSphere, kCylinder };
+  enum class Shape { kPlane, kSphere, kCylinder, kMesh };
   std::string name;
   Shape shape = Shape::kPlane;
-  Vec3 point = Vec3::Zero();         ///< plane point, sphere centre, point on the axis
-  Vec3 direction = Vec3::UnitZ();    ///< plane normal (out of the solid), cylinder axis; unit
-  double radius = 0;                 ///< sphere, cylinder
-  Vec3 displacement = Vec3::Zero();  ///< motion: translation at s = 1
-  Vec3 rotation = Vec3::Zero();      ///< motion: rotation vector at s = 1 (radians)
-  Vec3 pivot = Vec3::Zero();         ///< motion: the point the rotation turns about
-  int function = -1;                 ///< motion: time function s(t), -1: s = 1
+  Vec3 point = Vec3::Zero();       ///< plane point, sphere centre, point on the axis, mesh centroid
+  Vec3 direction = Vec3::UnitZ();  ///< plane normal (out of the solid), cylinder axis; unit
+  double radius = 0;               ///< sphere, cylinder
+  Vec3 displacement = Vec3::Zero();       ///< motion: translation at s = 1
+  Vec3 rotation = Vec3::Zero();           ///< motion: rotation vector at s = 1 (radians)
+  Vec3 pivot = Vec3::Zero();              ///< motion: the point the rotation turns about
+  int function = -1;                      ///< motion: time function s(t), -1: s = 1
+  std::shared_ptr<const RigidMesh> mesh;  ///< kMesh: its triangles at s = 0
 
   /// Signed distance of x from the surface with the body moved by s (positive outside), its
   /// outward unit normal n = ∇g and the Hessian H = ∇∇g (the normal's rate).
@@ -61,6 +72,8 @@ struct ContactLoad {
   /// the faces of the other); empty with a rigid body or `self`.
   std::vector<Part> other;
   bool self = false;  ///< the set's nodes against its own faces away from them (folds)
+  /// Sheets: edges against edges too (where they cross between nodes), besides node to face.
+  bool edges = false;
   /// Initial penetrations (sheets): relaxed over this many accepted steps (0: pushed out at once).
   int relax_steps = 0;
 };

@@ -395,7 +395,7 @@ void Reader::parse_output(const Node& o, const Node& root) {
       "displacement",   "velocity",        "position",      "reaction",      "fiber_angle_change",
       "stress",         "kinetic_energy",  "strain_energy", "external_work", "gas_volume",
       "gas_pressure",   "gas_temperature", "gas_mass",      "gas_mass_flow", "contact_force",
-      "rigid_position", "rigid_velocity",  "force",         "slip"};
+      "rigid_position", "rigid_velocity",  "force",         "slip",          "contact_area"};
   std::set<std::string> names;
   for (size_t i = 0; i < h.size(); ++i) {
     const Node e = h[i];
@@ -502,6 +502,7 @@ void Reader::parse_output(const Node& o, const Node& root) {
       case Q::kContactForce:
       case Q::kRigidPosition:
       case Q::kRigidVelocity:
+      case Q::kContactArea:
         ok = parse_contact_history(e, p, he);
         break;
       case Q::kForce:

@@ -4,9 +4,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
+#include <filesystem>
+#include <map>
 #include <optional>
 
 #include "reader.hpp"
+#include "velum/io/mesh_data.hpp"
 #include "velum/load/contact_load.hpp"
 
 namespace velum::io::model_file {
@@ -61,13 +65,13 @@ void Reader::parse_rigid_bodies(const Node& bs) {
       auto r = positive(b, "radius", p, true, "the radius");
       ok = pt && a && r;
       if (ok) body.point = *pt, body.direction = *a, body.radius = *r;
+    } else if (*shape == "mesh") {
+      body.shape = RigidBody::Shape::kMesh;
+      ok = read_rigid_mesh(b, p, body);
     } else {
       error(b["shape"], sub(p, "shape"),
-            *shape == "mesh"
-                ? std::string("rigid meshes read from a Gmsh file are not implemented yet; use "
-                              "plane, sphere or cylinder")
-                : fmt::format("unknown shape '{}'{}", *shape,
-                              suggestion(*shape, {"plane", "sphere", "cylinder", "mesh"})));
+            fmt::format("unknown shape '{}'{}", *shape,
+                        suggestion(*shape, {"plane", "sphere", "cylinder", "mesh"})));
       continue;
     }
     std::optional<double> mass;
@@ -122,6 +126,67 @@ void Reader::parse_rigid_bodies(const Node& bs) {
   }
 }
 
+bool Reader::read_rigid_mesh(const Node& b, const std::string& p, RigidBody& body) {
+  auto f = text(b, "file", p, true);
+  if (!f) return false;
+  std::filesystem::path path = *f;
+  if (path.is_relative()) path = base_dir_ / path;
+  try {
+    const MeshData m = read_gmsh(path);
+    std::map<long, int> index;
+    std::vector<Vec3> vertices;
+    for (const MeshNode& n : m.nodes) index.emplace(n.id, static_cast<int>(index.size()));
+    vertices.reserve(m.nodes.size());
+    for (const MeshNode& n : m.nodes) vertices.push_back(n.x);
+    std::vector<std::array<int, 3>> triangles;
+    std::vector<bool> used(vertices.size(), false);
+    for (const ElementGroup& g : m.groups) {
+      const bool tri = g.type == "tri3" || g.type == "tri6";
+      const bool quad = g.type == "quad4" || g.type == "quad8" || g.type == "quad9";
+      if (!tri && !quad) continue;  // lines and points: not a surface
+      const size_t per = g.node_ids.size() / std::max<size_t>(1, g.ids.size());
+      for (size_t e = 0; e < g.ids.size(); ++e) {
+        std::array<int, 4> c{};
+        for (size_t k = 0; k < (tri ? 3u : 4u); ++k) {
+          const auto it = index.find(g.node_ids[e * per + k]);
+          if (it == index.end())
+            throw MeshFileError(
+                fmt::format("{}: element {} names node {}, which the file does not define",
+                            path.string(), g.ids[e], g.node_ids[e * per + k]));
+          c[k] = it->second;
+          used[static_cast<size_t>(it->second)] = true;
+        }
+        triangles.push_back({c[0], c[1], c[2]});
+        if (quad) triangles.push_back({c[0], c[2], c[3]});
+      }
+    }
+    if (triangles.empty()) {
+      error(
+          b["file"], sub(p, "file"),
+          fmt::format("{} holds no triangles or quads: a rigid mesh is a surface", path.string()));
+      return false;
+    }
+    // The body's point: `point`, else the centroid of the surface's vertices.
+    Vec3 sum = Vec3::Zero();
+    int count = 0;
+    for (size_t v = 0; v < vertices.size(); ++v)
+      if (used[v]) sum += vertices[v], ++count;
+    body.point = sum / count;
+    if (has(b, "point")) {
+      auto pt = vec3(b, "point", p, true);
+      if (!pt) return false;
+      body.point = *pt;
+    }
+    body.mesh = make_rigid_mesh(std::move(vertices), std::move(triangles));
+    return true;
+  } catch (const MeshFileError& e) {
+    error(b["file"], sub(p, "file"), e.what());
+  } catch (const std::invalid_argument& e) {
+    error(b["file"], sub(p, "file"), fmt::format("{}: {}", path.string(), e.what()));
+  }
+  return false;
+}
+
 void Reader::parse_contact(const Node& cs) {
   if (!cs.IsSequence()) {
     error(cs, "contact", "expected a list of {surfaces: [set, body], friction, ...}");
@@ -133,7 +198,7 @@ void Reader::parse_contact(const Node& cs) {
     const std::string p = item("contact", i);
     if (!check_map(c, p,
                    {"surfaces", "self", "friction", "thickness", "penalty_scale", "augmented",
-                    "relax_steps"}))
+                    "relax_steps", "edges"}))
       continue;
     ContactLoad load;
     load.index = static_cast<int>(i);
@@ -199,6 +264,17 @@ void Reader::parse_contact(const Node& cs) {
       if (auto f = free_bodies_.find(body); f != free_bodies_.end())
         load.body_node = f->second.node;
     }
+    if (has(c, "edges")) {
+      if (!sheets) {
+        error(c["edges"], sub(p, "edges"),
+              "edges applies to contact between element sets (or self contact)");
+        ok = false;
+      } else if (auto e = boolean(c, "edges", p)) {
+        load.edges = *e;
+      } else {
+        ok = false;
+      }
+    }
     if (has(c, "relax_steps")) {
       if (!sheets) {
         error(c["relax_steps"], sub(p, "relax_steps"),
@@ -217,12 +293,6 @@ void Reader::parse_contact(const Node& cs) {
         load.friction = *mu;
       else
         ok = false;
-      // (friction: 0, the default, is what sheet contact does)
-      if (sheets && load.friction > 0) {
-        error(c["friction"], sub(p, "friction"),
-              "friction between element sets (or in self contact) is not implemented yet");
-        ok = false;
-      }
     }
     if (has(c, "thickness")) {
       if (auto t = non_negative(c, "thickness", p, "the contact thickness"))
@@ -253,10 +323,12 @@ void Reader::check_free_bodies() {
 
 bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryEntry& he) {
   using Q = HistoryEntry::Quantity;
+  const bool area = he.quantity == Q::kContactArea;  // one value: no component
   const char* what = he.quantity == Q::kContactForce    ? "contact_force"
+                     : area                             ? "contact_area"
                      : he.quantity == Q::kRigidPosition ? "rigid_position"
                                                         : "rigid_velocity";
-  auto c = text(e, "component", p, true);
+  auto c = area ? std::optional<std::string>("magnitude") : text(e, "component", p, true);
   if (!c) return false;
   const std::vector<std::string> components = {"x", "y", "z", "magnitude"};
   const auto ci = std::find(components.begin(), components.end(), *c) - components.begin();
@@ -265,7 +337,14 @@ bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryE
           fmt::format("unknown component '{}'{}", *c, suggestion(*c, components)));
     return false;
   }
-  if (he.quantity == Q::kContactForce && has(e, "contact")) {
+  if (area && has(e, "component")) {
+    error(e["component"], sub(p, "component"), "contact_area has no component");
+    return false;
+  }
+  const auto name = [&](const std::string& which) {
+    return area ? fmt::format("{}:{}", what, which) : fmt::format("{}:{}:{}", what, which, ci);
+  };
+  if ((he.quantity == Q::kContactForce || area) && has(e, "contact")) {
     auto k = integer(e["contact"], sub(p, "contact"), "a contact index");
     if (!k) return false;
     if (*k < 0 || *k >= contact_count_) {
@@ -273,7 +352,7 @@ bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryE
             fmt::format("no contact {} (the model has {}, counted from 0)", *k, contact_count_));
       return false;
     }
-    he.flow = fmt::format("{}:contact={}:{}", what, *k, ci);
+    he.flow = name(fmt::format("contact={}", *k));
     return true;
   }
   auto body = text(e, "body", p, true);
@@ -289,7 +368,7 @@ bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryE
     return false;
   }
   if (auto f = free_bodies_.find(*body);
-      f != free_bodies_.end() && he.quantity != Q::kContactForce) {
+      f != free_bodies_.end() && he.quantity != Q::kContactForce && !area) {
     // A free body's motion is its node's.
     if (ci == 3) {
       error(e["component"], sub(p, "component"),
@@ -300,8 +379,8 @@ bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryE
     he.node = f->second.node, he.component = static_cast<int>(ci);
     return true;
   }
-  he.flow = he.quantity == Q::kContactForce ? fmt::format("{}:body={}:{}", what, *body, ci)
-                                            : fmt::format("{}:{}:{}", what, *body, ci);
+  he.flow = he.quantity == Q::kContactForce || area ? name(fmt::format("body={}", *body))
+                                                    : fmt::format("{}:{}:{}", what, *body, ci);
   return true;
 }
 

@@ -158,6 +158,8 @@ class Reader : public ReaderContext {
 
   // read_contact.cpp
   void parse_rigid_bodies(const Node& bs);
+  // shape: mesh: its Gmsh file's triangles and quads into body.mesh, its point the centroid.
+  bool read_rigid_mesh(const Node& b, const std::string& p, RigidBody& body);
   void parse_contact(const Node& cs);
   /// The body (or contact index) and component of a contact_force, rigid_position or
   /// rigid_velocity history entry, into he.flow; false when invalid.

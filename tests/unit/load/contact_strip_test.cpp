@@ -5,6 +5,7 @@
 // accepted step; the residuals of the last step show Newton's rate once the active set holds.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -129,12 +130,32 @@ TEST(Contact, StripOverCylinderCarriesTensionOverRadius) {
   EXPECT_GT(least_gap, -std::max(0.01 * kT, 1e-3 * h));
   // Newton converges in few iterations once the active set holds (the later steps).
   EXPECT_LE(reports.back().iterations, 4);
+  // The contact area: the wrapped zone w Rm 2θ, within an element length of strip (the area
+  // is the nodes' that touch); the status: slip (frictionless) in the wrap, open on the
+  // straight parts.
+  const double area = *sys.loads().back()->quantity_at("contact_area:contact=0", 1, x);
+  const double wrapped = kW * Rm * 2 * kTheta;
+  std::cout << "contact area " << area << " wrapped zone " << wrapped << " ("
+            << test::percent(area, wrapped) << "%)\n";
+  EXPECT_LT(std::abs(area - wrapped), kW * h);
+  EXPECT_EQ(*sys.loads().back()->quantity_at("contact_area:body=drum", 1, x), area);
+  const std::vector<double> st = sys.load_node_field("contact_status", 1, x);
+  int slip = 0, open = 0, wrong = 0;
+  for (int n = 0; n < m->num_nodes(); ++n) {
+    const double phi = std::atan2(m->X(0, n), m->X(2, n)), v = st[static_cast<size_t>(n)];
+    if (std::abs(phi) < kTheta - 0.05) (v == 2 ? slip : wrong)++;
+    if (std::abs(phi) > kTheta + 0.05) (v == 0 ? open : wrong)++;
+  }
+  EXPECT_GT(slip, 5);
+  EXPECT_GT(open, 5);
+  EXPECT_EQ(wrong, 0);
 }
 
 // F2: the capstan. The left end held by its tension N, the right end pulled on so that the
 // strip slides over the drum: the right end's force is N e^(μ 2θ).
 // The pulled end's tension over the held end's after a pull `pull` along the strip.
-double capstan_ratio(double mu, double pull) {
+// `status`: how many nodes of the wrapped zone are open, stick and slip at the end.
+double capstan_ratio(double mu, double pull, std::array<int, 3>* status = nullptr) {
   auto m = strip_on_cylinder(48, mu, pull);
   MechanicalSystem sys(*m);
   State s = test::state_from(sys, NodePositions::Zero(3, m->num_nodes()));
@@ -163,15 +184,27 @@ double capstan_ratio(double mu, double pull) {
   double T2 = 0;
   for (int n : m->prescribed[0].nodes) T2 += Fint.col(n).dot(dir);
   T2 /= kW;
+  if (status) {
+    const std::vector<double> st = sys.load_node_field("contact_status", 1, x);
+    status->fill(0);
+    for (int n = 0; n < m->num_nodes(); ++n)
+      if (std::abs(std::atan2(m->X(0, n), m->X(2, n))) < kTheta - 0.05)
+        ++(*status)[static_cast<size_t>(st[static_cast<size_t>(n)])];
+  }
   return T2 / kN;
 }
 
 TEST(Contact, CapstanEndForcesInTheRatioOfFriction) {
   const double mu = 0.3;
-  const double ratio = capstan_ratio(mu, 0.01), exact = std::exp(mu * 2 * kTheta);
+  std::array<int, 3> status{};
+  const double ratio = capstan_ratio(mu, 0.01, &status), exact = std::exp(mu * 2 * kTheta);
   std::cout << "capstan: T2/T1 " << ratio << " exact " << exact << " ("
-            << test::percent(ratio, exact) << "%)\n";
+            << test::percent(ratio, exact) << "%); wrapped nodes open/stick/slip " << status[0]
+            << "/" << status[1] << "/" << status[2] << "\n";
   EXPECT_LT(test::percent(ratio, exact), 1.5);
+  // Sliding: every node of the wrap slips.
+  EXPECT_EQ(status[0] + status[1], 0);
+  EXPECT_GT(status[2], 5);
 }
 
 // Below the capstan ratio the strip sticks: a small pull raises the pulled end's tension
@@ -179,8 +212,13 @@ TEST(Contact, CapstanEndForcesInTheRatioOfFriction) {
 // equilibrium) but stays below N e^(μ 2θ).
 TEST(Contact, CapstanSticksBelowTheRatioOfFriction) {
   const double mu = 0.3;
-  const double ratio = capstan_ratio(mu, 1e-5), exact = std::exp(mu * 2 * kTheta);
-  std::cout << "capstan, sticking: T2/T1 " << ratio << " (slip at " << exact << ")\n";
+  std::array<int, 3> status{};
+  const double ratio = capstan_ratio(mu, 1e-5, &status), exact = std::exp(mu * 2 * kTheta);
+  std::cout << "capstan, sticking: T2/T1 " << ratio << " (slip at " << exact
+            << "); wrapped nodes open/stick/slip " << status[0] << "/" << status[1] << "/"
+            << status[2] << "\n";
+  EXPECT_EQ(status[0], 0);
+  EXPECT_GT(status[1], 5);  // the most of the wrap sticks
   EXPECT_GT(ratio, 1.002);
   EXPECT_LT(ratio, 0.99 * exact);
 }

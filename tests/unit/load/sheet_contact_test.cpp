@@ -213,6 +213,16 @@ TEST(SheetContact, TwoSheetsPressedTogetherBalanceAndStayApart) {
   EXPECT_GT(least, -tol);
   EXPECT_LT(test::percent(qmid, kQ), 5.0);
   EXPECT_LE(r.reports.back().iterations, 4);
+  // The contact area: the upper sheet's nodes that touch, at least the loaded inner nodes'
+  // areas (h² each), at most the whole sheet; every inner node in contact.
+  const double area = *sys.loads().back()->quantity_at("contact_area:contact=0", 1, r.x);
+  const double h = ts.a / ts.n;
+  std::cout << "contact area " << area << " (inner nodes " << h * h * ts.inner.size() << ", sheet "
+            << ts.a * ts.a << ")\n";
+  EXPECT_GE(area, h * h * static_cast<double>(ts.inner.size()) * (1 - 1e-9));
+  EXPECT_LE(area, ts.a * ts.a * (1 + 1e-9));
+  const std::vector<double> st = sys.load_node_field("contact_status", 1, r.x);
+  for (int n : ts.inner) EXPECT_EQ(st[static_cast<size_t>(n)], 2.0);
 }
 
 // The term in a system: K and its low-rank part against central differences of its forces.

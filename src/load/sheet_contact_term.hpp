@@ -1,0 +1,292 @@
+// The sheet–sheet and self contact's load and its term (sheet_contact.hpp, docs/contact.md
+// "Sheets"), shared by the files that implement the term: node to face
+// (sheet_contact_load.cpp), edge to edge (sheet_contact_edges.cpp) and the outputs
+// (sheet_contact_outputs.cpp). Private to src/load.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <span>
+#include <stdexcept>
+
+#include "contact_law.hpp"
+#include "edge_contact.hpp"
+#include "face_contact.hpp"
+#include "face_tree.hpp"
+#include "sheet_contact.hpp"
+#include "velum/assembly/assembler.hpp"
+#include "velum/model/model.hpp"
+#include "velum/parallel/processes.hpp"
+#include "velum/time/second_order_system.hpp"
+
+namespace velum::sheet_contact {
+
+struct Face {
+  std::array<int, 3> n{};        ///< the triangle's nodes
+  std::array<int, 4> element{};  ///< its element's corners (-1: none): never against these
+  double half = 0;               ///< its contact thickness
+};
+
+// An element's side (edges: true): its two corners and its contact thickness.
+struct Edge {
+  int a = -1, b = -1;
+  double half = 0;
+};
+
+// One direction of the contact: these nodes against those faces.
+struct Pass {
+  std::vector<int> nodes;    ///< model nodes
+  std::vector<double> half;  ///< their contact thickness
+  std::vector<double> size;  ///< element size about each (penetration tolerance)
+  int faces = 0;             ///< which face list (0: the first set's, 1: the second's)
+};
+
+class SheetContact final : public Load, public ContactLoad {
+ public:
+  explicit SheetContact(ContactLoad p) : ContactLoad(std::move(p)) {}
+  std::string_view kind() const override { return "contact"; }
+  LoadOrder order() const override { return LoadOrder::kContact; }
+  std::string_view counted_as() const override { return {}; }
+  std::unique_ptr<Load> clone() const override { return std::make_unique<SheetContact>(*this); }
+  std::unique_ptr<Load> held(double, const Model&, Model&) const override {
+    auto h = std::make_unique<SheetContact>(*this);
+    h->relax_steps = 0;  // a later step starts from the state the first one left
+    return h;
+  }
+  void set_up(const Model& model, const ElementNamer&) override;
+  bool keep_piece(const Model&, const std::vector<std::vector<int>>&,
+                  const std::vector<int>&) override {
+    throw std::invalid_argument(fmt::format(
+        "contact {}: contact between element sets (or self contact) runs on one process only "
+        "(docs/scaling.md)",
+        index));
+  }
+  std::string summary(int) const override {
+    size_t n = 0;
+    for (const Pass& p : passes) n += p.nodes.size();
+    return fmt::format("contact {}: {} nodes against {} faces{}", index, n,
+                       faces[0].size() + faces[1].size(), self ? " (self)" : "");
+  }
+  std::unique_ptr<LoadTerm> bind(const LoadSite& site) const override;
+
+  std::array<std::vector<Face>, 2> faces;
+  std::array<std::vector<Edge>, 2> edge_lists;  ///< edges: true: each set's element sides
+  std::vector<Pass> passes;
+  std::vector<int> ring_start, ring;  ///< per model node: the nodes sharing an element with it
+  std::vector<double> stiffness;      ///< per model node: the largest diagonal of its elements'
+};
+
+// A node's pair: the face it is against and on which side.
+struct Pair {
+  int face = -1;
+  double side = 1;
+};
+
+class SheetContactTerm final : public LoadTerm {
+ public:
+  SheetContactTerm(const SheetContact& load, const LoadSite& site);
+
+  void add(const LoadState& s, LoadOutput& out) override;
+  int low_rank_columns() const override { return 6 * budget_; }
+  void start(const LoadState& s) override;
+  void commit(const LoadState& s) override;
+  // The pairs, the steps taken and the initial penetrations with their relaxation offsets
+  // (a restart inside the relaxation goes on shrinking the same offsets).
+  void save_state(std::vector<double>& out) const override {
+    out.push_back(static_cast<double>(pairs_.size()));
+    for (size_t k = 0; k < pairs_.size(); ++k)
+      out.push_back(pairs_[k].face), out.push_back(pairs_[k].side), out.push_back(offset_[k]);
+    if (load_.friction > 0)  // the friction anchors
+      for (size_t k = 0; k < pairs_.size(); ++k) {
+        out.push_back(anchor_face_[k]);
+        out.insert(out.end(), anchor_xi_[k].data(), anchor_xi_[k].data() + 2);
+        out.insert(out.end(), last_x_[k].data(), last_x_[k].data() + 3);
+      }
+    out.push_back(steps_);
+    out.push_back(initial_count_);
+    out.push_back(initial_depth_);
+  }
+  size_t restore_state(const std::vector<double>& in, size_t at) override {
+    const size_t per = load_.friction > 0 ? 9 : 3;
+    if (at >= in.size() || in[at] != static_cast<double>(pairs_.size()) ||
+        in.size() < at + 4 + per * pairs_.size())
+      throw std::invalid_argument("the sheet contact's saved state does not fit its nodes");
+    ++at;
+    for (size_t k = 0; k < pairs_.size(); ++k, at += 3)
+      pairs_[k].face = static_cast<int>(in[at]), pairs_[k].side = in[at + 1],
+      offset_[k] = in[at + 2];
+    if (load_.friction > 0)
+      for (size_t k = 0; k < pairs_.size(); ++k, at += 6) {
+        anchor_face_[k] = static_cast<int>(in[at]);
+        anchor_xi_[k] = Vec2(in[at + 1], in[at + 2]);
+        last_x_[k] = Vec3(in[at + 3], in[at + 4], in[at + 5]);
+      }
+    steps_ = static_cast<int>(in[at++]);
+    initial_count_ = static_cast<int>(in[at++]);
+    initial_depth_ = in[at++];
+    started_ = true;  // the state is the saved one, not a new start's
+    return at;
+  }
+  std::optional<double> quantity(std::string_view name) const override {
+    if (name.starts_with("contact_force") || name.starts_with("contact_area")) return 0.0;
+    return {};
+  }
+  std::optional<double> quantity_at(std::string_view name, double,
+                                    const NodePositions& x) const override {
+    if (name == fmt::format("contact_area:contact={}", load_.index)) return contact_area(x);
+    const auto last = name.rfind(':');
+    if (last == std::string_view::npos ||
+        name.substr(0, last) != fmt::format("contact_force:contact={}", load_.index))
+      return {};
+    const int c = name[last + 1] - '0';
+    return c == 3 ? force_on_other_.norm() : force_on_other_[c];
+  }
+  bool node_field(std::string_view name, double t, const NodePositions& x,
+                  std::vector<double>& per_node) const override;
+  double max_stiffness_over_mass(std::span<const double> node_mass) const override {
+    double most = 0;
+    for (size_t p = 0; p < load_.passes.size(); ++p)
+      for (size_t i = 0; i < load_.passes[p].nodes.size(); ++i)
+        if (const double m = node_mass[static_cast<size_t>(load_.passes[p].nodes[i])]; m > 0)
+          most = std::max(
+              most, 2 * k_[slot(p, i)] * (1 + load_.friction) / m);  // the node and a face node
+    return most;
+  }
+  std::string end_check(const std::function<void(std::string)>& warn) const override {
+    if (initial_count_ > 0)
+      warn(fmt::format("contact {}: {} initial penetrations, the deepest {:.4g}{}", load_.index,
+                       initial_count_, initial_depth_,
+                       load_.relax_steps > 0
+                           ? fmt::format(" (relaxed over the first {} steps)", load_.relax_steps)
+                           : std::string(" (pushed out at the first step)")));
+    return contact::penetration_check(penetration_ratio_, fmt::format("contact {}", load_.index),
+                                      "through a face, past the contact thickness", warn);
+  }
+  std::string account_json() const override {
+    return fmt::format(
+        "{{\"contact\": {}, \"sheets\": true, \"self\": {}, \"penalty\": [{:.6g}, {:.6g}], "
+        "\"max_penetration_ratio\": {:.6g}, \"kept\": {}, \"initial_penetrations\": {}, "
+        "\"initial_max_depth\": {:.6g}, \"active_pairs\": {}, \"pair_budget\": {}{}}}",
+        load_.index, load_.self ? "true" : "false", k_min_, k_max_, penetration_ratio_,
+        penetration_ratio_ <= 1 ? "true" : "false", initial_count_, initial_depth_,
+        active_accepted_, budget_,
+        load_.edges ? fmt::format(", \"active_edge_pairs\": {}", edge_active_) : std::string());
+  }
+
+ private:
+  static constexpr double kInside = 1e-3;  // barycentric slack at the faces' edges
+  size_t slot(size_t p, size_t i) const { return first_[p] + i; }
+  contact::Vec12 coordinates(const NodePositions& x, int node, const Face& f) const {
+    contact::Vec12 X;
+    X << x.col(node), x.col(f.n[0]), x.col(f.n[1]), x.col(f.n[2]);
+    return X;
+  }
+  bool excluded(int node, const Face& f) const {
+    const int* r0 = load_.ring.data() + load_.ring_start[static_cast<size_t>(node)];
+    const int* r1 = load_.ring.data() + load_.ring_start[static_cast<size_t>(node) + 1];
+    for (int e : f.element) {
+      if (e < 0) continue;
+      if (e == node) return true;
+      for (const int* r = r0; r != r1; ++r) {
+        if (*r == e) return true;
+        // Self contact: two rings (a face touching a neighbour of the node).
+        if (load_.self) {
+          const int* s0 = load_.ring.data() + load_.ring_start[static_cast<size_t>(*r)];
+          const int* s1 = load_.ring.data() + load_.ring_start[static_cast<size_t>(*r) + 1];
+          if (std::binary_search(s0, s1, e)) return true;
+        }
+      }
+    }
+    return false;
+  }
+  void refit(const NodePositions& x);
+  // Edge pairs: calls found(i, j, X, side, thickness) for every pair of a first-list edge i
+  // and a second-list edge j (self: j > i) away from each other's rings whose closest points
+  // lie inside both and within reach.
+  template <class Found>
+  void scan_edges(const NodePositions& x, Found&& found);
+  bool near(int n, int m) const {
+    if (n == m) return true;
+    const int* r0 = load_.ring.data() + load_.ring_start[static_cast<size_t>(n)];
+    const int* r1 = load_.ring.data() + load_.ring_start[static_cast<size_t>(n) + 1];
+    if (std::binary_search(r0, r1, m)) return true;
+    if (load_.self)
+      for (const int* r = r0; r != r1; ++r) {
+        const int* s0 = load_.ring.data() + load_.ring_start[static_cast<size_t>(*r)];
+        const int* s1 = load_.ring.data() + load_.ring_start[static_cast<size_t>(*r) + 1];
+        if (std::binary_search(s0, s1, m)) return true;
+      }
+    return false;
+  }
+  void add_edges(const LoadState& s, LoadOutput& out);
+  void commit_edges(const NodePositions& x);
+  // A node's area: a third of its triangles' current areas (the faces of set `which`, or of
+  // both sets: -1).
+  std::vector<double> node_areas(const NodePositions& x, int which) const;
+  double contact_area(const NodePositions& x) const;
+  // Calls found(pass, node index, pair, gap) for every node that has a face within reach.
+  template <class Found>
+  void scan(const NodePositions& x, Found&& found);
+  double relaxed(size_t k) const {
+    if (offset_[k] <= 0 || load_.relax_steps <= 0) return 0.0;
+    return offset_[k] * std::max(0.0, 1.0 - static_cast<double>(steps_ + 1) / load_.relax_steps);
+  }
+  void add_block(int i, int j, const Mat3& D, SparseMatrix& K) const;
+  // Friction: slot k's anchor on `face` (barycentric coordinates of its b and c): the anchor's
+  // face point carried to a new face, or the node's accepted position for a new pair, both
+  // by the faces' accepted positions (so the anchor holds within a step: the tangent stays
+  // consistent).
+  Vec2 anchor_on(size_t k, const Face& face, int face_index, int faces_of) const {
+    const NodePositions& x = x_accepted_;
+    if (anchor_face_[k] == face_index) return anchor_xi_[k];
+    Vec3 y = last_x_[k];
+    if (anchor_face_[k] >= 0) {
+      const Face& was =
+          load_.faces[static_cast<size_t>(faces_of)][static_cast<size_t>(anchor_face_[k])];
+      const Vec2& xi = anchor_xi_[k];
+      y = (1 - xi[0] - xi[1]) * x.col(was.n[0]) + xi[0] * x.col(was.n[1]) + xi[1] * x.col(was.n[2]);
+    }
+    return contact::plane_coordinates(y, x.col(face.n[0]), x.col(face.n[1]), x.col(face.n[2]));
+  }
+  template <class Column>
+  void put(int n, const Vec3& v, Column&& to) const {
+    const Vec3 l = site_.dofs.to_local(n, v);
+    for (int c = 0; c < 3; ++c)
+      if (const int eq = site_.dofs.equation(n, c); eq >= 0) to[eq] += l[c];
+  }
+
+  const SheetContact& load_;
+  LoadSite site_;
+  std::vector<size_t> first_;  ///< per pass: its first slot
+  std::vector<double> k_;      ///< per slot: the penalty
+  std::vector<Pair> pairs_;    ///< per slot: the pair at the last accepted state
+  std::vector<double> offset_, gap_accepted_;
+  std::vector<double> transmitted_;  ///< per model node: the contact force it carries
+  std::vector<int> anchor_face_;     ///< friction, per slot: the face of the anchor (-1: none)
+  std::vector<Vec2> anchor_xi_;      ///< its barycentric coordinates of b and c
+  std::vector<Vec3> last_x_;         ///< the node's accepted position (a new pair's anchor)
+  NodePositions x_accepted_;         ///< friction, edges: the positions at the last accepted state
+  // Edge pairs (edges: true): a tree over the second list's edges, and the side of each pair
+  // (first list's edge, second's) at the last accepted state.
+  contact::FaceTree edge_tree_;
+  std::vector<contact::Box> edge_boxes_;
+  std::map<std::pair<int, int>, double> edge_side_;
+  double edge_grow_ = 0;
+  int edge_active_ = 0;
+  std::vector<double> node_status_;  ///< per model node: 0 open, 1 stick, 2 slip (accepted)
+  std::array<contact::FaceTree, 2> tree_;
+  std::array<std::vector<contact::Box>, 2> boxes_;
+  double reach_ = 0;   ///< the largest node contact thickness
+  double margin_ = 0;  ///< how far a node is followed past its contact distance (an element)
+  int budget_ = 0;
+  int steps_ = 0, initial_count_ = 0, active_accepted_ = 0;
+  bool started_ = false;
+  double initial_depth_ = 0, penetration_ratio_ = 0, k_min_ = 0, k_max_ = 0;
+  Vec3 force_on_other_ = Vec3::Zero();
+};
+
+}  // namespace velum::sheet_contact
