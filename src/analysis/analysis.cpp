@@ -71,11 +71,19 @@ class StabilityWatch {
 // Fext·ΔU (full vectors: loads on prescribed nodes included), the work of prescribed motions
 // likewise on the reactions (R·ΔU at eliminated components), the work of sections that change
 // in time (MechanicalSystem::section_work), the damping work on the mass-proportional
-// Rayleigh force.
+// Rayleigh force. The work is booked every step (book); the energies held (kinetic, strain)
+// when settle() is called: every step in implicit runs, every few steps and at every output in
+// explicit ones (march below).
 class EnergyAccount {
  public:
-  EnergyAccount(MechanicalSystem& sys, bool dynamic, double t0, const State& s, Energies& E)
-      : sys_(sys), dynamic_(dynamic), prescribed_(!sys.model().prescribed.empty()) {
+  // `reuse`: book the work from the forces of the step's own evaluation when the system says
+  // they are those of the accepted state (explicit steps end on one evaluation).
+  EnergyAccount(MechanicalSystem& sys, bool dynamic, double t0, const State& s, Energies& E,
+                bool reuse)
+      : sys_(sys),
+        dynamic_(dynamic),
+        prescribed_(!sys.model().prescribed.empty()),
+        reuse_(reuse && sys.external_forces_reusable() && !sys.distributed()) {
     U_prev_ = sys.displacements(t0, s.u);
     F_prev_ = sys.external_forces(t0, s.u, s.v);
     if (prescribed_) R_prev_ = sys.reactions(t0, s.u, s.v);
@@ -83,38 +91,63 @@ class EnergyAccount {
     E.kinetic = dynamic_ ? sys.kinetic_energy(s.v) : 0.0;
     E.strain = sys.strain_energy(t0, s.u);
     held0_ = E.kinetic + E.strain;
+    if (reuse_) equations_from_nodes();
   }
-  // Books the step that ended in `cur`; returns the full displacements there.
-  NodePositions step(const AcceptedStep& st, const State& cur, Energies& E) {
-    const NodePositions U = sys_.displacements(st.t, cur.u);
-    const NodePositions F = sys_.external_forces(st.t, cur.u, cur.v);
-    double dW = 0.5 * ((F + F_prev_).array() * (U - U_prev_).array()).sum();
-    if (prescribed_) {
-      NodePositions R = sys_.reactions(st.t, cur.u, cur.v);
-      dW += 0.5 * ((R + R_prev_).array() * (U - U_prev_).array()).sum();
-      R_prev_ = std::move(R);
+  // Books the work (and the damping work) of the step that ended in `cur`.
+  void book(const AcceptedStep& st, const State& cur, Energies& E) {
+    double dW = 0;
+    if (reuse_) {
+      // Free components only: the others do not move (nothing is prescribed).
+      sys_.dofs().gather(sys_.last_external(), f_);
+      dW = 0.5 * (f_ + f_prev_).dot(cur.u - u_prev_);
+      f_.swap(f_prev_);
+      u_prev_ = cur.u;
+    } else {
+      const NodePositions U = sys_.displacements(st.t, cur.u);
+      const NodePositions F = sys_.external_forces(st.t, cur.u, cur.v);
+      dW = 0.5 * ((F + F_prev_).array() * (U - U_prev_).array()).sum();
+      if (prescribed_) {
+        NodePositions R = sys_.reactions(st.t, cur.u, cur.v);
+        dW += 0.5 * ((R + R_prev_).array() * (U - U_prev_).array()).sum();
+        R_prev_ = std::move(R);
+      }
+      // Several processes: each process's forces are its share, nonzero only at nodes it
+      // holds.
+      dW = sys_.sum_over_processes(dW);
+      dW += sys_.section_work(st.t - st.h, U_prev_, st.t, U);  // reefing lines, cuts
+      U_prev_ = U, F_prev_ = F;
     }
-    // Several processes: each process's forces are its share, nonzero only at nodes it holds.
-    dW = sys_.sum_over_processes(dW);
-    dW += sys_.section_work(st.t - st.h, U_prev_, st.t, U);  // reefing lines, cuts
     E.external_work += dW;
     work_scale_ += std::abs(dW);
     peak_work_ = std::max(peak_work_, std::abs(E.external_work));
-    // v·Mv once per step, kept for the next step's damping work (was three products).
-    const double alpha = sys_.model().rayleigh_mass;
-    const bool need = alpha != 0 || dynamic_;
-    const double vmv = need ? sys_.dot(cur.v, sys_.mass_times(cur.v)) : 0.0;
-    if (alpha != 0) {
+    // v·Mv once per step with damping, kept for the next step's damping work and the kinetic
+    // energy.
+    vmv_now_ = kUnknown;
+    if (const double alpha = sys_.model().rayleigh_mass; alpha != 0) {
+      vmv_now_ = sys_.dot(cur.v, sys_.mass_times(cur.v));
       if (std::isnan(vmv_prev_)) vmv_prev_ = sys_.dot(v_prev_, sys_.mass_times(v_prev_));
-      E.damping += 0.5 * st.h * alpha * (vmv + vmv_prev_);
+      E.damping += 0.5 * st.h * alpha * (vmv_now_ + vmv_prev_);
+      vmv_prev_ = vmv_now_;
+      v_prev_ = cur.v;
     }
-    E.kinetic = dynamic_ && sys_.squared_norm(cur.v) != 0 ? 0.5 * vmv : 0.0;  // kinetic_energy()
-    E.strain = sys_.strain_energy(st.t, cur.u);
-    U_prev_ = U, F_prev_ = F, v_prev_ = cur.v;
-    vmv_prev_ = need ? vmv : kUnknown;
+  }
+  // The energies held at `cur`, the last state booked (its time t); returns the full
+  // displacements there.
+  NodePositions settle(double t, const State& cur, Energies& E) {
+    if (dynamic_) {
+      const double vmv = std::isnan(vmv_now_) ? sys_.dot(cur.v, sys_.mass_times(cur.v)) : vmv_now_;
+      E.kinetic = sys_.squared_norm(cur.v) != 0 ? 0.5 * vmv : 0.0;  // kinetic_energy()
+      vmv_prev_ = vmv;
+    }
+    E.strain = sys_.strain_energy(t, cur.u);
+    v_prev_ = cur.v;
+    if (reuse_) {  // the nodal arrays a checkpoint saves
+      U_prev_ = sys_.displacements(t, cur.u);
+      F_prev_ = sys_.last_external();
+    }
     if (const double created = held(E) - E.external_work; created > peak_created_)
-      peak_created_ = created, peak_t_ = st.t;
-    return U;
+      peak_created_ = created, peak_t_ = t;
+    return U_prev_;
   }
   /// The balance at the end, measured against the net work and the most work ever done.
   EnergyBalance balance(const Energies& E) const {
@@ -178,6 +211,7 @@ class EnergyAccount {
       for (NodePositions* P : {&F_prev_, &R_prev_}) a.keep_kept_nodes(*P);
       v_prev_ = sys_.to_local(v_prev_);
     }
+    if (reuse_) equations_from_nodes();
     return at;
   }
 
@@ -193,10 +227,18 @@ class EnergyAccount {
     return at + 1 + static_cast<size_t>(n);
   }
 
+  // The last state's free displacements and external forces (reuse_), from the nodal arrays.
+  void equations_from_nodes() {
+    sys_.dofs().gather(U_prev_, u_prev_);
+    sys_.dofs().gather(F_prev_, f_prev_);
+  }
+
   MechanicalSystem& sys_;
-  bool dynamic_, prescribed_;
+  bool dynamic_, prescribed_, reuse_;
   NodePositions U_prev_, F_prev_, R_prev_;
   VecX v_prev_;
+  VecX u_prev_, f_prev_, f_;                                   ///< reuse_: in equations
+  double vmv_now_ = std::numeric_limits<double>::quiet_NaN();  ///< this step's v·Mv, if known
   static constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
   double vmv_prev_ = kUnknown;  ///< v_prev_ · M v_prev_, once known
   double held0_ = 0, work_scale_ = 0;
@@ -280,7 +322,14 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
   }
 
   Energies& E = result.energy;
-  EnergyAccount energy(sys, settings.type == AnalysisSettings::Type::kDynamic, loop.t0, s, E);
+  // Explicit steps cost little beside the trust checks (the inversion check, the energies
+  // held, plausibility: each a pass over the elements or nodes): they run every
+  // kExplicitCheckInterval steps, at every output time, checkpoint and the end; the work of the
+  // loads is booked every step. Implicit steps check every step.
+  const int check_interval = integrator->implicit() ? 1 : kExplicitCheckInterval;
+  int unchecked = 0;  ///< steps since the last check
+  EnergyAccount energy(sys, settings.type == AnalysisSettings::Type::kDynamic, loop.t0, s, E,
+                       !integrator->implicit());
   PlausibilityCheck plausible(sys.model());
   plausible.share_nodes(sys.assembler());
   std::string implausible;
@@ -316,6 +365,7 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
               .cutbacks = st.cutbacks,
               .control = st.control ? *st.control : StepControlState{}};
     c.state = *current_state;
+    if (unchecked != 0) energy.settle(st.t, *current_state, E);  // what the checkpoint saves
     if (sys.distributed()) {  // whole, in the global numbering, on the first process
       c.state.u = sys.to_global(c.state.u);
       c.state.v = sys.to_global(c.state.v);
@@ -332,6 +382,12 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
   auto on_step = [&](const AcceptedStep& st, const State& cur) {
     sys.accept(st.t, cur.u, cur.v);  // before anything reads the loads at the new state
     stability.observe(st);
+    energy.book(st, cur, E);
+    current = &st, current_state = &cur;
+    if (++unchecked < check_interval && !st.output_time)
+      return !observer ||
+             observer(StepSnapshot{st, sys, cur, E, st.control ? &make_checkpoint : nullptr});
+    unchecked = 0;
     if (dynamic && !warned_fold) {  // static steps never accept one (integrators.cpp)
       if (std::string inv = sys.inverted_element(t_last, u_last, st.t, cur.u); !inv.empty()) {
         warned_fold = true;
@@ -341,11 +397,10 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
       }
       u_last = cur.u, t_last = st.t;
     }
-    const NodePositions U = energy.step(st, cur, E);
+    const NodePositions U = energy.settle(st.t, cur, E);
     implausible = plausible.check(st.t, U, cur, energy.balanced(), energy.held(E), E.external_work,
                                   energy.work_scale(), energy.held_start());
     if (!implausible.empty()) return false;
-    current = &st, current_state = &cur;
     return !observer ||
            observer(StepSnapshot{st, sys, cur, E, st.control ? &make_checkpoint : nullptr});
   };
@@ -364,6 +419,8 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     result.loop = run_time_loop(sys, *integrator, *solver, loop, s, on_step,
                                 resume ? &resume->loop : nullptr);
   }
+  // A run that stopped between checks: the energies of its last state.
+  if (unchecked != 0 && implausible.empty()) energy.settle(result.loop.t, s, E);
   if (!implausible.empty()) {
     result.loop.stopped = false;
     result.loop.reason = implausible + weak_dissipation_hint(settings, implausible);

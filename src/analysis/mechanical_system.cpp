@@ -50,6 +50,15 @@ MechanicalSystem::MechanicalSystem(const Model& model)
       throw std::invalid_argument(
           "a point mass's drag is a load: give it as a DragLoad (Model::drag), not in PointMass");
   U_.setZero(3, model.num_nodes());
+  external_reusable_ = !velocity_ && low_rank_columns_ == 0 && model.prescribed.empty();
+  for (const auto& term : terms_) {
+    std::vector<double> state;
+    term->save_state(state);
+    external_reusable_ = external_reusable_ && state.empty();
+  }
+  // Sections that change in time (reefing) book their work from the nodal arrays each step.
+  for (const auto& blk : model.blocks)
+    external_reusable_ = external_reusable_ && !blk->changes_in_time();
 }
 
 const SparseMatrix& MechanicalSystem::mass_matrix() const {

@@ -102,6 +102,13 @@ void DofMap::take_piece(const ModelPiece& piece, const std::vector<char>& elimin
 void DofMap::scatter(const VecX& reduced, NodePositions& full) const {
   const int nn = num_nodes();
   const std::vector<int>& eq = local_.empty() ? eq_ : local_;
+  if (frames_.empty()) {  // no node in a frame of its own: the components as they are
+    double* x = full.data();
+    const int* e = eq.data();
+    for (long k = 0; k < 3L * nn; ++k)
+      if (e[k] >= 0) x[k] = reduced[e[k]];
+    return;
+  }
   for (int n = 0; n < nn; ++n) {
     const int* e = eq.data() + 3 * n;
     if (e[0] < 0 && e[1] < 0 && e[2] < 0) continue;  // nothing to set
@@ -125,6 +132,13 @@ void DofMap::gather(const NodePositions& full, VecX& reduced) const {
   reduced.resize(num_equations());
   const int nn = num_nodes();
   const std::vector<int>& eq = local_.empty() ? eq_ : local_;
+  if (frames_.empty()) {
+    const double* x = full.data();
+    const int* e = eq.data();
+    for (long k = 0; k < 3L * nn; ++k)
+      if (e[k] >= 0) reduced[e[k]] = x[k];
+    return;
+  }
   for (int n = 0; n < nn; ++n) {
     const Vec3 local = to_local(n, full.col(n));
     for (int c = 0; c < 3; ++c)

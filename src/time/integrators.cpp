@@ -129,17 +129,17 @@ StepReport CentralDifference::step(SecondOrderSystem& sys, LinearSolver&, double
   // v(n+½) = v + h/2 a; u(n+1) = u + h v(n+½); a(n+1) from M a = f_ext − f_int − C v(n+½).
   StepReport rep;
   const VecX vhalf = s.v + 0.5 * h * s.a;
-  const VecX u = s.u + h * vhalf;
-  zero_.setZero(sys.size());
+  VecX u = s.u + h * vhalf;
+  if (zero_.size() != sys.size()) zero_.setZero(sys.size());  // read only
   sys.evaluate(t + h, u, vhalf, zero_, 0, 0, 0, r_, nullptr);
-  const VecX a = -r_.cwiseQuotient(sys.lumped_mass());
+  VecX a = -r_.cwiseQuotient(sys.lumped_mass());
   if (!sys.all_finite(a)) {
     rep.reason = "non-finite acceleration (step above the stable limit?)";
     return rep;
   }
-  s.u = u;
+  s.u.swap(u);
   s.v = vhalf + 0.5 * h * a;
-  s.a = a;
+  s.a.swap(a);
   rep.converged = true;
   return rep;
 }

@@ -125,6 +125,12 @@ struct StepSnapshot {
   const std::function<Checkpoint()>* checkpoint = nullptr;
 };
 
+/// Explicit (central difference) runs check every this many steps, at every output time,
+/// checkpoint and the end: an element turned inside out, the energies held and the run's
+/// plausibility (energy created, blow-up), so that a failure shows at most this many steps
+/// late. The work of the loads is booked every step. (docs/performance.md: their cost.)
+inline constexpr int kExplicitCheckInterval = 50;
+
 struct AnalysisResult {
   TimeLoopResult loop;
   Energies energy;

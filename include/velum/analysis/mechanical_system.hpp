@@ -73,6 +73,12 @@ class MechanicalSystem final : public SecondOrderSystem {
   /// at free components). Valid after evaluate() at the same state.
   const NodePositions& last_internal() const { return Fint_; }
   const NodePositions& last_external() const { return Fext_; }
+  /// Whether last_external() after an evaluate() at an accepted state is what
+  /// external_forces() gives there (to round-off: the follower pressures come fused with the
+  /// internal pass): no load uses the velocity, keeps a state integrated in time or a low-rank
+  /// part (gas), no motion is prescribed and no section changes in time (reefing). The explicit
+  /// energy account books its work from them then, without a second pass over the loads.
+  bool external_forces_reusable() const { return external_reusable_; }
 
   /// Support reactions (full, global): internal minus external force at (t, u, v), kept only
   /// at eliminated components (fixed, prescribed, normal to a symmetry plane). The inertia of
@@ -150,6 +156,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   std::vector<std::unique_ptr<LoadTerm>> terms_;  ///< the model's loads, bound
   int low_rank_columns_ = 0;                      ///< of all loads (a gas chamber: one)
   bool velocity_ = false;                         ///< some load uses the velocity
+  bool external_reusable_ = false;                ///< external_forces_reusable()
   NodePositions U_, V_, x_, Fint_, Fext_, Fp_;
   LowRankJacobian low_rank_;
   std::vector<double> block_pressure_;      ///< whole-block pressures at the evaluated time
