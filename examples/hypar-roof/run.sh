@@ -13,3 +13,11 @@ PYTHONPATH=../../build/release/python /usr/bin/python3 plot.py out
 /usr/bin/python3 staged_model.py hypar-form.yaml out/hypar-staged.yaml
 "$VELUM" run out/hypar-staged.yaml
 PYTHONPATH=../../build/release/python /usr/bin/python3 staged_numbers.py out
+# The same roof meshed with triangles and cut into five panels along the warp: cutting
+# patterns (the DXF files kept in patterns/), then the round trip, per panel (README.md).
+/usr/bin/python3 pattern_model.py hypar-pattern.yaml out/pattern-form
+"$VELUM" run hypar-pattern.yaml
+"$VELUM" pattern out/pattern-form -o out/patterns
+mkdir -p patterns && cp out/patterns/*.dxf patterns/
+"$VELUM" run out/patterns/roundtrip.yaml -o out/roundtrip
+/usr/bin/python3 pattern_numbers.py out/roundtrip out/patterns --check 0.005

@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include <chrono>
 
 #include "run_parts.hpp"
@@ -10,6 +12,7 @@
 #include "velum/io/pattern_writer.hpp"
 #include "velum/io/roundtrip_model.hpp"
 #include "velum/run/commands.hpp"
+#include "velum/run/plot_command.hpp"
 
 namespace velum::run {
 namespace {
@@ -32,6 +35,30 @@ PanelMesh panel_mesh(const Model& m, const std::string& set, const NodePositions
     }
   }
   return mesh;
+}
+
+// PDIR/patterns.png through Debian's Python and matplotlib (tools/velum_pattern_sheet.py): a
+// drawing for people, so without the interpreter, the script or matplotlib it is skipped with
+// a note (the cutting files are written); a failing script is an I/O error.
+int draw_sheet(const std::filesystem::path& output) {
+  const auto script = share_script("velum_pattern_sheet.py");
+  if (!script || access(kPython, X_OK) != 0) {
+    say(stderr,
+        "velum pattern: note: patterns.png not written: it needs {} with matplotlib and "
+        "velum_pattern_sheet.py installed beside velum (share/velum/)\n",
+        kPython);
+    return kExitOk;
+  }
+  const int code = run_python(
+      "velum pattern",
+      {script->string(), (output / "patterns.json").string(), (output / "patterns.png").string()});
+  if (code == 3) return kExitOk;  // matplotlib missing: the script said so
+  if (code != 0) {
+    say(stderr, "error: velum pattern: drawing {} failed (exit {})\n",
+        (output / "patterns.png").string(), code);
+    return kExitIo;
+  }
+  return kExitOk;
 }
 
 }  // namespace
@@ -99,7 +126,7 @@ int pattern_command(const std::filesystem::path& input, const std::filesystem::p
         p.flat.nodes.size(), p.flat.area_3d, p.flat.area_flat, p.flat.max_strain);
   say(stdout, "velum pattern: {} panel{} flattened in {:.3g} s, written to {}\n", panels.size(),
       panels.size() == 1 ? "" : "s", seconds, output.string());
-  return kExitOk;
+  return draw_sheet(output);
 }
 
 }  // namespace velum::run

@@ -13,12 +13,16 @@ constexpr const char* kScript = "velum_plot.py";
 }  // namespace
 
 std::optional<std::filesystem::path> plot_script() {
+  return share_script(kScript);
+}
+
+std::optional<std::filesystem::path> share_script(const char* name) {
   std::error_code ec;
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (ec) return std::nullopt;
   const auto here = exe.parent_path();
-  for (const auto& candidate : {here / "share" / "velum" / kScript,                   // build tree
-                                here.parent_path() / "share" / "velum" / kScript}) {  // installed
+  for (const auto& candidate : {here / "share" / "velum" / name,                   // build tree
+                                here.parent_path() / "share" / "velum" / name}) {  // installed
     if (std::filesystem::is_regular_file(candidate, ec)) return candidate;
   }
   return std::nullopt;

@@ -13,6 +13,10 @@ namespace velum::run {
 /// The plotting script for the running executable, or nothing when it is not installed.
 std::optional<std::filesystem::path> plot_script();
 
+/// A Python helper `name` installed beside the running executable (share/velum/ in the build
+/// tree, ../share/velum/ installed), or nothing.
+std::optional<std::filesystem::path> share_script(const char* name);
+
 /// Runs the script with `args` (DIR and its options, passed on as given); returns its exit
 /// status (0, or 1 for bad input with its message on stderr).
 int plot_command(const std::vector<std::string>& args);
