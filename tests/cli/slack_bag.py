@@ -80,7 +80,7 @@ def run(velum, work, name, text, budget):
     with open(path, "w") as f:
         f.write(text)
     t0 = time.monotonic()
-    p = subprocess.run([velum, "run", path, "-q", "-o", os.path.join(d, "out")],
+    p = subprocess.run([velum, "run", path, "-q", "--threads", "1", "-o", os.path.join(d, "out")],
                        capture_output=True, text=True, timeout=budget)
     seconds = time.monotonic() - t0
     if p.returncode != 0:
@@ -102,7 +102,7 @@ def dynamic_route(velum, work, static):
     os.makedirs(d, exist_ok=True)
     with open(os.path.join(d, "model.yaml"), "w") as f:
         f.write(text)
-    p = subprocess.run([velum, "run", os.path.join(d, "model.yaml"), "-q", "-o", os.path.join(d, "out")],
+    p = subprocess.run([velum, "run", os.path.join(d, "model.yaml"), "-q", "--threads", "1", "-o", os.path.join(d, "out")],
                        capture_output=True, text=True, timeout=120)
     print(f"gas dynamic, rho_inf 0.8: exit {p.returncode}: {p.stderr.strip()[-160:]}")
     if p.returncode != 2 or "rho_inf: 0" not in p.stderr:
