@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "model/reader.hpp"
+#include "model/restart_fingerprint.hpp"
 #include "model/yaml_structure.hpp"
 #include "velum/assembly/dof_map.hpp"
 #include "velum/io/model_reader_yaml.hpp"
@@ -139,8 +140,10 @@ ModelInput Reader::read(const Node& root) {
   }
   if (auto problems = yaml_structure_problems(root, name_); !problems.empty())
     throw InputError(std::move(problems));
-  if (has(root, "steps")) return read_steps(root);  // model/read_steps.cpp
-  return read_one(root);
+  ModelInput in = has(root, "steps") ? read_steps(root)  // model/read_steps.cpp
+                                     : read_one(root);
+  in.restart_yaml = restart_fingerprint(root, in.model);
+  return in;
 }
 
 ModelInput Reader::read_one(const Node& root) {

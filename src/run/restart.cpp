@@ -13,21 +13,30 @@
 namespace velum::run {
 namespace {
 
+/// The first line of a fingerprint that covers the loads, the boundary and the mesh (a
+/// checkpoint of an older Velum has none: it is refused, as it cannot tell a changed load).
+constexpr const char* kFingerprintVersion = "fingerprint 3";
+
 /// What a restarted model must share with the one that wrote the checkpoint, one line each (so
 /// that a mismatch names its line): the analysis, the history columns, the frames, the
-/// materials and sections. time.end may change (a longer one continues a finished run).
+/// materials and sections, the loads, the boundary and the mesh. time.end may change (a longer
+/// one continues a finished run).
 std::string fingerprint(const ModelInput& in) {
   const AnalysisSettings& a = in.analysis;
-  std::string f = fmt::format("analysis: {} ({})\n", a.type_name(), a.method());
+  std::string f =
+      fmt::format("{}\nanalysis: {} ({})\n", kFingerprintVersion, a.type_name(), a.method());
   f += "history columns:";
   for (const auto& h : in.output.history) f += " " + h.name;
   f += fmt::format("\nframes: {}\n", in.output.fields ? "written" : "none");
-  f += "materials and sections:\n" + in.materials_yaml;
-  return f;
+  f += "materials and sections:\n" + in.materials_yaml + "\n";
+  return f + in.restart_yaml;
 }
 
 /// The first line where two fingerprints differ, and the one line of each there.
 std::pair<std::string, std::string> first_difference(const std::string& a, const std::string& b) {
+  const auto header = [](const std::string& l) {
+    return l.size() > 2 && l.front() == '[' && l.back() == ']';
+  };
   std::istringstream sa(a), sb(b);
   std::string la, lb, section;
   while (true) {
@@ -37,10 +46,14 @@ std::pair<std::string, std::string> first_difference(const std::string& a, const
     if (!ga) la = "(nothing)";
     if (!gb) lb = "(nothing)";
     if (la != lb) {
+      // One section longer than the other: the shorter one's next header is not its content.
+      if (header(la) && !header(lb)) la = "(nothing more)";
+      if (header(lb) && !header(la)) lb = "(nothing more)";
       if (la.rfind("materials", 0) == 0 || section.empty()) return {la, lb};
       return {section + " " + la, section + " " + lb};
     }
     if (la == "materials and sections:") section = "materials and sections:";
+    if (header(la)) section = la.substr(1, la.size() - 2) + ":";
   }
 }
 
@@ -96,16 +109,22 @@ std::optional<CheckpointFile> load_checkpoint(const std::filesystem::path& dir,
     if (in.analysis.path.method != PathSettings::Method::kLoadControl)
       throw std::runtime_error("--restart: path following (analysis.path) has no checkpoints");
     CheckpointFile c = read_checkpoint(file);
-    if (c.dofs != sys.global_size() || c.run.state.u.size() != sys.global_size())
-      throw std::runtime_error(
-          fmt::format("{}: written by a model with {} equations ({}), this "
-                      "one has {}",
-                      file.string(), c.dofs, c.model, sys.global_size()));
+    if (c.fingerprint.rfind(std::string(kFingerprintVersion) + "\n", 0) != 0)
+      throw std::runtime_error(fmt::format(
+          "{}: written by an older Velum, whose checkpoints do not record the loads, the "
+          "boundary and the node coordinates, so a changed model could not be told: run the "
+          "model again from its start",
+          file.string()));
     if (const auto [was, is] = first_difference(c.fingerprint, fingerprint(in)); !was.empty())
       throw std::runtime_error(fmt::format(
           "{}: written by another model ({}): it had \"{}\", this one has \"{}\"; a restart "
           "continues the same model (only time.end may change)",
           file.string(), c.model, was, is));
+    if (c.dofs != sys.global_size() || c.run.state.u.size() != sys.global_size())
+      throw std::runtime_error(
+          fmt::format("{}: written by a model with {} equations ({}), this "
+                      "one has {}",
+                      file.string(), c.dofs, c.model, sys.global_size()));
     if (c.processes != processes::count())
       throw std::runtime_error(fmt::format(
           "{}: written by a run on {} process{}, this one has {}: restart it on as many (its "

@@ -169,6 +169,43 @@ if wanted("restart"):
                 "type": "static", "time": {"end": 0.04, "step": 0.005}}), "analysis: static")]:
         refused(f"other {what}", write("other-" + what, model), out, message)
 
+    # ... or another load amount, another support, moved nodes, another time step: each
+    # changes the answer, and the message names what differs.
+    def changed(edit):
+        m = sheet(end=0.04)
+        edit(m)
+        return m
+
+    def move(m):
+        m["mesh"]["nodes"][2] = [3, 2.5, 0, 0]
+
+    for what, edit, message in [
+            ("load amount", lambda m: m["loads"][0].update(force_per_length=[2.0, 0, 0]),
+             "this one has \"loads: {force_per_length: [2.0, 0, 0], nodes: right, type: edge}"),
+            ("support", lambda m: m["boundary"].append({"nodes": [5], "fix": ["z"]}),
+             "it had \"boundary: (nothing more)\", this one has \"boundary: {fix: [z], nodes: [5]}"),
+            ("node set", lambda m: m["mesh"]["node_sets"].update(left=[1, 4, 2]),
+             "fixed, symmetric and prescribed nodes: checksum"),
+            ("moved nodes", move, "mesh: node coordinates: 6 nodes, checksum"),
+            ("time step", lambda m: m["analysis"]["time"].update(step=0.0025), "analysis: {time: {step: 0.0025}}")]:
+        refused(f"other {what}", write("other-" + what.replace(" ", "-"), changed(edit)), out,
+                message)
+
+    # A checkpoint of an older Velum (its fingerprint without the loads, boundary and mesh),
+    # its checksum made to match: refused, since a changed load could not be told.
+    out = first_run("older")
+    ck = os.path.join(out, "checkpoint.bin")
+    data = bytes(open(ck, "rb").read()[:-8])
+    at = 8 + 4
+    at += 8 + struct.unpack_from("<q", data, at)[0]  # the model's name
+    at += 4
+    n = struct.unpack_from("<q", data, at)[0]
+    old = data[at + 8:at + 8 + n].decode()
+    old = old[old.index("\n") + 1:old.index("[analysis]")]
+    data = data[:at] + struct.pack("<q", len(old)) + old.encode() + data[at + 8 + n:]
+    open(ck, "wb").write(data + struct.pack("<Q", fnv1a(data)))
+    refused("older checkpoint", longer, out, "written by an older Velum")
+
     # Not a regular file in the checkpoint's place: a device, a FIFO.
     out = first_run("device")
     ck = os.path.join(out, "checkpoint.bin")

@@ -98,6 +98,9 @@ struct ModelInput {
   std::vector<std::string> warnings;           ///< "file:line: key: text", not fatal
   std::string yaml;            ///< the model's YAML text (DIR/form.yaml is written from it)
   std::string materials_yaml;  ///< `materials` and `sections` as read (a restart must match them)
+  /// The rest a restart must match: analysis (but time.end), loads, boundary, ... as read, and
+  /// checksums of the node coordinates, elements and supported nodes (restart_fingerprint.hpp)
+  std::string restart_yaml;
   std::filesystem::path base_dir;  ///< what relative paths in it start from
   /// A staged model's steps, in order (model, analysis and output above are the first
   /// step's); empty for a model without `steps:`.
