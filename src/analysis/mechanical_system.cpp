@@ -209,11 +209,15 @@ std::vector<double> MechanicalSystem::save_law_history() const {
   std::vector<int> with;
   for (size_t b = 0; b < model_.blocks.size(); ++b)
     if (model_.blocks[b]->history_size() > 0) with.push_back(static_cast<int>(b));
-  if (with.empty()) return out;
+  // Several processes: decided together. A block with a history may sit on one process only
+  // (a sliding cable's chain); refusing there alone left the others waiting in the
+  // checkpoint's collectives for ever.
+  if (distributed() ? processes::all(with.empty()) : with.empty()) return out;
   if (distributed())
     throw std::invalid_argument(
-        "laws with a history per point (plasticity) cannot yet be saved from a run on several "
-        "processes");
+        "element histories (a plastic law's, a sliding cable's slips with friction) cannot yet "
+        "be saved from a run on several processes: run without output.checkpoint, or on one "
+        "process");
   out.push_back(static_cast<double>(with.size()));
   for (int b : with) {
     const ElementBlock& blk = *model_.blocks[static_cast<size_t>(b)];
