@@ -61,22 +61,11 @@ inline double edge_gap(const Vec12& X, Vec12& grad, Mat12* hessian) {
   return g.value().value();
 }
 
-/// The penalty pair of two edges: G = side·g − thickness, p = max(0, −k G), f = p side ∇g,
-/// ∂f/∂X = −k ∇g ∇gᵀ + p side ∇∇g (symmetric).
+/// The penalty pair of two edges (face_contact.hpp's penalty on the edges' gap).
 inline bool edge_pair_force(const Vec12& X, double side, double thickness, double k, bool tangent,
                             PairResult& r) {
-  Vec12 grad;
-  Mat12 H;
-  const double g = edge_gap(X, grad, tangent ? &H : nullptr);
-  r.gap = side * g - thickness;
-  r.p = -k * r.gap;
-  if (r.p <= 0) {
-    r.p = 0;
-    return false;
-  }
-  r.f = (r.p * side) * grad;
-  if (tangent) r.D = -k * grad * grad.transpose() + (r.p * side) * H;
-  return true;
+  return penalty_pair_force([](const Vec12& Y, Vec12& g, Mat12* H) { return edge_gap(Y, g, H); }, X,
+                            side, thickness, k, tangent, r);
 }
 
 }  // namespace velum::contact

@@ -75,13 +75,15 @@ struct PairResult {
   Mat12 D;         ///< ∂f/∂X (filled when asked)
 };
 
-/// The penalty pair: G = side·g − c, p = max(0, −k G), f = p side ∇g (x pushed to its side, the
-/// face the other way), ∂f/∂X = −k ∇g ∇gᵀ + p side ∇∇g (symmetric: the energy ½ k G²).
-inline bool pair_force(const Vec12& X, double side, double thickness, double k, bool tangent,
-                       PairResult& r) {
+/// The penalty on a gap function g(X) (its gradient and, when asked, Hessian): G = side·g − c,
+/// p = max(0, −k G), f = p side ∇g, ∂f/∂X = −k ∇g ∇gᵀ + p side ∇∇g (symmetric: the energy
+/// ½ k G²). Node to face (plane_gap) and edge to edge (edge_gap) alike.
+template <class Gap>
+bool penalty_pair_force(Gap&& gap, const Vec12& X, double side, double thickness, double k,
+                        bool tangent, PairResult& r) {
   Vec12 grad;
   Mat12 H;
-  const double g = plane_gap(X, grad, tangent ? &H : nullptr);
+  const double g = gap(X, grad, tangent ? &H : nullptr);
   r.gap = side * g - thickness;
   r.p = -k * r.gap;
   if (r.p <= 0) {
@@ -91,6 +93,12 @@ inline bool pair_force(const Vec12& X, double side, double thickness, double k, 
   r.f = (r.p * side) * grad;
   if (tangent) r.D = -k * grad * grad.transpose() + (r.p * side) * H;
   return true;
+}
+
+/// The node-to-face pair (x pushed to its side, the face the other way).
+inline bool pair_force(const Vec12& X, double side, double thickness, double k, bool tangent,
+                       PairResult& r) {
+  return penalty_pair_force(plane_gap, X, side, thickness, k, tangent, r);
 }
 
 }  // namespace velum::contact
