@@ -298,7 +298,10 @@ std::optional<double> ContactTerm::quantity_at(std::string_view name, double t,
   // contact_area:contact=I.
   if (name == fmt::format("contact_area:body={}", load_.body.name) ||
       name == fmt::format("contact_area:contact={}", load_.index)) {
-    // The areas about the nodes that touch at the accepted state (this process's nodes).
+    // The areas about the nodes that touch at the accepted state. On a process's piece the
+    // areas at shared nodes lack the other processes' elements: not a number rather than a
+    // wrong one (docs/scaling.md).
+    if (site_.model.piece) return std::numeric_limits<double>::quiet_NaN();
     const std::vector<double> area = node_areas(x);
     double sum = 0;
     for (size_t i = 0; i < load_.nodes.size(); ++i)
@@ -368,6 +371,7 @@ bool ContactTerm::node_field(std::string_view name, double t, const NodePosition
     return true;
   }
   if (!pressure && name != "contact_gap") return false;
+  if (pressure && site_.model.piece) return true;  // absent (NaN) on a piece: see contact_area
   const double sf = site_.model.function_value(load_.body.function, t);
   const std::vector<double> area = pressure ? node_areas(x) : std::vector<double>();
   const Vec3 d = translation(x);
