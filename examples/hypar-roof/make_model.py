@@ -14,6 +14,23 @@ def node(i, j):
     return 1 + j * (N + 1) + i
 
 
+def edge_segments():
+    """The four edge cables' sets: the cable2 segments along each border."""
+    return {
+        "cable_south": [(node(k, 0), node(k + 1, 0)) for k in range(N)],
+        "cable_east": [(node(N, k), node(N, k + 1)) for k in range(N)],
+        "cable_north": [(node(k, N), node(k + 1, N)) for k in range(N)],
+        "cable_west": [(node(0, k), node(0, k + 1)) for k in range(N)],
+    }
+
+
+def edge_cables():
+    """The element lines of the four edge cables."""
+    return [f"    - {{set: {name}, type: cable2, connectivity: [" +
+            ", ".join(f"[{a}, {b}]" for a, b in segs) + "]}"
+            for name, segs in edge_segments().items()]
+
+
 def main(path="hypar-form.yaml"):
     lines = ["# Written by make_model.py: form finding of the hypar roof (examples/hypar-roof)",
              "title: hypar roof 10 m x 10 m, form finding", "mesh:", "  nodes:"]
@@ -27,15 +44,7 @@ def main(path="hypar-form.yaml"):
              for j in range(N) for i in range(N)]
     lines.append("    - {set: roof, type: quad4, connectivity: [" +
                  ", ".join("[" + ", ".join(map(str, q)) + "]" for q in quads) + "]}")
-    edges = {
-        "cable_south": [(node(k, 0), node(k + 1, 0)) for k in range(N)],
-        "cable_east": [(node(N, k), node(N, k + 1)) for k in range(N)],
-        "cable_north": [(node(k, N), node(k + 1, N)) for k in range(N)],
-        "cable_west": [(node(0, k), node(0, k + 1)) for k in range(N)],
-    }
-    for name, segs in edges.items():
-        lines.append(f"    - {{set: {name}, type: cable2, connectivity: [" +
-                     ", ".join(f"[{a}, {b}]" for a, b in segs) + "]}")
+    lines += edge_cables()
     lines += [
         "  node_sets:",
         f"    low_sw: [{node(0, 0)}]",
@@ -55,7 +64,7 @@ def main(path="hypar-form.yaml"):
         f"axes: {{points: [[{L}, 0, 0], [0, {L}, 0], [0, 0, 1]]}}, "
         f"prestress: [{WARP / T:.6g}, {FILL / T:.6g}, 0.0]}}",
     ]
-    for name in edges:
+    for name in edge_segments():
         lines.append(f"  - {{elements: {name}, material: strand, area: 1.13e-4, "
                      f"prestress: {CABLE_FORCE:.6g}}}")
     lines += [

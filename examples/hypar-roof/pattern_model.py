@@ -6,7 +6,7 @@ Usage: pattern_model.py [OUT.yaml [FORM_DIR]]."""
 import math
 import sys
 
-from make_model import CABLE_FORCE, FILL, H, L, N, T, WARP, node
+from make_model import CABLE_FORCE, FILL, H, L, N, T, WARP, edge_cables, edge_segments, node
 
 E1, E2, NU12 = 600e3 / T, 450e3 / T, 0.3  # the pvc of make_model.py
 BAND = 8  # panel width in cells, across the warp (i + j is constant along the warp)
@@ -49,15 +49,7 @@ def main(path="hypar-pattern.yaml", form_dir="out/pattern-form"):
     for name, tris in sets.items():
         lines.append(f"    - {{set: {name}, type: tri3, connectivity: [" +
                      ", ".join("[" + ", ".join(map(str, t)) + "]" for t in tris) + "]}")
-    edges = {
-        "cable_south": [(node(k, 0), node(k + 1, 0)) for k in range(N)],
-        "cable_east": [(node(N, k), node(N, k + 1)) for k in range(N)],
-        "cable_north": [(node(k, N), node(k + 1, N)) for k in range(N)],
-        "cable_west": [(node(0, k), node(0, k + 1)) for k in range(N)],
-    }
-    for name, segs in edges.items():
-        lines.append(f"    - {{set: {name}, type: cable2, connectivity: [" +
-                     ", ".join(f"[{a}, {b}]" for a, b in segs) + "]}")
+    lines += edge_cables()
     lines += [
         "  node_sets:",
         f"    corners: [{node(0, 0)}, {node(N, 0)}, {node(N, N)}, {node(0, N)}]",
@@ -71,7 +63,7 @@ def main(path="hypar-pattern.yaml", form_dir="out/pattern-form"):
         lines.append(f"  - {{elements: {name}, material: pvc, thickness: {T}, "
                      f"axes: {{points: [[{L}, 0, 0], [0, {L}, 0], [0, 0, 1]]}}, "
                      f"prestress: [{WARP / T:.6g}, {FILL / T:.6g}, 0.0]}}")
-    for name in edges:
+    for name in edge_segments():
         lines.append(f"  - {{elements: {name}, material: strand, area: 1.13e-4, "
                      f"prestress: {CABLE_FORCE:.6g}}}")
     c = compensation()

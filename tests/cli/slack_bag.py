@@ -7,6 +7,7 @@ The bag: 0.6 m side, one eighth (a quarter of the top sheet, [0, 0.3]^2, 8 x 8 q
 held in the mid-plane), nylon 0.6 mm (E 588 MPa, nu 0.4), a 3 cm bulge of stress-free sheet;
 the gas amount rises to 5.6 times the initial one (the bag first unfolds at ambient pressure,
 then pressurises to about 10 kPa gauge). Usage: slack_bag.py VELUM WORKDIR."""
+import ast
 import csv
 import json
 import math
@@ -193,7 +194,7 @@ def other_equilibrium(velum, work, kind, gauge):
     ids, d = frame.point_data["node_id"], frame.point_data["displacement"]
     text = model("static", "pressure", 1.0, gauge)
     line = next(l for l in text.splitlines() if l.startswith("  nodes: "))
-    reference = eval(line[len("  nodes: "):])  # the bulge: the list model() wrote
+    reference = ast.literal_eval(line[len("  nodes: "):])  # the bulge: the list model() wrote
     where = {n[0]: n[1:] for n in reference}
     start = [[int(i)] + [where[int(i)][c] + float(d[k][c]) for c in range(3)] for k, i in enumerate(ids)]
     text = text.replace(line, f"  nodes: {start}\n  reference_positions: {reference}")
