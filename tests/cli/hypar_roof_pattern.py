@@ -2,8 +2,8 @@
 """Issue 45: the example hypar roof (examples/hypar-roof, pattern_model.py) cut into five
 strip panels along the warp: form finding, velum pattern, the round trip's static run; every
 panel's mean warp, fill and shear stress must come back within 0.5 % of the designed prestress
-(the tolerance of docs/patterns.md), and the DXF files the example folder carries must be the
-ones velum pattern writes for its panels. Usage: hypar_roof_pattern.py VELUM WORKDIR."""
+(the tolerance of docs/patterns.md); velum pattern must write each panel's DXF with its cut,
+seam and text layers, and the example folder must carry one for every panel. Usage: hypar_roof_pattern.py VELUM WORKDIR."""
 import os
 import subprocess
 import sys
@@ -42,6 +42,11 @@ def main():
               f"shear {err[2]:+.3%}")
         if n == 0 or not max(abs(e) for e in err) <= TOLERANCE:
             failures.append(f"{name}: mean stress off the prestress by {err} (tolerance {TOLERANCE})")
+        written = os.path.join(pdir, f"{name}.dxf")
+        text = open(written).read() if os.path.isfile(written) else ""
+        for layer in ("CUT", "SEAM", "TEXT"):
+            if layer not in text:
+                failures.append(f"{written}: missing or without the {layer} layer")
         dxf = os.path.join(EXAMPLE, "patterns", f"{name}.dxf")
         if not os.path.isfile(dxf) or "CUT" not in open(dxf).read():
             failures.append(f"{dxf}: missing or without a CUT polyline")
