@@ -27,6 +27,10 @@ class PathTracer {
 
   // A step of `size`: Δt (load control), Δs (arc length) or the controlled equation's Δu.
   StepReport step(Control control, double size);
+  // Brings the accepted point to equilibrium at its load t (a start out of equilibrium) by
+  // the integrators' Newton, with its line search and chord steps: the bordered corrector
+  // of step() has neither, and from a pressurised start its full corrections overshoot.
+  StepReport equilibrate();
   void accept() {
     factorised_at_start_ = factorised_at_candidate_;
     du_prev_ = cand_u_ - u_;
@@ -75,6 +79,26 @@ class PathTracer {
   double cand_t_ = 0, pred_t_ = 0;
   SparseMatrix J_;
 };
+
+StepReport PathTracer::equilibrate() {
+  NewtonWork work;
+  VecX u = u_;
+  StepReport rep = NewtonSolver(sys_, solver_, newton_)
+                       .solve(u_, u, work,
+                              [&](const VecX& x, VecX& r, SparseMatrix* J) {
+                                sys_.evaluate(t_, x, zero_, zero_, 1.0, 0.0, 0.0, r, J);
+                              },
+                              {.line_search_by_default = true});
+  if (!rep.converged) return rep;
+  if (std::string inv = sys_.inverted_element(t_, u_, t_, u); !inv.empty()) {
+    rep.converged = false;
+    rep.reason = "converged on a state in which " + inv;
+    return rep;
+  }
+  u_ = std::move(u);
+  factorised_at_start_ = false;  // the solver holds a tangent near u_, not at it
+  return rep;
+}
 
 void PathTracer::load_rate(const VecX& u, double t, VecX& q) {
   const double dir = dt_prev_ < 0 ? -1.0 : 1.0;
@@ -283,7 +307,7 @@ TimeLoopResult run_path_following(
   // off the path.
   if (tracer.in_equilibrium()) {
     // Nothing to do.
-  } else if (const StepReport eq = tracer.step(Control::kLoad, 0.0); !eq.converged) {
+  } else if (const StepReport eq = tracer.equilibrate(); !eq.converged) {
     if (eq.interrupted) res.stopped = true;
     return failed(fmt::format(
         "at t = {:g}: path following starts from a state out of equilibrium, and Newton could "
@@ -291,7 +315,6 @@ TimeLoopResult run_path_following(
         "static step first)",
         cfg.t0, eq.reason));
   } else {
-    tracer.accept();
     s.u = tracer.u();
     res.iterations += eq.iterations;
     res.factorizations += eq.factorizations;
