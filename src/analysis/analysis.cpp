@@ -45,6 +45,20 @@ class StabilityWatch {
       : warn_(warn), following_(following) {}
   void observe(const AcceptedStep& st) {
     const int neg = st.report ? st.report->negative_pivots : -1;
+    // From a stable equilibrium to a stable one through iterations whose tangent was
+    // indefinite: under load control that is how a step jumps over a limit point onto the far
+    // branch of a snap-through (the pivots at the two ends cannot tell).
+    const int seen = st.report ? st.report->negative_pivots_seen : -1;
+    if (!following_ && st.report && st.report->branch_jump && !jump_told_) {
+      jump_told_ = true;
+      warn_(fmt::format(
+          "the step to t = {:.6g} (step {}) went from a stable equilibrium to a stable one "
+          "through iterations whose tangent stiffness was indefinite ({} negative eigenvalue{}): "
+          "the load may have passed a limit point and the step jumped to another branch "
+          "(a snap-through; said once). Check with smaller steps, or follow the path with "
+          "analysis.path (arc_length or displacement)",
+          st.t, st.step, seen, seen == 1 ? "" : "s"));
+    }
     if (neg < 0 || neg == last_) return;
     if (neg > 0 && last_ <= 0)
       warn_(fmt::format(
@@ -65,6 +79,7 @@ class StabilityWatch {
   std::function<void(std::string)> warn_;
   bool following_;  ///< path following: the path is followed already
   int last_ = 0;
+  bool jump_told_ = false;
 };
 
 // The energy balance, step by step: the work of the loads by the trapezoidal rule on

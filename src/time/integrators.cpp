@@ -276,6 +276,15 @@ StepReport StaticNewton::step(SecondOrderSystem& sys, LinearSolver& solver, doub
     rep.factorizations = factorizations;
     rep.negative_pivots_seen = std::max(rep.negative_pivots_seen, seen);
   }
+  if (rep.converged && negative_pivots_ == 0 && rep.negative_pivots == 0 &&
+      rep.negative_pivots_seen > 0) {
+    // Stable to stable through an indefinite tangent: a jump over a limit point when the
+    // increment is far beyond the last one's (scaled to this step); a load that turns back
+    // short of the limit moves about as far as before. Without a last increment, told.
+    const bool last =
+        continuous_ && sys.sum_over_processes(u_prev_.size() == s.u.size() ? 0.0 : 1.0) == 0.0;
+    rep.branch_jump = !last || sys.norm(u - s.u) > 5 * (h / h_prev_) * sys.norm(s.u - u_prev_);
+  }
   if (rep.converged) {
     remember(sys, t, h, s.u, u, rep);
     s.u = u;

@@ -217,6 +217,24 @@ if wanted("restart"):
     refused("fifo", longer, out, "not a regular file")
 
 
+# --- Load control past a snap-through's limit point: the step that jumps to the far branch is
+# told (stderr and summary.json), one that stays below the limit is not. ---
+if wanted("jump"):
+    truss = os.path.join(os.path.dirname(os.path.abspath(__file__)), "trust", "shallow-truss.yaml")
+    m = yaml.safe_load(open(truss))
+    del m["analysis"]["path"]
+    for name, end, step, jumps in [("past", 6.0, 2.0, True), ("below", 2.5, 2.5, False)]:
+        m["analysis"]["time"] = {"end": end, "step": step}
+        out = os.path.join(WORK, "jump", name)
+        p = velum("run", write("jump-" + name, m), "-o", out, "--threads", "1")
+        told = [w for w in summary(out)["warnings"] if "jumped to another branch" in w]
+        check(p.returncode == 0 and bool(told) == jumps and
+              ("jumped to another branch" in p.stderr) == jumps,
+              f"jump {name}: exit {p.returncode}, warnings {told}, stderr {p.stderr!r}")
+        v = float(open(os.path.join(out, "history.csv")).read().split()[-1].split(",")[1])
+        check((v < -0.2) == jumps, f"jump {name}: v = {v} (the far branch lies below -0.2)")
+
+
 # --- Results files are never written through a symbolic link; an I/O failure's summary. ---
 if wanted("symlink"):
     out = os.path.join(WORK, "symlink", "out")

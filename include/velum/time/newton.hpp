@@ -67,6 +67,9 @@ struct StepReport {
   /// Static steps: negative eigenvalues of the tangent stiffness at the converged state (0: a
   /// stable equilibrium); -1 when the factorisation does not tell (LU) or not static.
   int negative_pivots = -1;
+  /// Static load steps: from a stable equilibrium to a stable one through an indefinite
+  /// tangent, with an increment far beyond the last one's: likely a jump over a limit point.
+  bool branch_jump = false;
 };
 
 /// When an iterate is a solution: its residual within the tolerance of the largest force
