@@ -53,6 +53,7 @@ int FaceTree::split(std::span<const Box> boxes, int node, int begin, int end, in
 
 void FaceTree::refit(std::span<const Box> boxes) {
   boxes_ = boxes;
+  double v = 0;
   for (size_t k = nodes_.size(); k-- > 0;) {
     Node& n = nodes_[k];
     if (n.count > 0) {
@@ -63,6 +64,14 @@ void FaceTree::refit(std::span<const Box> boxes) {
       n.box = nodes_[static_cast<size_t>(n.first)].box;
       n.box.extend(nodes_[static_cast<size_t>(n.first + 1)].box);
     }
+    v += n.box.isEmpty() ? 0.0 : n.box.sizes().prod();
+  }
+  // Faces that moved far apart from the ones they were grouped with (a fold swept through
+  // the sheet) leave boxes that overlap more and more and queries that visit more of them:
+  // built afresh once the boxes' volume has doubled since the last build.
+  if (built_volume_ > 0 && v > kRebuildLooseness * built_volume_) {
+    build(boxes);
+    ++rebuilds_;
   }
 }
 

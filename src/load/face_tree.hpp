@@ -19,9 +19,12 @@ class FaceTree {
   /// The tree over `boxes` (one per face): median splits along the longest side of the
   /// centres' box, up to kLeaf faces a leaf.
   void build(std::span<const Box> boxes);
-  /// The same tree over the faces' new boxes (same count, same order). The tree reads `boxes`
-  /// in its queries: they must outlive them.
+  /// The same tree over the faces' new boxes (same count, same order), built afresh when the
+  /// refitted boxes' volume exceeds kRebuildLooseness times that of the last build. The tree
+  /// reads `boxes` in its queries: they must outlive them.
   void refit(std::span<const Box> boxes);
+  /// Builds made by refit() since construction.
+  int rebuilds() const { return rebuilds_; }
   /// Sum of the nodes' box volumes over their sum at the last build: > 1 as the tree loosens.
   double looseness() const { return built_volume_ > 0 ? volume() / built_volume_ : 1.0; }
   bool empty() const { return nodes_.empty(); }
@@ -80,6 +83,7 @@ class FaceTree {
 
  private:
   static constexpr int kLeaf = 4;
+  static constexpr double kRebuildLooseness = 2.0;
   static constexpr int kMaxDepth = 128;
   struct Node {
     Box box;
@@ -92,6 +96,7 @@ class FaceTree {
   std::vector<int> faces_;
   std::span<const Box> boxes_;  ///< the faces' boxes of the last build or refit (the caller's)
   double built_volume_ = 0;
+  int rebuilds_ = 0;
 };
 
 }  // namespace velum::contact

@@ -185,10 +185,16 @@ void SheetContactTerm::refit(const NodePositions& x) {
 template <class Found>
 void SheetContactTerm::scan(const NodePositions& x, Found&& found) {
   refit(x);
+  hits_.resize(pairs_.size());
   for (size_t p = 0; p < load_.passes.size(); ++p) {
     const Pass& pass = load_.passes[p];
     const auto& fs = load_.faces[static_cast<size_t>(pass.faces)];
-    for (size_t i = 0; i < pass.nodes.size(); ++i) {
+    // The search in parallel (each node's faces read only), the pairs then taken in node
+    // order by `found`, so the sums do not depend on the threads.
+    const long nodes = static_cast<long>(pass.nodes.size());
+#pragma omp parallel for schedule(dynamic, 256) if (nodes > kParallelSearch)
+    for (long ii = 0; ii < nodes; ++ii) {
+      const size_t i = static_cast<size_t>(ii);
       const int n = pass.nodes[i];
       const Vec3 y = x.col(n);
       const size_t k = slot(p, i);
@@ -222,9 +228,13 @@ void SheetContactTerm::scan(const NodePositions& x, Found&& found) {
         else if (std::abs(g) < best_abs)
           best = f, best_g = g, best_side = side, best_abs = std::abs(g);
       });
-      if (best < 0) continue;
-      const Face& face = fs[static_cast<size_t>(best)];
-      found(p, i, Pair{best, best_side}, best_side * best_g - pass.half[i] - face.half);
+      hits_[k] = {best, best_side, best_g};
+    }
+    for (size_t i = 0; i < pass.nodes.size(); ++i) {
+      const Hit& h = hits_[slot(p, i)];
+      if (h.face < 0) continue;
+      const Face& face = fs[static_cast<size_t>(h.face)];
+      found(p, i, Pair{h.face, h.side}, h.side * h.g - pass.half[i] - face.half);
     }
   }
 }

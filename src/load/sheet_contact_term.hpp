@@ -179,6 +179,8 @@ class SheetContactTerm final : public LoadTerm {
 
  private:
   static constexpr double kInside = 1e-3;  // barycentric slack at the faces' edges
+  // Nodes of a pass above which its search runs in parallel (below, threads cost more).
+  static constexpr long kParallelSearch = 2048;
   size_t slot(size_t p, size_t i) const { return first_[p] + i; }
   contact::Vec12 coordinates(const NodePositions& x, int node, const Face& f) const {
     contact::Vec12 X;
@@ -264,6 +266,12 @@ class SheetContactTerm final : public LoadTerm {
   std::vector<size_t> first_;  ///< per pass: its first slot
   std::vector<double> k_;      ///< per slot: the penalty
   std::vector<Pair> pairs_;    ///< per slot: the pair at the last accepted state
+  // Per slot: the face scan() found (-1: none), the side and the signed distance to it.
+  struct Hit {
+    int face = -1;
+    double side = 1, g = 0;
+  };
+  std::vector<Hit> hits_;
   std::vector<double> offset_, gap_accepted_;
   std::vector<double> transmitted_;  ///< per model node: the contact force it carries
   std::vector<int> anchor_face_;     ///< friction, per slot: the face of the anchor (-1: none)

@@ -82,6 +82,43 @@ TEST(SheetContact, FaceTreeFindsWhatEveryFaceHolds) {
   }
 }
 
+// Faces that move far from those they were grouped with (the sheet folded over itself): the
+// refitted boxes overlap ever more, so refit() builds the tree afresh once their volume has
+// doubled; the queries stay exact either way.
+TEST(SheetContact, FaceTreeRebuildsWhenFacesMoveApart) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<contact::Box> boxes(4000);
+  for (auto& b : boxes) {
+    const Vec3 c(u(rng), u(rng), 0.1 * u(rng));
+    b = contact::Box(c - Vec3::Constant(0.01), c + Vec3::Constant(0.01));
+  }
+  contact::FaceTree tree;
+  tree.build(boxes);
+  for (auto& b : boxes) b.translate(Vec3(0.002, 0, 0));  // a small move: refitted only
+  tree.refit(boxes);
+  EXPECT_EQ(tree.rebuilds(), 0);
+  EXPECT_LT(tree.looseness(), 1.1);
+  // Half the faces folded over: x mirrored about the middle.
+  for (size_t f = 0; f < boxes.size(); f += 2) {
+    const Vec3 c = boxes[f].center();
+    const Vec3 m(1.0 - c.x(), c.y(), c.z() + 0.2);
+    boxes[f] = contact::Box(m - Vec3::Constant(0.01), m + Vec3::Constant(0.01));
+  }
+  tree.refit(boxes);
+  EXPECT_EQ(tree.rebuilds(), 1);
+  EXPECT_LT(tree.looseness(), 1.5);
+  for (int q = 0; q < 500; ++q) {
+    const Vec3 p(u(rng), u(rng), 0.3 * u(rng));
+    std::vector<int> found, all;
+    tree.query(p, [&](int f) { found.push_back(f); });
+    for (size_t f = 0; f < boxes.size(); ++f)
+      if (boxes[f].contains(p)) all.push_back(static_cast<int>(f));
+    std::sort(found.begin(), found.end());
+    ASSERT_EQ(found, all);
+  }
+}
+
 constexpr double kT = 1e-3, kE = 1e9, kQ = 2000.0;
 
 struct LoopRun {

@@ -1,0 +1,136 @@
+// What sheet contact adds to a Newton iteration (issue 41: at most 20 % of it, linear in the
+// faces): two n x n quad4 sheets, the upper one resting on the lower one (every upper node in
+// contact), one Newton iteration = assembling the residual and tangent, factorising, one
+// solve, with the contact term and without it (the same sheets apart). Counters, seconds per
+// iteration (CPU, all threads): `with_s`, `without_s`, and of the iteration with contact
+// `contact_share`; the contact term alone (`term_s`: search, pairs and their matrix blocks) and the
+// low-rank columns it adds to the factorisation (`columns`). Faces: the lower sheet's 2 n²
+// triangles.
+#include <benchmark/benchmark.h>
+
+#include <sys/resource.h>
+
+#include <memory>
+
+#include "velum/analysis/mechanical_system.hpp"
+#include "velum/load/contact_load.hpp"
+#include "velum/model/model.hpp"
+#include "velum/solve/linear_solver.hpp"
+#include "velum/time/low_rank_solver.hpp"
+
+namespace {
+
+using namespace velum;
+// User + system CPU seconds of the process, all threads (the honest figure on a shared
+// machine).
+double cpu() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
+}
+
+// Two sheets 1 m square, 1 mm thick, prestressed (so each has a stiffness across its plane
+// without the other): the upper one a contact thickness above the lower one
+// less 1 µm, so every upper node presses; edges held, the upper sheet's inner nodes free.
+std::unique_ptr<Model> two_sheets(int n, bool contact) {
+  auto m = std::make_unique<Model>();
+  const double t = 1e-3;
+  std::vector<int> edge;
+  for (int layer = 0; layer < 2; ++layer) {
+    const int first = m->num_nodes();
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        m->add_node(first + j * (n + 1) + i + 1,
+                    Vec3(double(i) / n, double(j) / n, layer * (t - 1e-6)));
+        if (layer == 0 || i == 0 || j == 0 || i == n || j == n)
+          edge.push_back(first + j * (n + 1) + i);
+      }
+    std::vector<int> conn;
+    auto id = [&](int i, int j) { return first + j * (n + 1) + i; };
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        conn.insert(conn.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+    BlockSetupReport report;
+    m->blocks.push_back(make_membrane_block(
+        "quad4", layer ? "top" : "bottom", std::move(conn), m->X,
+        SheetLaw(PlaneStressLaw::isotropic("film", 1e9, 0.3)).with_prestress({1e6, 1e6, 0}), 1000.0,
+        t, nullptr, shape::Integration::kGauss, report));
+  }
+  m->fixed.push_back({edge, {true, true, true}});
+  if (contact) {
+    ContactLoad cl;
+    cl.parts.push_back({1, {}});
+    cl.other.push_back({0, {}});
+    for (int e = 0; e < m->blocks[0]->size(); ++e)
+      cl.parts[0].elements.push_back(e), cl.other[0].elements.push_back(e);
+    m->loads.add(make_load(cl));
+  }
+  for (auto& l : m->loads) l->set_up(*m);
+  return m;
+}
+
+struct Iteration {
+  double total = 0, columns = 0;
+};
+
+// One Newton iteration's parts, the symbolic analysis done before.
+Iteration iterate(MechanicalSystem& sys, int reps) {
+  auto sparse = make_linear_solver(SolverKind::kAuto);
+  LowRankCorrectedSolver solver(*sparse, sys);
+  const VecX zero = VecX::Zero(sys.size());
+  VecX r, du;
+  SparseMatrix J;
+  sys.evaluate(0, zero, zero, zero, 1, 0, 0, r, &J);
+  solver.refactorize(J);
+  Iteration it;
+  for (int k = 0; k < reps; ++k) {
+    const double t0 = cpu();
+    sys.evaluate(0, zero, zero, zero, 1, 0, 0, r, &J);
+    solver.refactorize(J);
+    solver.solve(-r, du);
+    it.total += (cpu() - t0) / reps;
+  }
+  it.columns = static_cast<double>(sys.jacobian_low_rank().U.cols());
+  return it;
+}
+
+void BM_ContactShareOfNewtonIteration(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const auto with = two_sheets(n, true), without = two_sheets(n, false);
+  MechanicalSystem sys_with(*with), sys_without(*without);
+  Iteration a, b;
+  double term = 0;
+  for (auto _ : state) {
+    a = iterate(sys_with, 2);
+    b = iterate(sys_without, 2);
+    // The contact term alone: its forces and matrix blocks at the pressed state.
+    NodePositions F = NodePositions::Zero(3, with->num_nodes());
+    SparseMatrix K;
+    sys_with.assembler().make_matrix(K);
+    LowRankJacobian L;
+    const int cols = sys_with.loads().back()->low_rank_columns();
+    L.U.setZero(sys_with.size(), cols);
+    L.W.setZero(sys_with.size(), cols);
+    const NodePositions V = NodePositions::Zero(3, with->num_nodes());
+    LoadOutput out{.F = F, .K = &K, .low_rank = &L, .column = 0};
+    const double t0 = cpu();
+    sys_with.loads().back()->add(LoadState{.t = 0, .x = with->X, .V = V}, out);
+    term = (cpu() - t0);
+  }
+  state.counters["faces"] = 2.0 * n * n;
+  state.counters["with_s"] = a.total;
+  state.counters["without_s"] = b.total;
+  state.counters["term_s"] = term;
+  state.counters["contact_share"] = (a.total - b.total) / a.total;
+  state.counters["columns"] = a.columns;
+  state.SetComplexityN(2L * n * n);
+}
+
+BENCHMARK(BM_ContactShareOfNewtonIteration)
+    ->Arg(71)   // 10k faces
+    ->Arg(224)  // 100k
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
+
+}  // namespace
