@@ -142,7 +142,7 @@ Vec2 flat_direction(const NodePositions& x, const FlatPanel& p, size_t i, const 
 // stiffness in its sheet axes turned to the flat warp direction of the triangle (e_sheet =
 // R e_flat, C_flat = R^T C R), or the isotropic one.
 std::vector<Mat3> energy_factors(const NodePositions& x, const FlatPanel& p, const PanelMesh& mesh,
-                                 const FlattenSettings& settings) {
+                                 const FlattenSettings& settings, bool& turned) {
   const Mat3 iso = plane_stress_factor(settings.nu);
   std::vector<Mat3> Lt(p.triangles.size(), iso);
   const double scale = settings.stiffness.cwiseAbs().maxCoeff();
@@ -155,14 +155,15 @@ std::vector<Mat3> energy_factors(const NodePositions& x, const FlatPanel& p, con
     Mat3 R;
     R << c * c, s * s, c * s, s * s, c * c, -c * s, -2 * c * s, 2 * c * s, c * c - s * s;
     Eigen::LLT<Mat3> llt(R.transpose() * C * R);
-    if (llt.info() == Eigen::Success) Lt[i] = llt.matrixL().transpose();
+    if (llt.info() == Eigen::Success) Lt[i] = llt.matrixL().transpose(), turned = true;
   }
   return Lt;
 }
 
 // Least-squares conformal map (Cauchy-Riemann residuals per triangle, two boundary nodes
-// pinned at their 3-D distance apart).
-void conformal_map(const NodePositions& x, FlatPanel& p) {
+// pinned at their 3-D distance apart); returns the pinned nodes (the first at the origin, the
+// second on the u axis).
+std::pair<int, int> conformal_map(const NodePositions& x, FlatPanel& p) {
   const int n = static_cast<int>(p.nodes.size());
   // Pins: two outline nodes far apart.
   auto farthest = [&](int from) {
@@ -217,6 +218,7 @@ void conformal_map(const NodePositions& x, FlatPanel& p) {
     p.uv[k] = k == a   ? Vec2(0, 0)
               : k == b ? Vec2(chord, 0)
                        : Vec2(z[col[2 * k]], z[col[2 * k + 1]]);
+  return {a, b};
 }
 
 // The panel's outline from its boundary edges (edges of one triangle), in their direction.
@@ -320,11 +322,12 @@ FlatPanel flatten_panel(const NodePositions& x, const PanelMesh& mesh,
   }
   if (mesh.quad_of.size() == mesh.triangles.size()) p.quad_of = mesh.quad_of;
   p.outline = outline_of(p.triangles);
-  conformal_map(x, p);
+  const auto [pin_a, pin_b] = conformal_map(x, p);
 
   // Gauss-Newton on the strain energy, the Jacobian of the residuals by forward differentiation.
   const Triangles m = metrics(x, p);
-  const std::vector<Mat3> Lt = energy_factors(x, p, mesh, settings);
+  bool turned = false;  // an energy in each triangle's flat warp direction
+  const std::vector<Mat3> Lt = energy_factors(x, p, mesh, settings, turned);
   const int nd = 2 * static_cast<int>(p.nodes.size());
   double E = energy_of(p, m, Lt, p.uv);
   const double E_scale = std::accumulate(m.area.begin(), m.area.end(), 0.0);
@@ -359,6 +362,18 @@ FlatPanel flatten_panel(const NodePositions& x, const PanelMesh& mesh,
     // A touch of damping fixes the flat panel's rigid motions (three zero modes).
     const double mu = 1e-10 * E_scale / static_cast<double>(p.triangles.size());
     for (int k = 0; k < nd; ++k) H.emplace_back(k, k, mu);
+    // The warp directions are carried into the flat triangles once, from the conformal map:
+    // turning the whole panel then turns the strains against them, a mode Gauss-Newton sees as
+    // nearly free (its J^T J is as small as the strains) while the linearised turn stretches
+    // the panel, so the line search cut every step to 1/512 and the panel crept (the 100-
+    // iteration cap on large orthotropic panels). The panel keeps the conformal map's
+    // orientation, in which those directions hold: the pins' turn and shift are held.
+    if (turned) {
+      double diagonal = 0;
+      for (const auto& h : H)
+        if (h.row() == h.col()) diagonal = std::max(diagonal, h.value());
+      for (int k : {2 * pin_a, 2 * pin_a + 1, 2 * pin_b + 1}) H.emplace_back(k, k, 1e8 * diagonal);
+    }
     SparseMatrix K(nd, nd);
     K.setFromTriplets(H.begin(), H.end());
     Eigen::SimplicialLDLT<SparseMatrix> solve(K);
