@@ -11,13 +11,22 @@
 #include <stdexcept>
 #include <unsupported/Eigen/AutoDiff>
 
+#include "flatten_cells.hpp"
+
 #include "velum/math/sparse.hpp"
 
 namespace velum {
 namespace {
 
+using flatten_cells::add_cell;
+using flatten_cells::quad_gradients;
+using flatten_cells::quad_residual;
+using flatten_cells::residual;
+
 using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Vec8 = Eigen::Matrix<double, 8, 1>;
 using Ad = Eigen::AutoDiffScalar<Vec6>;
+using Ad8 = Eigen::AutoDiffScalar<Vec8>;
 
 // A 3-D triangle in its own plane: q0 at the origin, q1 on the first axis.
 std::array<Vec2, 3> local_triangle(const NodePositions& x, const std::array<int, 3>& t) {
@@ -25,24 +34,6 @@ std::array<Vec2, 3> local_triangle(const NodePositions& x, const std::array<int,
   const Vec3 ex = e1.normalized();
   const Vec3 ey = e1.cross(e2).cross(e1).normalized();
   return {Vec2::Zero(), Vec2(e1.norm(), 0), Vec2(e2.dot(ex), e2.dot(ey))};
-}
-
-// The flat triangle P pulled onto the 3-D one (metric M = Q^T Q of its edges Q): the residual r
-// with energy r^T r / 2 = A_flat e^T C e / 2 (L: C = L L^T). NaN when P is folded.
-template <class T>
-Eigen::Matrix<T, 3, 1> residual(const Eigen::Matrix<T, 6, 1>& P, const Mat2& M, const Mat3& Lt) {
-  Eigen::Matrix<T, 2, 2> D;
-  D << P[2] - P[0], P[4] - P[0], P[3] - P[1], P[5] - P[1];
-  const T det = D(0, 0) * D(1, 1) - D(0, 1) * D(1, 0);
-  Eigen::Matrix<T, 2, 2> Di;
-  Di << D(1, 1) / det, -D(0, 1) / det, -D(1, 0) / det, D(0, 0) / det;
-  const Eigen::Matrix<T, 2, 2> C = Di.transpose() * M.cast<T>() * Di;
-  Eigen::Matrix<T, 3, 1> e;
-  e << (C(0, 0) - 1.0) / 2.0, (C(1, 1) - 1.0) / 2.0, C(0, 1);
-  using std::sqrt;
-  const T area = det / 2.0;
-  if (!(area > 0)) e.setConstant(T(std::numeric_limits<double>::quiet_NaN()));
-  return sqrt(area > 0 ? area : T(1.0)) * (Lt.cast<T>() * e);
 }
 
 Mat3 plane_stress_factor(double nu) {
@@ -55,6 +46,8 @@ Mat3 plane_stress_factor(double nu) {
 struct Triangles {
   std::vector<Mat2> metric;  // Q^T Q per triangle
   std::vector<double> area;
+  std::vector<std::array<Mat2, 4>> quad_metric;  // per quadrilateral, at its Gauss points
+  std::vector<size_t> quad_triangle;             // per quadrilateral, its first triangle
 };
 
 Triangles metrics(const NodePositions& x, const FlatPanel& p) {
@@ -67,20 +60,68 @@ Triangles metrics(const NodePositions& x, const FlatPanel& p) {
     t.metric.push_back(Q.transpose() * Q);
     t.area.push_back(Q.determinant() / 2);
   }
+  for (const auto& quad : p.quads) {
+    Eigen::Matrix<double, 3, 4> X;
+    for (int k = 0; k < 4; ++k) X.col(k) = x.col(p.nodes[quad[k]]);
+    std::array<Mat2, 4>& M = t.quad_metric.emplace_back();
+    for (int g = 0; g < 4; ++g) {
+      const Eigen::Matrix<double, 3, 2> G = X * quad_gradients(g);
+      M[g] = G.transpose() * G;
+    }
+  }
+  t.quad_triangle.assign(p.quads.size(), 0);
+  for (size_t i = p.quad_of.size(); i-- > 0;)
+    if (p.quad_of[i] >= 0) t.quad_triangle[static_cast<size_t>(p.quad_of[i])] = i;
   return t;
 }
 
-Vec6 corners(const std::vector<Vec2>& uv, const std::array<int, 3>& t) {
-  Vec6 P;
-  for (int k = 0; k < 3; ++k) P.segment<2>(2 * k) = uv[t[k]];
+template <int K>
+Eigen::Matrix<double, 2 * K, 1> corners(const std::vector<Vec2>& uv, const std::array<int, K>& t) {
+  Eigen::Matrix<double, 2 * K, 1> P;
+  for (int k = 0; k < K; ++k) P.template segment<2>(2 * k) = uv[t[k]];
   return P;
+}
+
+bool in_quad(const FlatPanel& p, size_t i) {
+  return i < p.quad_of.size() && p.quad_of[i] >= 0;
+}
+
+// Visits every cell's residuals at uv: the triangles that are no quadrilateral's, then the
+// quadrilaterals, as visit(residuals, local nodes), with the scalar type T (double, or a
+// forward derivative over the cell's coordinates).
+template <bool kDerivatives, class Visit>
+void for_each_cell(const FlatPanel& p, const Triangles& m, const std::vector<Mat3>& Lt,
+                   const std::vector<Vec2>& uv, Visit&& visit) {
+  for (size_t i = 0; i < p.triangles.size(); ++i) {
+    if (in_quad(p, i)) continue;
+    const auto& t = p.triangles[i];
+    const Vec6 pv = corners<3>(uv, t);
+    if constexpr (kDerivatives) {
+      Eigen::Matrix<Ad, 6, 1> P;
+      for (int k = 0; k < 6; ++k) P[k] = Ad(pv[k], 6, k);
+      visit(residual<Ad>(P, m.metric[i], Lt[i]), t);
+    } else {
+      visit(residual<double>(pv, m.metric[i], Lt[i]), t);
+    }
+  }
+  for (size_t q = 0; q < p.quads.size(); ++q) {
+    const auto& t = p.quads[q];
+    const Vec8 pv = corners<4>(uv, t);
+    const Mat3& L = Lt[m.quad_triangle[q]];
+    if constexpr (kDerivatives) {
+      Eigen::Matrix<Ad8, 8, 1> P;
+      for (int k = 0; k < 8; ++k) P[k] = Ad8(pv[k], 8, k);
+      visit(quad_residual<Ad8>(P, m.quad_metric[q], L), t);
+    } else {
+      visit(quad_residual<double>(pv, m.quad_metric[q], L), t);
+    }
+  }
 }
 
 double energy_of(const FlatPanel& p, const Triangles& m, const std::vector<Mat3>& Lt,
                  const std::vector<Vec2>& uv) {
   double E = 0;
-  for (size_t i = 0; i < p.triangles.size(); ++i)
-    E += residual<double>(corners(uv, p.triangles[i]), m.metric[i], Lt[i]).squaredNorm() / 2;
+  for_each_cell<false>(p, m, Lt, uv, [&](const auto& r, const auto&) { E += r.squaredNorm() / 2; });
   return std::isfinite(E) ? E : std::numeric_limits<double>::infinity();
 }
 
@@ -101,7 +142,7 @@ Vec2 flat_direction(const NodePositions& x, const FlatPanel& p, size_t i, const 
 // stiffness in its sheet axes turned to the flat warp direction of the triangle (e_sheet =
 // R e_flat, C_flat = R^T C R), or the isotropic one.
 std::vector<Mat3> energy_factors(const NodePositions& x, const FlatPanel& p, const PanelMesh& mesh,
-                                 const FlattenSettings& settings) {
+                                 const FlattenSettings& settings, bool& turned) {
   const Mat3 iso = plane_stress_factor(settings.nu);
   std::vector<Mat3> Lt(p.triangles.size(), iso);
   const double scale = settings.stiffness.cwiseAbs().maxCoeff();
@@ -114,14 +155,15 @@ std::vector<Mat3> energy_factors(const NodePositions& x, const FlatPanel& p, con
     Mat3 R;
     R << c * c, s * s, c * s, s * s, c * c, -c * s, -2 * c * s, 2 * c * s, c * c - s * s;
     Eigen::LLT<Mat3> llt(R.transpose() * C * R);
-    if (llt.info() == Eigen::Success) Lt[i] = llt.matrixL().transpose();
+    if (llt.info() == Eigen::Success) Lt[i] = llt.matrixL().transpose(), turned = true;
   }
   return Lt;
 }
 
 // Least-squares conformal map (Cauchy-Riemann residuals per triangle, two boundary nodes
-// pinned at their 3-D distance apart).
-void conformal_map(const NodePositions& x, FlatPanel& p) {
+// pinned at their 3-D distance apart); returns the pinned nodes (the first at the origin, the
+// second on the u axis).
+std::pair<int, int> conformal_map(const NodePositions& x, FlatPanel& p) {
   const int n = static_cast<int>(p.nodes.size());
   // Pins: two outline nodes far apart.
   auto farthest = [&](int from) {
@@ -176,6 +218,7 @@ void conformal_map(const NodePositions& x, FlatPanel& p) {
     p.uv[k] = k == a   ? Vec2(0, 0)
               : k == b ? Vec2(chord, 0)
                        : Vec2(z[col[2 * k]], z[col[2 * k + 1]]);
+  return {a, b};
 }
 
 // The panel's outline from its boundary edges (edges of one triangle), in their direction.
@@ -246,22 +289,14 @@ std::string disc_problem(const PanelMesh& mesh, int num_nodes) {
 double flattening_energy(const NodePositions& x, const FlatPanel& panel, double nu,
                          VecX* gradient) {
   const Triangles m = metrics(x, panel);
-  const Mat3 Lt = plane_stress_factor(nu);
+  const std::vector<Mat3> Lt(panel.triangles.size(), plane_stress_factor(nu));
   double E = 0;
-  if (gradient) gradient->setZero(2 * static_cast<long>(panel.uv.size()));
-  for (size_t i = 0; i < panel.triangles.size(); ++i) {
-    const auto& t = panel.triangles[i];
-    Eigen::Matrix<Ad, 6, 1> P;
-    const Vec6 p = corners(panel.uv, t);
-    for (int k = 0; k < 6; ++k) P[k] = Ad(p[k], 6, k);
-    const Eigen::Matrix<Ad, 3, 1> r = residual<Ad>(P, m.metric[i], Lt);
-    for (int a = 0; a < 3; ++a) {
-      E += r[a].value() * r[a].value() / 2;
-      if (gradient)
-        for (int k = 0; k < 6; ++k)
-          (*gradient)[2 * t[k / 2] + k % 2] += r[a].value() * r[a].derivatives()[k];
-    }
-  }
+  VecX g = VecX::Zero(2 * static_cast<long>(panel.uv.size()));
+  for_each_cell<true>(panel, m, Lt, panel.uv, [&](const auto& r, const auto& nodes) {
+    for (int a = 0; a < r.size(); ++a) E += r[a].value() * r[a].value() / 2;
+    if (gradient) add_cell(r, nodes, g, nullptr);
+  });
+  if (gradient) *gradient = g;
   return E;
 }
 
@@ -280,23 +315,31 @@ FlatPanel flatten_panel(const NodePositions& x, const PanelMesh& mesh,
     }
     p.triangles.push_back(l);
   }
+  for (const auto& q : mesh.quads) {
+    std::array<int, 4> l{};
+    for (int k = 0; k < 4; ++k) l[k] = local.at(q[k]);  // the quads' corners are triangles'
+    p.quads.push_back(l);
+  }
+  if (mesh.quad_of.size() == mesh.triangles.size()) p.quad_of = mesh.quad_of;
   p.outline = outline_of(p.triangles);
-  conformal_map(x, p);
+  const auto [pin_a, pin_b] = conformal_map(x, p);
 
   // Gauss-Newton on the strain energy, the Jacobian of the residuals by forward differentiation.
   const Triangles m = metrics(x, p);
-  const std::vector<Mat3> Lt = energy_factors(x, p, mesh, settings);
+  bool turned = false;  // an energy in each triangle's flat warp direction
+  const std::vector<Mat3> Lt = energy_factors(x, p, mesh, settings, turned);
   const int nd = 2 * static_cast<int>(p.nodes.size());
   double E = energy_of(p, m, Lt, p.uv);
   const double E_scale = std::accumulate(m.area.begin(), m.area.end(), 0.0);
   for (int it = 0; it < settings.max_iterations && E > 1e-30 * E_scale; ++it) {
     std::vector<Eigen::Triplet<double>> H;
     VecX g = VecX::Zero(nd);
-    H.reserve(p.triangles.size() * 36 + static_cast<size_t>(nd));
+    H.reserve(p.triangles.size() * 36 + p.quads.size() * 28 + static_cast<size_t>(nd));
     for (size_t i = 0; i < p.triangles.size(); ++i) {
+      if (in_quad(p, i)) continue;
       const auto& t = p.triangles[i];
       Eigen::Matrix<Ad, 6, 1> P;
-      const Vec6 pv = corners(p.uv, t);
+      const Vec6 pv = corners<3>(p.uv, t);
       for (int k = 0; k < 6; ++k) P[k] = Ad(pv[k], 6, k);
       const Eigen::Matrix<Ad, 3, 1> r = residual<Ad>(P, m.metric[i], Lt[i]);
       Eigen::Matrix<double, 3, 6> J;
@@ -310,9 +353,27 @@ FlatPanel flatten_panel(const NodePositions& x, const PanelMesh& mesh,
         for (int b = 0; b < 6; ++b) H.emplace_back(ia, 2 * t[b / 2] + b % 2, JJ(a, b));
       }
     }
+    for (size_t q = 0; q < p.quads.size(); ++q) {
+      Eigen::Matrix<Ad8, 8, 1> P;
+      const Vec8 pv = corners<4>(p.uv, p.quads[q]);
+      for (int k = 0; k < 8; ++k) P[k] = Ad8(pv[k], 8, k);
+      add_cell(quad_residual<Ad8>(P, m.quad_metric[q], Lt[m.quad_triangle[q]]), p.quads[q], g, &H);
+    }
     // A touch of damping fixes the flat panel's rigid motions (three zero modes).
     const double mu = 1e-10 * E_scale / static_cast<double>(p.triangles.size());
     for (int k = 0; k < nd; ++k) H.emplace_back(k, k, mu);
+    // The warp directions are carried into the flat triangles once, from the conformal map:
+    // turning the whole panel then turns the strains against them, a mode Gauss-Newton sees as
+    // nearly free (its J^T J is as small as the strains) while the linearised turn stretches
+    // the panel, so the line search cut every step to 1/512 and the panel crept (the 100-
+    // iteration cap on large orthotropic panels). The panel keeps the conformal map's
+    // orientation, in which those directions hold: the pins' turn and shift are held.
+    if (turned) {
+      double diagonal = 0;
+      for (const auto& h : H)
+        if (h.row() == h.col()) diagonal = std::max(diagonal, h.value());
+      for (int k : {2 * pin_a, 2 * pin_a + 1, 2 * pin_b + 1}) H.emplace_back(k, k, 1e8 * diagonal);
+    }
     SparseMatrix K(nd, nd);
     K.setFromTriplets(H.begin(), H.end());
     Eigen::SimplicialLDLT<SparseMatrix> solve(K);
@@ -363,15 +424,26 @@ FlatPanel flatten_panel(const NodePositions& x, const PanelMesh& mesh,
   for (Vec2& q : p.uv) q = R * (q - mean), lo = lo.cwiseMin(q);
   for (Vec2& q : p.uv) q -= lo;
 
-  // Areas and the strain left in each triangle.
+  // Areas and the strain left in each triangle (in a quadrilateral: at its Gauss points).
+  auto largest = [](const Mat2& D, const Mat2& M) {
+    const Mat2 Di = D.inverse();
+    const Mat2 Eg = (Di.transpose() * M * Di - Mat2::Identity()) / 2;
+    return Eigen::SelfAdjointEigenSolver<Mat2>(Eg).eigenvalues().cwiseAbs().maxCoeff();
+  };
+  std::vector<double> quad_strain(p.quads.size(), 0.0);
+  for (size_t q = 0; q < p.quads.size(); ++q) {
+    Eigen::Matrix<double, 2, 4> P;
+    for (int k = 0; k < 4; ++k) P.col(k) = p.uv[p.quads[q][k]];
+    for (int g = 0; g < 4; ++g)
+      quad_strain[q] =
+          std::max(quad_strain[q], largest(P * quad_gradients(g), m.quad_metric[q][g]));
+  }
   for (size_t i = 0; i < p.triangles.size(); ++i) {
     const auto& t = p.triangles[i];
     Mat2 D;
     D << p.uv[t[1]] - p.uv[t[0]], p.uv[t[2]] - p.uv[t[0]];
-    const Mat2 Di = D.inverse();
-    const Mat2 Eg = (Di.transpose() * m.metric[i] * Di - Mat2::Identity()) / 2;
-    const Eigen::Vector2d ev = Eigen::SelfAdjointEigenSolver<Mat2>(Eg).eigenvalues();
-    p.strain.push_back(ev.cwiseAbs().maxCoeff());
+    p.strain.push_back(in_quad(p, i) ? quad_strain[static_cast<size_t>(p.quad_of[i])]
+                                     : largest(D, m.metric[i]));
     p.max_strain = std::max(p.max_strain, p.strain.back());
     p.area_3d += m.area[i];
     p.area_flat += D.determinant() / 2;

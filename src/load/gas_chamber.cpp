@@ -50,6 +50,13 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
     return element_id ? element_id(b, e) : static_cast<long>(e) + 1;
   };
   if (gas.parts.empty()) throw std::invalid_argument("the gas chamber lists no elements");
+  // The chamber is measured where the sheet starts (the reference coordinates plus the start
+  // displacement of mesh.reference_positions), as an airbag's initial volume is its folded
+  // one: a bag sewn from two flat panels encloses nothing at its reference. The reference
+  // coordinates only give the stress-free metric; symmetry holds the start position.
+  NodePositions start;
+  if (model.U0.size()) start = model.X + model.U0;
+  const NodePositions& x0 = model.U0.size() ? start : model.X;
   // Extent of the chamber, for the tolerance of "on the plane".
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
   for (const auto& part : gas.parts) {
@@ -58,7 +65,7 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
       throw std::invalid_argument(
           fmt::format("gas acts on membranes; set '{}' holds {}", b.set_name(), b.type_name()));
     for (int e : part.elements)
-      for (int n : b.nodes(e)) lo = lo.cwiseMin(model.X.col(n)), hi = hi.cwiseMax(model.X.col(n));
+      for (int n : b.nodes(e)) lo = lo.cwiseMin(x0.col(n)), hi = hi.cwiseMax(x0.col(n));
   }
   const double tol = 1e-8 * (hi - lo).norm();
   auto id = [&](int n) { return model.node_ids[n]; };
@@ -121,7 +128,7 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
       if (f.fix[c])
         for (int n : f.nodes) held[n].push_back(Vec3::Unit(c));
   auto on_plane = [&](int n, const Vec3& normal) {
-    if (std::abs((model.X.col(n) - gas.origin).dot(normal)) > tol) return false;
+    if (std::abs((x0.col(n) - gas.origin).dot(normal)) > tol) return false;
     return std::any_of(held[n].begin(), held[n].end(),
                        [&](const Vec3& h) { return std::abs(std::abs(h.dot(normal)) - 1) < 1e-9; });
   };
@@ -194,7 +201,7 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
   if (by_piece.size() > 1)
     for (auto& [root, piece] : by_piece) {
       piece.chamber.origin = gas.origin;
-      const double v = gas_chamber_volume(model, piece.chamber, model.X);
+      const double v = gas_chamber_volume(model, piece.chamber, x0);
       if (!(v > 0))
         throw std::invalid_argument(fmt::format(
             "the surface has {} separate pieces and the one with element {} of set '{}' "
@@ -204,7 +211,7 @@ void set_up_gas_chamber(const Model& model, GasLoad& gas,
             model.blocks[gas.parts[piece.part].block]->set_name(), v));
     }
 
-  const double V = gas_chamber_volume(model, gas, model.X);
+  const double V = gas_chamber_volume(model, gas, x0);
   // Zero to round-off (the cone volumes of the elements, each at most the chamber's extent
   // times its area, sum to it): a sheet lying in a plane through the origin, or one that
   // encloses nothing with the planes. A thin chamber (a tube of 1 mm over 100 m) stays far

@@ -48,13 +48,13 @@ class GasChamber final : public Load, public GasLoad {
   std::string summary(int index) const override {
     if (flows())
       return fmt::format(
-          "gas {}:      reference volume {:.6g}, initial pressure {:.6g}, ambient {:.6g}, "
+          "gas {}:      initial volume {:.6g}, initial pressure {:.6g}, ambient {:.6g}, "
           "gamma {:.6g}, temperature {:.6g}, gas constant {:.6g}; {} inflator(s), {} vent(s), "
           "{} leaking set(s), {} orifice(s)",
           index, V0, initial_pressure, ambient, gamma, temperature, gas_constant, inflators.size(),
           vents.size(), leaks.size(), orifices.size());
     return fmt::format(
-        "gas {}:      reference volume {:.6g}, initial pressure {:.6g}, ambient {:.6g}, "
+        "gas {}:      initial volume {:.6g}, initial pressure {:.6g}, ambient {:.6g}, "
         "gamma {:.6g}",
         index, V0, initial_pressure, ambient, gamma);
   }

@@ -18,7 +18,8 @@ namespace velum::run {
 namespace {
 
 // The panel's triangles (quadrilaterals split along a diagonal, corners only) with the
-// section's warp (its first sheet axis) on the shape x at each element's centre.
+// section's warp (its first sheet axis) on the shape x at each element's centre; quad4
+// elements also as quadrilaterals, flattened for the strain quad4 measures.
 PanelMesh panel_mesh(const Model& m, const std::string& set, const NodePositions& x,
                      FlattenSettings& settings) {
   PanelMesh mesh;
@@ -26,12 +27,18 @@ PanelMesh panel_mesh(const Model& m, const std::string& set, const NodePositions
     if (b->set_name() != set || !b->surface()) continue;
     settings.stiffness = b->sheet_stiffness();  // one section per set
     const int corners = b->shape().corners;
+    const bool bilinear = b->type_name() == "quad4";
     for (int e = 0; e < b->size(); ++e) {
       const auto n = b->nodes(e);
       const Vec3 warp = b->output(e, x).stress.axis1;
+      const int quad = bilinear ? static_cast<int>(mesh.quads.size()) : -1;
+      if (bilinear) mesh.quads.push_back({n[0], n[1], n[2], n[3]});
       mesh.triangles.push_back({n[0], n[1], n[2]});
       mesh.warp.push_back(warp);
-      if (corners == 4) mesh.triangles.push_back({n[0], n[2], n[3]}), mesh.warp.push_back(warp);
+      mesh.quad_of.push_back(quad);
+      if (corners == 4)
+        mesh.triangles.push_back({n[0], n[2], n[3]}), mesh.warp.push_back(warp),
+            mesh.quad_of.push_back(quad);
     }
   }
   return mesh;

@@ -5,8 +5,11 @@ reaches the state of the run started at the reference.
 The bag of slack_bag.py (one eighth of a 0.6 m square bag, 8 x 8 quad4, nylon, wrinkling, a
 3 cm stress-free bulge), inflated by gas to 5.6 times its initial amount by `static`: once
 started at its reference, once from a shrunk mesh (in-plane 0.9, bulge 1.6 times) with the
-reference given as mesh.reference_positions. Then bad input: an unknown node, a node given
-twice. Usage: reference_geometry.py VELUM WORKDIR."""
+reference given as mesh.reference_positions. A gas chamber's initial volume is measured where
+the sheet starts (as an airbag's is its folded volume), so the shrunk run starts at the
+initial pressure in its own volume and its amount ends at 5.6 V_reference / V_start: both runs
+hold the same gas. Then bad input: an unknown node, a node given twice.
+Usage: reference_geometry.py VELUM WORKDIR."""
 import csv
 import math
 import os
@@ -28,12 +31,40 @@ def grid(shrink=1.0, lift=1.0):
     return nodes
 
 
-def model(start, reference=None):
+def quads():
     elems = []
     for j in range(N):
         for i in range(N):
             k = j * (N + 1) + i + 1
             elems.append([k, k + 1, k + N + 2, k + N + 1])
+    return elems
+
+
+def volume(nodes):
+    """The eighth's volume with the planes through the origin, (1/3) sum of the integral of
+    x . (g1 x g2) over each bilinear quad: 2 x 2 Gauss points integrate it exactly."""
+    at = {n[0]: n[1:] for n in nodes}
+    g = 1 / math.sqrt(3)
+    V = 0.0
+    for e in quads():
+        c = [at[n] for n in e]
+        for xi in (-g, g):
+            for eta in (-g, g):
+                N4 = [(1 - xi) * (1 - eta) / 4, (1 + xi) * (1 - eta) / 4,
+                      (1 + xi) * (1 + eta) / 4, (1 - xi) * (1 + eta) / 4]
+                dxi = [-(1 - eta) / 4, (1 - eta) / 4, (1 + eta) / 4, -(1 + eta) / 4]
+                deta = [-(1 - xi) / 4, -(1 + xi) / 4, (1 + xi) / 4, (1 - xi) / 4]
+                x = [sum(N4[a] * c[a][k] for a in range(4)) for k in range(3)]
+                g1 = [sum(dxi[a] * c[a][k] for a in range(4)) for k in range(3)]
+                g2 = [sum(deta[a] * c[a][k] for a in range(4)) for k in range(3)]
+                n = [g1[1] * g2[2] - g1[2] * g2[1], g1[2] * g2[0] - g1[0] * g2[2],
+                     g1[0] * g2[1] - g1[1] * g2[0]]
+                V += sum(x[k] * n[k] for k in range(3)) / 3
+    return V
+
+
+def model(start, reference=None, amount=AMOUNT):
+    elems = quads()
     plane_x = [j * (N + 1) + 1 for j in range(N + 1)]
     plane_y = [i + 1 for i in range(N + 1)]
     seam = sorted({j * (N + 1) + N + 1 for j in range(N + 1)} | {N * (N + 1) + i + 1 for i in range(N + 1)})
@@ -59,7 +90,7 @@ boundary:
 loads:
   - {{type: gas, elements: sheet, initial_pressure: 101325.0, ambient: 101325.0, gamma: 1.0, amount: fill}}
 functions:
-  fill: {{type: table, points: [[0, 1], [1, {AMOUNT}]]}}
+  fill: {{type: table, points: [[0, 1], [1, {amount!r}]]}}
 analysis:
   type: static
   time: {{end: 1.0, step: 0.1, min_step: 1.0e-6, adaptive: true}}
@@ -106,10 +137,17 @@ def main():
     reference = grid()
     _, flat = run(velum, work, "at_reference", model(reference))
     start = grid(0.9, 1.6)
-    first, shrunk = run(velum, work, "shrunk", model(start, reference))
-    # The run starts where the mesh puts the sheet, not at its reference.
+    v_ref, v_start = volume(reference), volume(start)
+    first, shrunk = run(velum, work, "shrunk", model(start, reference, AMOUNT * v_ref / v_start))
+    # The run starts where the mesh puts the sheet, not at its reference, and the gas fills
+    # the volume there at its initial pressure.
     if not abs(first["xc"] - 0.9 * A) < 1e-9:
         failures.append(f"the shrunk run starts with node {N + 1} at x = {first['xc']}, not {0.9 * A}")
+    print(f"start volumes: reference {v_ref:.8g}, shrunk {v_start:.8g}; "
+          f"the shrunk run's first V {first['V']:.8g}, p {first['p']:.8g}")
+    if not (abs(first["V"] - v_start) < 1e-12 * v_start and abs(first["p"] - 101325.0) < 1e-9):
+        failures.append(f"the shrunk run starts at V {first['V']}, p {first['p']}: "
+                        f"not its start volume {v_start} at the initial pressure")
     if not flat["p"] - 101325.0 > 1e3:
         failures.append(f"the bag never went taut: gauge {flat['p'] - 101325.0} Pa")
     for key in ("V", "p", "z0", "xc", "xm", "zm"):

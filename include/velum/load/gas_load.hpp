@@ -25,7 +25,7 @@ struct GasLoad {
   double initial_pressure = 0, ambient = 0, gamma = 1;
   int amount = -1;  ///< time function of the gas amount (relative to the initial), -1: 1
   Vec3 origin = Vec3::Zero();
-  double V0 = 0;  ///< reference volume, set by set_up_gas_chamber
+  double V0 = 0;  ///< initial volume (at the start coordinates), set by set_up_gas_chamber
 
   // Gas flow (docs/inflatables.md): on when gas_constant > 0.
   double temperature = 0, gas_constant = 0;

@@ -10,7 +10,9 @@
 
 namespace velum {
 
-/// Checks chamber `gas` of `model` and sets gas.V0 (the volume at the reference coordinates).
+/// Checks chamber `gas` of `model` and sets gas.V0, the volume where the sheet starts (the
+/// reference coordinates moved by the start displacement model.U0, if any): the checks below
+/// are made there too.
 /// Every edge must be shared by exactly two of the listed elements, traversed in opposite
 /// directions (consistent normals), or lie on a plane through the origin on which a symmetry
 /// or fix boundary condition holds its nodes; the volume must be positive (normals out of

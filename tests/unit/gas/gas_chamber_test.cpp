@@ -65,6 +65,27 @@ TEST(GasChamber, ClosedBySymmetryPlanesHasTheOctantVolume) {
   EXPECT_NEAR(m->gases[0].V0, exact, 2e-4 * exact);
 }
 
+// A chamber's initial volume is measured where the sheet starts (mesh.reference_positions:
+// X + U0), as an airbag's is its folded volume: the octant with a flat stress-free reference
+// (its nodes pressed onto z = 0, which encloses nothing) has the octant's volume.
+TEST(GasChamber, InitialVolumeIsTheStartVolume) {
+  auto m = gas_octant("quad9", 4);
+  const NodePositions start = m->X;
+  NodePositions flat = start;
+  flat.row(2).setZero();
+  BlockSetupReport report;
+  m->blocks[0] = make_membrane_block("quad9", "sheet", m->blocks[0]->connectivity(), flat,
+                                     PlaneStressLaw::isotropic("skin", 1e7, 0.3), 1000.0, 1e-3,
+                                     nullptr, shape::Integration::kGauss, report);
+  m->X = flat;
+  EXPECT_NE(setup_error(*m).find("zero to round-off"), std::string::npos);
+  m->U0 = start - flat;
+  EXPECT_EQ(setup_error(*m), "");
+  const double exact = M_PI / 6;
+  EXPECT_NEAR(m->gases[0].V0, exact, 2e-4 * exact);
+  EXPECT_DOUBLE_EQ(m->gases[0].V0, gas_chamber_volume(*m, m->gases[0], start));
+}
+
 TEST(GasChamber, OpenSurfaceIsAnError) {
   auto m = gas_octant("quad4", 3, false);
   const std::string why = setup_error(*m);
