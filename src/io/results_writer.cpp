@@ -402,13 +402,16 @@ double ResultsWriter::history_value(const HistoryEntry& h, const StepSnapshot& s
     case Q::kContactForce:
     case Q::kContactArea:
     case Q::kRigidPosition:
-    case Q::kRigidVelocity: {
+    case Q::kRigidVelocity:
+    case Q::kRigidRotation:
+    case Q::kRigidAngularVelocity: {
       // A contact force: the sum of this process's nodes over the contacts with the body
       // (summed over processes with the row); a body's motion: from its first contact.
       double sum = 0;
       for (const auto& term : system_->loads())
         if (auto q = term->quantity_at(h.flow, snap.step.t, x)) {
-          if (h.quantity == Q::kRigidPosition || h.quantity == Q::kRigidVelocity)
+          if (h.quantity == Q::kRigidPosition || h.quantity == Q::kRigidVelocity ||
+              h.quantity == Q::kRigidRotation || h.quantity == Q::kRigidAngularVelocity)
             return first ? *q : 0.0;
           sum += *q;
         }

@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "contact_law.hpp"
+#include "rigid_rotation.hpp"
 #include "sheet_contact.hpp"
 #include "velum/assembly/assembler.hpp"
 #include "velum/load/contact_load.hpp"
@@ -95,7 +97,7 @@ class ContactTerm final : public LoadTerm {
     const double sf = site_.model.function_value(load_.body.function, s.t);
     const bool share = site_.assembler.local_share();
     const int b = load_.body_node;
-    const Vec3 d = translation(s.x);
+    const Frame fr = frame(s.t, s.x);
     // A free body: its node takes the opposite forces; its coupling with the contact nodes
     // (outside the mesh's pattern) is the low-rank part U Wᵀ = Σ P_i D_i P_bᵀ + P_b D_i P_iᵀ.
     MatX* U = b >= 0 && out.K && out.low_rank ? &out.low_rank->U : nullptr;
@@ -106,8 +108,12 @@ class ContactTerm final : public LoadTerm {
     for (size_t i = 0; i < load_.nodes.size(); ++i) {
       const int n = load_.nodes[i];
       if (share && !site_.assembler.keeps_node(n)) continue;
-      const contact::NodeResult r = evaluate(i, s.x.col(n) - d, sf, out.K != nullptr);
+      contact::NodeResult r = evaluate(i, to_body(fr, s.x.col(n)), sf, out.K != nullptr);
       if (r.status == contact::Status::kOpen) continue;
+      if (fr.turned) {  // the law in the body's axes: back to the global ones
+        r.f = fr.R * r.f;
+        r.D = fr.R * r.D * fr.R.transpose();
+      }
       out.F.col(n) += r.f;
       if (out.K) add_block(n, r.D, *out.K);
       if (b < 0) continue;
@@ -127,24 +133,30 @@ class ContactTerm final : public LoadTerm {
   }
   int low_rank_columns() const override { return load_.body_node >= 0 ? 6 : 0; }
 
-  void start(const LoadState& s) override { move_on(s, false); }
-  void commit(const LoadState& s) override { move_on(s, load_.augmented); }
+  void start(const LoadState& s) override {
+    if (rot_) rot_->start(s.t, Vec3::Zero());  // the orientation at s.t is the committed one
+    move_on(s, false, true);
+  }
+  void commit(const LoadState& s) override { move_on(s, load_.augmented, false); }
   void save_state(std::vector<double>& out) const override {
     out.push_back(static_cast<double>(lambda_.size()));
     for (size_t i = 0; i < lambda_.size(); ++i) {
       out.push_back(lambda_[i]);
       out.insert(out.end(), anchor_[i].data(), anchor_[i].data() + 3);
     }
+    if (rot_) rot_->save(out);
   }
   size_t restore_state(const std::vector<double>& in, size_t at) override {
+    const size_t rotation = rot_ ? rigid::Rotation::kSaved : 0;
     if (at >= in.size() || in[at] != static_cast<double>(lambda_.size()) ||
-        in.size() < at + 1 + 4 * lambda_.size())
+        in.size() < at + 1 + 4 * lambda_.size() + rotation)
       throw std::invalid_argument("the contact's saved state does not fit its nodes");
     ++at;
     for (size_t i = 0; i < lambda_.size(); ++i, at += 4) {
       lambda_[i] = in[at];
       anchor_[i] = Vec3(in[at + 1], in[at + 2], in[at + 3]);
     }
+    if (rot_) at = rot_->restore(in, at);
     return at;
   }
 
@@ -163,11 +175,23 @@ class ContactTerm final : public LoadTerm {
     for (size_t i = 0; i < load_.nodes.size(); ++i)
       if (const double m = node_mass[static_cast<size_t>(load_.nodes[i])]; m > 0)
         most = std::max(most, k_[i] * (1 + load_.friction) / m);
+    // A rotating body: a node's penalty at the body's reach turns it (k r² over its least
+    // principal inertia).
+    if (rot_)
+      for (size_t i = 0; i < load_.nodes.size(); ++i) {
+        const double r = load_.body.reach + load_.node_thickness[i];
+        most = std::max(most, k_[i] * (1 + load_.friction) * r * r / rot_->least_inertia());
+      }
     return most;
   }
   // Contact not kept: past its tolerance a warning; past the contact thickness the sheet is
   // through the body.
   std::string end_check(const std::function<void(std::string)>& warn) const override {
+    if (rotation_step_ratio_ > 1)
+      warn(fmt::format(
+          "contact {}: the rotation of '{}' is advanced explicitly and a step was {:.3g} times "
+          "its stable length for the contact's stiffness (take shorter steps)",
+          load_.index, load_.body.name, rotation_step_ratio_));
     return contact::penetration_check(
         processes::max(penetration_ratio_),
         fmt::format("contact {} with '{}'", load_.index, load_.body.name),
@@ -204,11 +228,34 @@ class ContactTerm final : public LoadTerm {
           K.coeffRef(ri, cj) += A(i, j);
     }
   }
-  void move_on(const LoadState& s, bool update_multipliers);
+  void move_on(const LoadState& s, bool update_multipliers, bool starting);
   // A free body's translation at positions x (0 for a fixed or moved one).
   Vec3 translation(const NodePositions& x) const {
     const int b = load_.body_node;
     return b >= 0 ? Vec3(x.col(b) - site_.model.X.col(b)) : Vec3::Zero();
+  }
+  // Where a free body is at (t, x): its translation d, and when it rotates its orientation R,
+  // its centre c now and C0 at the start. The contact law is evaluated in the body's axes
+  // at t = 0 (to_body), where its surfaces are given.
+  struct Frame {
+    bool turned = false;
+    Vec3 d = Vec3::Zero(), c = Vec3::Zero(), C0 = Vec3::Zero();
+    Mat3 R = Mat3::Identity();
+  };
+  Frame frame(double t, const NodePositions& x) const {
+    Frame f;
+    f.d = translation(x);
+    if (rot_) {
+      const int b = load_.body_node;
+      f.turned = true;
+      f.R = rot_->orientation(t);
+      f.c = x.col(b);
+      f.C0 = site_.model.X.col(b);
+    }
+    return f;
+  }
+  static Vec3 to_body(const Frame& f, const Vec3& x) {
+    return f.turned ? Vec3(f.C0 + f.R.transpose() * (x - f.c)) : Vec3(x - f.d);
   }
   // Adds the global vector v at node n into the equation vector `to` (in n's frame).
   template <class Column>
@@ -231,6 +278,8 @@ class ContactTerm final : public LoadTerm {
   std::vector<contact::Status> status_accepted_;  // and its status there
   double k_min_ = 0, k_max_ = 0;
   double penetration_ratio_ = 0;  // the largest penetration / tolerance at the last accepted step
+  std::optional<rigid::Rotation> rot_;  // a free body that rotates: its rotational state
+  double rotation_step_ratio_ = 0;      // the largest step over the rotation's stable step
 };
 
 ContactTerm::ContactTerm(const Contact& load, const LoadSite& site) : load_(load), site_(site) {
@@ -265,17 +314,26 @@ ContactTerm::ContactTerm(const Contact& load, const LoadSite& site) : load_(load
   f_accepted_.assign(N, Vec3::Zero());
   status_accepted_.assign(N, contact::Status::kOpen);
   for (size_t i = 0; i < N; ++i) anchor_[i] = site.model.X.col(load.nodes[i]);
+  if (load.body_node >= 0 && load.body.inertia != Mat3::Zero())
+    rot_.emplace(load.body.inertia, load.body.angular_velocity);
 }
 
-void ContactTerm::move_on(const LoadState& s, bool update_multipliers) {
+void ContactTerm::move_on(const LoadState& s, bool update_multipliers, bool starting) {
   const double sf = site_.model.function_value(load_.body.function, s.t);
   penetration_ratio_ = 0;
-  const Vec3 d = translation(s.x);
+  const Frame fr = frame(s.t, s.x);
+  Vec3 moment = Vec3::Zero();  // of the forces on a rotating body, about its centre
+  double turning = 0;          // Σ k r²: the contact's stiffness against its rotation
   for (size_t i = 0; i < load_.nodes.size(); ++i) {
-    const Vec3 x = s.x.col(load_.nodes[i]) - d;  // relative to a free body
+    const Vec3 x = to_body(fr, s.x.col(load_.nodes[i]));  // relative to a free body
     const contact::NodeResult r = evaluate(i, x, sf, false);
-    f_accepted_[i] = r.f;
+    f_accepted_[i] = fr.turned ? Vec3(fr.R * r.f) : r.f;
     status_accepted_[i] = r.status;
+    if (fr.turned && r.status != contact::Status::kOpen) {
+      const Vec3 arm = s.x.col(load_.nodes[i]) - fr.c;
+      moment -= arm.cross(f_accepted_[i]);
+      turning += k_[i] * (1 + load_.friction) * arm.squaredNorm();
+    }
     if (r.status == contact::Status::kOpen) {
       if (update_multipliers) lambda_[i] = 0;
       anchor_[i] = load_.body.unmoved(x, sf);
@@ -289,6 +347,15 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers) {
     if (update_multipliers) lambda_[i] = r.p;
     anchor_[i] = load_.body.unmoved(x - r.slip, sf);
   }
+  if (!rot_) return;
+  if (starting) {
+    rot_->start(s.t, moment);
+    return;
+  }
+  const double tau = s.t - rot_->time();
+  rotation_step_ratio_ =
+      std::max(rotation_step_ratio_, 0.5 * tau * std::sqrt(turning / rot_->least_inertia()));
+  rot_->commit(s.t, fr.R, moment);
 }
 
 std::optional<double> ContactTerm::quantity_at(std::string_view name, double t,
@@ -318,6 +385,20 @@ std::optional<double> ContactTerm::quantity_at(std::string_view name, double t,
   auto pick = [&](const Vec3& v) { return c == 3 ? v.norm() : v[c]; };
   if (key == fmt::format("rigid_position:{}", load_.body.name))
     return pick(load_.body.position(sf));
+  // The rotation vector (magnitude: its angle, in [0, π]) and the angular velocity: a rotating
+  // free body's at the committed state, a moved body's s(t)·rotation and its rate.
+  const bool rotation = key == fmt::format("rigid_rotation:{}", load_.body.name);
+  if (rotation || key == fmt::format("rigid_angular_velocity:{}", load_.body.name)) {
+    if (rot_)
+      return pick(rotation ? rigid::rotation_vector(rot_->orientation(t))
+                           : rot_->angular_velocity());
+    if (rotation) return pick(Vec3(sf * load_.body.rotation));
+    const double dt = 1e-6 * std::max(1.0, std::abs(t));
+    const double rate = (site_.model.function_value(load_.body.function, t + dt) -
+                         site_.model.function_value(load_.body.function, t - dt)) /
+                        (2 * dt);
+    return pick(Vec3(rate * load_.body.rotation));
+  }
   if (key == fmt::format("rigid_velocity:{}", load_.body.name)) {
     const double dt = 1e-6 * std::max(1.0, std::abs(t));
     const double s1 = site_.model.function_value(load_.body.function, t + dt);
@@ -374,17 +455,17 @@ bool ContactTerm::node_field(std::string_view name, double t, const NodePosition
   if (pressure && site_.model.piece) return true;  // absent (NaN) on a piece: see contact_area
   const double sf = site_.model.function_value(load_.body.function, t);
   const std::vector<double> area = pressure ? node_areas(x) : std::vector<double>();
-  const Vec3 d = translation(x);
+  const Frame fr = frame(t, x);
   for (size_t i = 0; i < load_.nodes.size(); ++i) {
     const int n = load_.nodes[i];
-    const Vec3 y = x.col(n) - d;
+    const Vec3 y = to_body(fr, x.col(n));
     double& v = per_node[static_cast<size_t>(n)];
     if (pressure) {
       // The normal part of the accepted force (the tangential one is friction).
       Vec3 nn;
       Mat3 H;
       load_.body.gap(y, sf, nn, H);
-      const double p = std::max(0.0, accepted_force(i).dot(nn));
+      const double p = std::max(0.0, accepted_force(i).dot(fr.turned ? Vec3(fr.R * nn) : nn));
       const double a = area[static_cast<size_t>(n)];
       v = (std::isnan(v) ? 0.0 : v) + (a > 0 ? p / a : 0.0);
     } else {

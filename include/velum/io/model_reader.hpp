@@ -39,9 +39,11 @@ struct HistoryEntry {
     kContactForce,
     kRigidPosition,
     kRigidVelocity,
-    kForce,       ///< a cable element's axial force (cable2, cable3, sliding_cable)
-    kSlip,        ///< a sliding cable's material slip through an interior node
-    kContactArea  ///< the area in contact of a contact entry (or the contacts with a body)
+    kForce,                ///< a cable element's axial force (cable2, cable3, sliding_cable)
+    kSlip,                 ///< a sliding cable's material slip through an interior node
+    kContactArea,          ///< the area in contact of a contact entry (or the contacts with a body)
+    kRigidRotation,        ///< a rigid body's rotation vector (magnitude: its angle)
+    kRigidAngularVelocity  ///< a rigid body's angular velocity (global axes)
   };
   std::string name;
   Quantity quantity = Quantity::kDisplacement;

@@ -38,6 +38,13 @@ struct RigidBody {
   Vec3 pivot = Vec3::Zero();              ///< motion: the point the rotation turns about
   int function = -1;                      ///< motion: time function s(t), -1: s = 1
   std::shared_ptr<const RigidMesh> mesh;  ///< kMesh: its triangles at s = 0
+  /// A free body that rotates (ContactLoad::body_node >= 0): its inertia about the centre of
+  /// mass (the body node) in the global axes at t = 0; zero: it translates only.
+  Mat3 inertia = Mat3::Zero();
+  Vec3 angular_velocity = Vec3::Zero();  ///< initial (rad/s, global axes), with an inertia
+  /// The largest distance of the surface from the centre of mass (the explicit stable step of
+  /// a rotating body; sphere: the radius plus the centre's offset).
+  double reach = 0;
 
   /// Signed distance of x from the surface with the body moved by s (positive outside), its
   /// outward unit normal n = ∇g and the Hessian H = ∇∇g (the normal's rate).

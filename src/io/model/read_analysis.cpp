@@ -391,11 +391,28 @@ void Reader::parse_output(const Node& o, const Node& root) {
     error(h, "output.history", "expected a list of {name, quantity, ...}");
     return;
   }
-  const std::vector<std::string> quantities = {
-      "displacement",   "velocity",        "position",      "reaction",      "fiber_angle_change",
-      "stress",         "kinetic_energy",  "strain_energy", "external_work", "gas_volume",
-      "gas_pressure",   "gas_temperature", "gas_mass",      "gas_mass_flow", "contact_force",
-      "rigid_position", "rigid_velocity",  "force",         "slip",          "contact_area"};
+  const std::vector<std::string> quantities = {"displacement",
+                                               "velocity",
+                                               "position",
+                                               "reaction",
+                                               "fiber_angle_change",
+                                               "stress",
+                                               "kinetic_energy",
+                                               "strain_energy",
+                                               "external_work",
+                                               "gas_volume",
+                                               "gas_pressure",
+                                               "gas_temperature",
+                                               "gas_mass",
+                                               "gas_mass_flow",
+                                               "contact_force",
+                                               "rigid_position",
+                                               "rigid_velocity",
+                                               "force",
+                                               "slip",
+                                               "contact_area",
+                                               "rigid_rotation",
+                                               "rigid_angular_velocity"};
   std::set<std::string> names;
   for (size_t i = 0; i < h.size(); ++i) {
     const Node e = h[i];
@@ -503,6 +520,8 @@ void Reader::parse_output(const Node& o, const Node& root) {
       case Q::kRigidPosition:
       case Q::kRigidVelocity:
       case Q::kContactArea:
+      case Q::kRigidRotation:
+      case Q::kRigidAngularVelocity:
         ok = parse_contact_history(e, p, he);
         break;
       case Q::kForce:

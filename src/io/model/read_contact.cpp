@@ -9,11 +9,64 @@
 #include <map>
 #include <optional>
 
+#include <Eigen/Eigenvalues>
+
 #include "reader.hpp"
 #include "velum/io/mesh_data.hpp"
 #include "velum/load/contact_load.hpp"
 
 namespace velum::io::model_file {
+
+std::optional<Mat3> Reader::read_inertia(const Node& n, const std::string& p) {
+  // A number (a sphere's I), three principal values along the global axes, or the 3 x 3
+  // tensor in the global axes at t = 0: about the centre of mass, symmetric, positive, and a
+  // body's (each principal value at most the sum of the other two).
+  const char* expected =
+      "expected a number, three principal values [Ixx, Iyy, Izz] or a 3 x 3 symmetric tensor "
+      "[[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]] (kg m^2, about the centre of mass)";
+  Mat3 J = Mat3::Zero();
+  if (n.IsScalar()) {
+    auto v = number(n, p);
+    if (!v) return std::nullopt;
+    J = *v * Mat3::Identity();
+  } else if (n.IsSequence() && n.size() == 3 && n[0].IsScalar()) {
+    auto v = vec3(n, p);
+    if (!v) return std::nullopt;
+    J = v->asDiagonal();
+  } else if (n.IsSequence() && n.size() == 3) {
+    for (int r = 0; r < 3; ++r) {
+      auto row = n[r].IsSequence() ? vec3(n[r], item(p, static_cast<size_t>(r))) : std::nullopt;
+      if (!row) {
+        if (!n[r].IsSequence()) error(n, p, expected);
+        return std::nullopt;
+      }
+      J.row(r) = row->transpose();
+    }
+    if ((J - J.transpose()).norm() > 1e-9 * J.norm()) {
+      error(n, p, "the inertia tensor is not symmetric");
+      return std::nullopt;
+    }
+    J = 0.5 * (J + J.transpose());
+  } else {
+    error(n, p, expected);
+    return std::nullopt;
+  }
+  const Vec3 l = Eigen::SelfAdjointEigenSolver<Mat3>(J, Eigen::EigenvaluesOnly).eigenvalues();
+  if (!(l[0] > 0)) {
+    error(n, p,
+          fmt::format("the inertia must be positive (principal values {:.6g}, {:.6g}, {:.6g})",
+                      l[0], l[1], l[2]));
+    return std::nullopt;
+  }
+  if (l[2] > (l[0] + l[1]) * (1 + 1e-9)) {
+    error(n, p,
+          fmt::format("no body has these principal moments ({:.6g}, {:.6g}, {:.6g}): the largest "
+                      "exceeds the sum of the other two",
+                      l[0], l[1], l[2]));
+    return std::nullopt;
+  }
+  return J;
+}
 
 void Reader::parse_rigid_bodies(const Node& bs) {
   if (!bs.IsSequence()) {
@@ -25,7 +78,7 @@ void Reader::parse_rigid_bodies(const Node& bs) {
     const std::string p = item("rigid_bodies", i);
     if (!check_map(b, p,
                    {"name", "shape", "point", "normal", "center", "axis", "radius", "motion",
-                    "mass", "velocity", "inertia", "file"}))
+                    "mass", "velocity", "inertia", "file", "angular_velocity", "center_of_mass"}))
       continue;
     RigidBody body;
     bool ok = true;
@@ -75,11 +128,47 @@ void Reader::parse_rigid_bodies(const Node& bs) {
       continue;
     }
     std::optional<double> mass;
+    if (ok && body.shape == RigidBody::Shape::kSphere) body.reach = body.radius;
+    Vec3 centre = body.point;  // of mass: the free body's node
+    if (has(b, "center_of_mass")) {
+      auto c = vec3(b, "center_of_mass", p, true);
+      if (!has(b, "mass")) {
+        error(b["center_of_mass"], sub(p, "center_of_mass"),
+              "a centre of mass needs a 'mass' (a free body)");
+        ok = false;
+      } else if (c) {
+        centre = *c;
+        body.reach += (centre - body.point).norm();
+      } else {
+        ok = false;
+      }
+    }
     if (has(b, "inertia")) {
-      error(b["inertia"], sub(p, "inertia"),
-            "the rotation of free rigid bodies (inertia) is not implemented yet: a free body "
-            "translates only");
-      ok = false;
+      if (!has(b, "mass")) {
+        error(b["inertia"], sub(p, "inertia"), "an inertia needs a 'mass' (a free body)");
+        ok = false;
+      } else if (ok && body.shape != RigidBody::Shape::kSphere &&
+                 body.shape != RigidBody::Shape::kMesh) {
+        error(b["inertia"], sub(p, "inertia"),
+              "only a sphere or a mesh turns: a plane or a cylinder is unbounded");
+        ok = false;
+      } else if (auto J = read_inertia(b["inertia"], sub(p, "inertia"))) {
+        body.inertia = *J;
+      } else {
+        ok = false;
+      }
+    }
+    if (has(b, "angular_velocity")) {
+      auto w = vec3(b, "angular_velocity", p, true);
+      if (!has(b, "inertia")) {
+        error(b["angular_velocity"], sub(p, "angular_velocity"),
+              "an initial angular velocity needs an 'inertia' (a body that rotates)");
+        ok = false;
+      } else if (w) {
+        body.angular_velocity = *w;
+      } else {
+        ok = false;
+      }
     }
     if (has(b, "mass")) {
       mass = positive(b, "mass", p, true, "the mass");
@@ -118,7 +207,7 @@ void Reader::parse_rigid_bodies(const Node& bs) {
       // body's translation, moved by the contact forces, gravity and its initial velocity.
       long id = 0;
       for (long i : in_.model.node_ids) id = std::max(id, i);
-      const int node = in_.model.add_node(id + 1, body.point);
+      const int node = in_.model.add_node(id + 1, centre);
       in_.model.masses.push_back({node, *mass});
       if (velocity) in_.model.initial_velocities.push_back({{node}, *velocity});
       free_bodies_[*name] = {node, b["mass"], sub(p, "mass")};
@@ -177,6 +266,8 @@ bool Reader::read_rigid_mesh(const Node& b, const std::string& p, RigidBody& bod
       if (!pt) return false;
       body.point = *pt;
     }
+    for (size_t v = 0; v < vertices.size(); ++v)
+      if (used[v]) body.reach = std::max(body.reach, (vertices[v] - body.point).norm());
     body.mesh = make_rigid_mesh(std::move(vertices), std::move(triangles));
     return true;
   } catch (const MeshFileError& e) {
@@ -260,6 +351,13 @@ void Reader::parse_contact(const Node& cs) {
       ok = false;
     } else {
       load.body = bit->second;
+      if (load.body.inertia != Mat3::Zero() && contact_bodies_.count(body)) {
+        error(s[1], sp,
+              fmt::format("rigid body '{}' rotates (inertia): it takes part in one contact entry "
+                          "only",
+                          body));
+        ok = false;
+      }
       contact_bodies_.insert(body);
       if (auto f = free_bodies_.find(body); f != free_bodies_.end())
         load.body_node = f->second.node;
@@ -324,10 +422,13 @@ void Reader::check_free_bodies() {
 bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryEntry& he) {
   using Q = HistoryEntry::Quantity;
   const bool area = he.quantity == Q::kContactArea;  // one value: no component
-  const char* what = he.quantity == Q::kContactForce    ? "contact_force"
-                     : area                             ? "contact_area"
-                     : he.quantity == Q::kRigidPosition ? "rigid_position"
-                                                        : "rigid_velocity";
+  const bool turn = he.quantity == Q::kRigidRotation || he.quantity == Q::kRigidAngularVelocity;
+  const char* what = he.quantity == Q::kContactForce           ? "contact_force"
+                     : area                                    ? "contact_area"
+                     : he.quantity == Q::kRigidPosition        ? "rigid_position"
+                     : he.quantity == Q::kRigidRotation        ? "rigid_rotation"
+                     : he.quantity == Q::kRigidAngularVelocity ? "rigid_angular_velocity"
+                                                               : "rigid_velocity";
   auto c = area ? std::optional<std::string>("magnitude") : text(e, "component", p, true);
   if (!c) return false;
   const std::vector<std::string> components = {"x", "y", "z", "magnitude"};
@@ -368,7 +469,7 @@ bool Reader::parse_contact_history(const Node& e, const std::string& p, HistoryE
     return false;
   }
   if (auto f = free_bodies_.find(*body);
-      f != free_bodies_.end() && he.quantity != Q::kContactForce && !area) {
+      f != free_bodies_.end() && he.quantity != Q::kContactForce && !area && !turn) {
     // A free body's motion is its node's.
     if (ci == 3) {
       error(e["component"], sub(p, "component"),

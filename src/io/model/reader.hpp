@@ -160,6 +160,8 @@ class Reader : public ReaderContext {
   void parse_rigid_bodies(const Node& bs);
   // shape: mesh: its Gmsh file's triangles and quads into body.mesh, its point the centroid.
   bool read_rigid_mesh(const Node& b, const std::string& p, RigidBody& body);
+  /// A free body's `inertia` (a number, principal values or a tensor); reported when bad.
+  std::optional<Mat3> read_inertia(const Node& n, const std::string& p);
   void parse_contact(const Node& cs);
   /// The body (or contact index) and component of a contact_force, rigid_position or
   /// rigid_velocity history entry, into he.flow; false when invalid.
