@@ -116,6 +116,21 @@ int TriangleSurface::across(int f, int a, int b) const {
   return -1;
 }
 
+void TriangleSurface::move(int v, const Vec3& p) {
+  x_.col(v) = p;
+  for (int f : at_[static_cast<size_t>(v)])
+    for (int c : tris_[static_cast<size_t>(f)]) angle_sum_[static_cast<size_t>(c)] = 0;
+  for (int f : at_[static_cast<size_t>(v)])
+    for (int c : tris_[static_cast<size_t>(f)])
+      if (angle_sum_[static_cast<size_t>(c)] == 0)
+        for (int g : at_[static_cast<size_t>(c)]) {
+          const auto& t = tris_[static_cast<size_t>(g)];
+          const int k = t[0] == c ? 0 : (t[1] == c ? 1 : 2);
+          const Vec3 u = x_.col(t[(k + 1) % 3]) - x_.col(c), w = x_.col(t[(k + 2) % 3]) - x_.col(c);
+          angle_sum_[static_cast<size_t>(c)] += std::atan2(u.cross(w).norm(), u.dot(w));
+        }
+}
+
 Vec3 TriangleSurface::position(const SurfacePoint& p) const {
   switch (p.kind) {
     case SurfacePoint::Kind::Vertex:

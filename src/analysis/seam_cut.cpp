@@ -70,6 +70,7 @@ double smallest_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
 SeamCutter::SeamCutter(NodePositions x, std::vector<std::array<int, 3>> triangles, double snap)
     : surface_(std::move(x), std::move(triangles)), snap_(snap) {
   original_nodes_ = static_cast<int>(surface_.x().cols());
+  fixed_.assign(static_cast<size_t>(original_nodes_), 0);
   parent_.resize(surface_.triangles().size());
   for (size_t f = 0; f < parent_.size(); ++f) parent_[f] = static_cast<int>(f);
   split_.assign(parent_.size(), 0);
@@ -105,10 +106,15 @@ void SeamCutter::cut(const std::vector<SurfacePoint>& in, int seam) {
   const TriangleSurface& s = surface_;
   // Crossings close to a corner go through the corner.
   std::vector<SurfacePoint> pts;
+  std::map<int, Vec3> onto;  // a corner the seam goes through -> the nearest crossing it snapped
   for (SurfacePoint p : in) {
     if (p.kind == SurfacePoint::Kind::Edge && (p.t <= snap_ || p.t >= 1 - snap_)) {
+      const Vec3 at = s.position(p);
       p.vertex = p.t <= snap_ ? p.a : p.b;
       p.kind = SurfacePoint::Kind::Vertex;
+      auto [it, added] = onto.emplace(p.vertex, at);
+      if (!added && (at - s.x().col(p.vertex)).norm() < (it->second - s.x().col(p.vertex)).norm())
+        it->second = at;
     }
     if (!pts.empty() && pts.back().kind == SurfacePoint::Kind::Vertex &&
         p.kind == SurfacePoint::Kind::Vertex && pts.back().vertex == p.vertex)
@@ -236,6 +242,37 @@ void SeamCutter::cut(const std::vector<SurfacePoint>& in, int seam) {
   surface_ = TriangleSurface(std::move(x), std::move(tris));
   parent_ = std::move(parent);
   split_ = std::move(split);
+  fixed_.resize(static_cast<size_t>(surface_.x().cols()), 0);
+  // Corners the seam was moved to go onto the geodesic where they may and stay well shaped.
+  for (const auto& [v, target] : onto) {
+    if (fixed_[static_cast<size_t>(v)] || surface_.on_boundary(v)) continue;
+    const auto& xs = surface_.x();
+    auto worst = [&](std::vector<Vec3>* normals) {
+      double q = M_PI;
+      for (int f : surface_.faces_at(v)) {
+        const auto& t = surface_.triangles()[static_cast<size_t>(f)];
+        q = std::min(q, smallest_angle(xs.col(t[0]), xs.col(t[1]), xs.col(t[2])));
+        if (normals)
+          normals->push_back((xs.col(t[1]) - xs.col(t[0])).cross(xs.col(t[2]) - xs.col(t[0])));
+      }
+      return q;
+    };
+    std::vector<Vec3> before, after;
+    const double q0 = worst(&before);
+    const Vec3 old = xs.col(v);
+    surface_.move(v, target);
+    bool ok = worst(&after) >= 0.5 * q0;
+    for (size_t k = 0; k < before.size() && ok; ++k) ok = before[k].dot(after[k]) > 0;
+    if (ok) {
+      ++moved_;
+    } else {
+      surface_.move(v, old);
+    }
+  }
+  for (const auto& [key, seam_index] : seam_edges_) {
+    (void)seam_index;
+    fixed_[static_cast<size_t>(key >> 32)] = fixed_[static_cast<size_t>(key & 0xffffffffu)] = 1;
+  }
 }
 
 std::vector<int> SeamCutter::panels(int* count) const {

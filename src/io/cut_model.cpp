@@ -70,6 +70,7 @@ void write_cut_model(const ModelInput& input, const CutMesh& mesh,
     YAML::Node p = root["patterns"];
     p.remove("seams");
     p.remove("seam_tolerance");
+    p.remove("seam_snap");
     YAML::Node panels(YAML::NodeType::Sequence);
     panels.SetStyle(YAML::EmitterStyle::Flow);
     for (const auto& name : mesh.panels) panels.push_back(name);

@@ -16,8 +16,6 @@
 namespace velum::run {
 namespace {
 
-// A crossing within this fraction of its edge from a corner goes through the corner.
-constexpr double kSnap = 0.2;
 // The default of patterns.seam_tolerance, in mean element edges.
 constexpr double kTolerance = 0.1;
 
@@ -71,13 +69,20 @@ int cut_along_seams(const ModelInput& in, const std::filesystem::path& model_fil
       tris.push_back({n[0], n[2], n[3]});
     }
   }
-  SeamCutter cut(x, tris, kSnap);
+  SeamCutter cut(x, tris, ps.seam_snap);
+  // Nodes that stay: those of node sets (supports, loads) and of lines (cables).
+  for (const auto& [name, nodes] : in.node_sets)
+    for (int n : nodes) cut.fix(n);
+  for (const auto& blk : m.blocks)
+    if (!blk->surface())
+      for (int e = 0; e < blk->size(); ++e)
+        for (int n : blk->nodes(e)) cut.fix(n);
   if (!cut.surface().problem().empty())
     return refuse(model_file.string(),
                   "patterns.seams: the surface is not a manifold: " + cut.surface().problem());
   const double tolerance =
       ps.seam_tolerance > 0 ? ps.seam_tolerance : kTolerance * cut.surface().mean_edge();
-  const double snap = kSnap * cut.surface().mean_edge();
+  const double snap = std::max(ps.seam_snap, 0.1) * cut.surface().mean_edge();
   auto node_id = [&](int n) { return n < m.num_nodes() ? m.node_ids[static_cast<size_t>(n)] : -1; };
   double length = 0;
   int flips = 0;
@@ -283,10 +288,10 @@ int cut_along_seams(const ModelInput& in, const std::filesystem::path& model_fil
         mesh.sets[static_cast<size_t>(p)].second.size());
   say(stdout,
       "velum seams: {} seam{} ({:.6g} long as geodesics, {} strip moves), {} panel{}, {} new "
-      "node{}; "
-      "smallest triangle angle {:.1f} deg (the mesh's {:.1f}); {:.3g} s; written to {}\n",
+      "node{}, {} moved onto a seam; smallest triangle angle {:.1f} deg (the mesh's {:.1f}); "
+      "{:.3g} s; written to {}\n",
       ps.seams.size(), ps.seams.size() == 1 ? "" : "s", length, flips, count, count == 1 ? "" : "s",
-      cut.new_nodes().size(), cut.new_nodes().size() == 1 ? "" : "s",
+      cut.new_nodes().size(), cut.new_nodes().size() == 1 ? "" : "s", cut.moved(),
       std::min(cut.smallest_new_angle(), original) * 180 / M_PI, original * 180 / M_PI, seconds,
       output.string());
   return kExitOk;

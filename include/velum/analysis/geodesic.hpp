@@ -37,6 +37,8 @@ class TriangleSurface {
   /// Sum of the triangles' angles at v (2 pi on a flat interior vertex).
   double angle_sum(int v) const { return angle_sum_[static_cast<size_t>(v)]; }
   Vec3 position(const SurfacePoint& p) const;
+  /// Moves node v to p (its triangles' angles at their corners follow).
+  void move(int v, const Vec3& p);
   /// The mean edge length.
   double mean_edge() const { return mean_edge_; }
   /// Why the triangles are not a manifold surface (an edge of three triangles), or "".

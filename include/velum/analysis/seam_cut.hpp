@@ -23,7 +23,9 @@ struct SeamError : std::invalid_argument {
 class SeamCutter {
  public:
   /// `snap`: a crossing within this fraction of the edge's length from a corner goes through the
-  /// corner instead (no sliver triangles; the seam moves by at most that much).
+  /// corner instead (no sliver triangles), and the corner moves onto the geodesic where it may
+  /// (not on the boundary, on an earlier seam or a node `fix`ed) and its triangles keep at least
+  /// half their smallest angle; else the seam moves by at most that much.
   SeamCutter(NodePositions x, std::vector<std::array<int, 3>> triangles, double snap = 0.2);
 
   /// A new node made on the edge (a, b) at (1 - t) x_a + t x_b: its index is the count of nodes
@@ -34,6 +36,10 @@ class SeamCutter {
   };
 
   const TriangleSurface& surface() const { return surface_; }
+  /// Node n stays where it is (a support, a cable's node, a node set's).
+  void fix(int n) { fixed_[static_cast<size_t>(n)] = 1; }
+  /// Nodes moved onto a seam.
+  int moved() const { return moved_; }
   /// The geodesic from `from` to `to` on the surface as cut so far, cut in as seam `seam`.
   /// Throws std::invalid_argument (a point inside a triangle: a seam ends on the boundary, on
   /// another seam or at a node).
@@ -67,6 +73,8 @@ class SeamCutter {
   std::vector<NewNode> new_;
   std::map<uint64_t, int> seam_edges_;  ///< edge (min, max) -> seam
   int original_nodes_ = 0;
+  std::vector<char> fixed_;  ///< per node: may not move (given, or on a seam)
+  int moved_ = 0;
   double snap_;
 };
 

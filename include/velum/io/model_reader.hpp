@@ -89,11 +89,14 @@ struct PatternSettings {
   struct Seam {
     std::string where;  ///< "file:line: patterns.seams[i]", for messages
     bool path = false;  ///< `nodes:`: along these nodes as they are; else a geodesic via points
-    std::vector<int> nodes;   ///< per point its node index, or -1 for a point by coordinates
+    std::vector<int> nodes;    ///< per point its node index, or -1 for a point by coordinates
     std::vector<Vec3> points;  ///< per point its coordinates (a node's where nodes[k] >= 0)
   };
   std::vector<Seam> seams;
   double seam_tolerance = 0;  ///< how far a seam's point may lie off the shape; 0: automatic
+  /// A crossing within this fraction of its edge from a corner goes through the corner (moved
+  /// onto the seam where it may); 0: every crossing splits its triangles.
+  double seam_snap = 0.45;
 };
 
 struct ModelInput {

@@ -20,8 +20,9 @@ constexpr double kMaxCompensation = 0.1;
 }  // namespace
 
 void Reader::parse_patterns(const Node& pn) {
-  if (!check_map(pn, "patterns",
-                 {"panels", "compensation", "seam_allowance", "seams", "seam_tolerance"}))
+  if (!check_map(
+          pn, "patterns",
+          {"panels", "compensation", "seam_allowance", "seams", "seam_tolerance", "seam_snap"}))
     return;
   PatternSettings& out = in_.patterns;
   if (has(pn, "seams")) parse_seams(pn);
@@ -115,6 +116,14 @@ void Reader::parse_patterns(const Node& pn) {
   }
   if (auto t = non_negative(pn, "seam_tolerance", "patterns", "a distance"))
     out.seam_tolerance = *t;
+  if (auto f = non_negative(pn, "seam_snap", "patterns", "a fraction of an edge")) {
+    if (*f >= 0.5)
+      error(pn["seam_snap"], "patterns.seam_snap",
+            fmt::format("{:g} is not below 0.5: a crossing snaps to the nearer corner of its edge",
+                        *f));
+    else
+      out.seam_snap = *f;
+  }
   if (auto a = non_negative(pn, "seam_allowance", "patterns", "a seam allowance"))
     out.seam_allowance = *a;
   if (has(pn, "compensation")) {
