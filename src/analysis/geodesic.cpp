@@ -375,7 +375,10 @@ struct Apex {
 
 // The shortest path through the portals (the "simple stupid funnel" of Mononen): the start,
 // the portal corners it bends at, the end. A side of the funnel still at the apex (portals
-// that fan round it) does not bound the other side.
+// that fan round it) does not bound the other side. Whether a left and a right corner have
+// crossed is always area(apex, left, right) (the same products in the same order: with fused
+// multiply-adds area(a, b, c) need not be exactly -area(a, c, b), and collinear corners on both
+// sides would then each count as crossed).
 std::vector<Apex> funnel(const Unfolded& u) {
   const auto& P = u.p;
   const auto& portals = u.portal;
@@ -387,7 +390,7 @@ std::vector<Apex> funnel(const Unfolded& u) {
   for (int i = 1; i < n; ++i) {
     const int l = portals[i][0], r = portals[i][1];
     if (area(apex, right, r) >= 0) {  // the right side narrows (turns counter-clockwise)
-      if (apex == right || apex == left || area(apex, left, r) < 0) {
+      if (apex == right || apex == left || area(apex, left, r) <= 0) {
         right = r, right_i = i;
       } else {
         out.push_back({left, left_i});
@@ -398,7 +401,7 @@ std::vector<Apex> funnel(const Unfolded& u) {
       }
     }
     if (area(apex, left, l) <= 0) {
-      if (apex == left || apex == right || area(apex, right, l) > 0) {
+      if (apex == left || apex == right || area(apex, l, right) <= 0) {
         left = l, left_i = i;
       } else {
         out.push_back({right, right_i});

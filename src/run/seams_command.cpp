@@ -82,7 +82,8 @@ int cut_along_seams(const ModelInput& in, const std::filesystem::path& model_fil
                   "patterns.seams: the surface is not a manifold: " + cut.surface().problem());
   const double tolerance =
       ps.seam_tolerance > 0 ? ps.seam_tolerance : kTolerance * cut.surface().mean_edge();
-  const double snap = std::max(ps.seam_snap, 0.1) * cut.surface().mean_edge();
+  const double snap =
+      kTolerance * cut.surface().mean_edge();  // a point this close to a node is the node
   auto node_id = [&](int n) { return n < m.num_nodes() ? m.node_ids[static_cast<size_t>(n)] : -1; };
   double length = 0;
   int flips = 0;
@@ -154,10 +155,9 @@ int cut_along_seams(const ModelInput& in, const std::filesystem::path& model_fil
   }
   std::vector<std::string> names = ps.panels;
   if (!names.empty() && static_cast<int>(names.size()) != count)
-    return refuse(model_file.string(),
-                  fmt::format("patterns.panels: the seams cut the surface into {} panel{}, and "
-                              "patterns.panels names {}",
-                              count, count == 1 ? "" : "s", names.size()));
+    return refuse(ps.panels_where, fmt::format("the seams cut the surface into {} panel{}, and "
+                                               "patterns.panels names {}",
+                                               count, count == 1 ? "" : "s", names.size()));
   for (int k = static_cast<int>(names.size()); k < count; ++k)
     names.push_back(fmt::format("panel_{}", k + 1));
   // The mesh written: the model's nodes and those the seams made.

@@ -26,6 +26,9 @@ void Reader::parse_patterns(const Node& pn) {
     return;
   PatternSettings& out = in_.patterns;
   if (has(pn, "seams")) parse_seams(pn);
+  out.panels_where = has(pn, "panels")
+                         ? fmt::format("{}:{}: patterns.panels", name_, line_of(pn["panels"]))
+                         : fmt::format("{}:{}: patterns", name_, line_of(pn));
   if (!out.seams.empty()) {
     // The panels the seams cut: names for them, not sets yet.
     if (has(pn, "panels")) {
