@@ -93,7 +93,7 @@ struct PatternSettings {
     std::vector<Vec3> points;  ///< per point its coordinates (a node's where nodes[k] >= 0)
   };
   std::vector<Seam> seams;
-  std::string panels_where;  ///< "file:line: patterns.panels" (or "file: patterns"), for messages
+  std::string panels_where;   ///< "file:line: patterns.panels" (or "file: patterns"), for messages
   double seam_tolerance = 0;  ///< how far a seam's point may lie off the shape; 0: automatic
   /// A crossing within this fraction of its edge from a corner goes through the corner (moved
   /// onto the seam where it may); 0: every crossing splits its triangles.

@@ -147,9 +147,10 @@ TEST(Geodesic, GreatCircleOnASphereConvergesUnderRefinement) {
     double da = 0, db = 0;
     const SurfacePath p = geodesic(s, locate(s, a, 0, &da), locate(s, b, 0, &db));
     const double error = std::abs(p.length - arc) / arc;
-    std::printf("icosphere %d x %d per face: %zu triangles, mean edge %.4f, geodesic %.6f against "
-                "the arc %.6f (error %.2e), %d strip moves\n",
-                n, n, m.tris.size(), s.mean_edge(), p.length, arc, error, p.flips);
+    std::printf(
+        "icosphere %d x %d per face: %zu triangles, mean edge %.4f, geodesic %.6f against "
+        "the arc %.6f (error %.2e), %d strip moves\n",
+        n, n, m.tris.size(), s.mean_edge(), p.length, arc, error, p.flips);
     EXPECT_NEAR(polyline_length(s, p), p.length, 1e-12 * arc);
     // The inscribed polyhedron is shorter by its chords: about (h / R)^2 / 24 with the edge h.
     EXPECT_LT(error, std::pow(s.mean_edge() / R, 2) / 8) << n;
