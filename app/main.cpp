@@ -10,6 +10,7 @@
 #include "velum/run/fit_command.hpp"
 #include "velum/run/pattern_command.hpp"
 #include "velum/run/plot_command.hpp"
+#include "velum/run/seams_command.hpp"
 #include "velum/solve/blas_kernels.hpp"
 
 namespace {
@@ -85,6 +86,15 @@ int main(int argc, char** argv) {
   pattern_cmd->add_option("-o,--output", pattern_output, "folder to write the patterns in")
       ->required();
 
+  std::filesystem::path seams_input, seams_output;
+  auto* seams_cmd = app.add_subcommand(
+      "seams",
+      "Cut the model's surface into panels along the seams of its patterns: block "
+      "(geodesics between points, or node paths), and write the model with the panels");
+  seams_cmd->add_option("MODEL", seams_input, "model file (YAML), or a form-finding results folder")
+      ->required();
+  seams_cmd->add_option("-o,--output", seams_output, "model file to write (YAML)")->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -101,6 +111,7 @@ int main(int argc, char** argv) {
     if (fit_cmd->parsed()) return velum::run::fit_command(fit_cmd->remaining());
     if (import_cmd->parsed()) return velum::run::import_command(import_deck, import_output);
     if (pattern_cmd->parsed()) return velum::run::pattern_command(pattern_input, pattern_output);
+    if (seams_cmd->parsed()) return velum::run::seams_command(seams_input, seams_output);
     return velum::run::check_command(check_model);
   } catch (const std::bad_alloc&) {
     velum::io::say(stderr, "error: out of memory: the model is too large for this machine\n");

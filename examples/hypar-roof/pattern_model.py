@@ -1,8 +1,11 @@
 #!/usr/bin/python3
-"""Writes hypar-pattern.yaml: the hypar roof of make_model.py meshed with triangles and cut
-into five strip panels along the warp (the high diagonal), with the patterns: block that
-velum pattern reads (compensation by the strain of the prestress in the fabric's own law).
-Usage: pattern_model.py [OUT.yaml [FORM_DIR]]."""
+"""Writes hypar-pattern.yaml: the hypar roof of make_model.py meshed with triangles, one
+element set `roof`, with the patterns: block that velum seams and velum pattern read: four
+seams along the warp (the high diagonal), geodesics on the found shape between edge nodes, that
+cut it into five strip panels, and the compensation by the strain of the prestress in the
+fabric's own law. With `strips` the roof is written already cut into the five strips (sets
+panel_1 ... panel_5 along mesh lines), as before the seams tool.
+Usage: pattern_model.py [OUT.yaml [FORM_DIR [seams|strips]]]."""
 import math
 import sys
 
@@ -35,7 +38,18 @@ def panels():
     return out
 
 
-def main(path="hypar-pattern.yaml", form_dir="out/pattern-form"):
+def seams():
+    """The seams: between the edge nodes where the strips of panels() part (i + j = 8, 16,
+    24, 32), each a geodesic on the shape velum seams cuts in."""
+    out = []
+    for s in range(BAND, 2 * N, BAND):
+        a = (s, 0) if s <= N else (N, s - N)
+        b = (0, s) if s <= N else (s - N, N)
+        out.append((node(*a), node(*b)))
+    return out
+
+
+def main(path="hypar-pattern.yaml", form_dir="out/pattern-form", mode="seams"):
     lines = ["# Written by pattern_model.py: the hypar roof cut into panels (examples/hypar-roof)",
              "title: hypar roof 10 m x 10 m in 5 panels, form finding and cutting patterns",
              "mesh:", "  nodes:"]
@@ -46,6 +60,8 @@ def main(path="hypar-pattern.yaml", form_dir="out/pattern-form"):
                          f"{H * (u * (1 - v) + v * (1 - u)):.6g}]")
     lines.append("  elements:")
     sets = panels()
+    if mode == "seams":
+        sets = {"roof": [t for tris in sets.values() for t in tris]}
     for name, tris in sets.items():
         lines.append(f"    - {{set: {name}, type: tri3, connectivity: [" +
                      ", ".join("[" + ", ".join(map(str, t)) + "]" for t in tris) + "]}")
@@ -74,7 +90,12 @@ def main(path="hypar-pattern.yaml", form_dir="out/pattern-form"):
         "  type: form_finding",
         "  time: {end: 1.0, step: 1.0}",
         "patterns:",
-        f"  panels: [{', '.join(sets)}]",
+    ]
+    if mode == "seams":
+        lines.append("  seams:")
+        lines += [f"    - {{points: [{a}, {b}]}}" for a, b in seams()]
+    lines += [
+        f"  panels: [{', '.join(panels())}]",
         f"  compensation: [{c[0]:.6g}, {c[1]:.6g}]",
         "  seam_allowance: 0.03",
         "output:",

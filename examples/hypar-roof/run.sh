@@ -17,7 +17,8 @@ PYTHONPATH=../../build/release/python /usr/bin/python3 staged_numbers.py out
 # patterns (the DXF files kept in patterns/), then the round trip, per panel (README.md).
 /usr/bin/python3 pattern_model.py hypar-pattern.yaml out/pattern-form
 "$VELUM" run hypar-pattern.yaml
-"$VELUM" pattern out/pattern-form -o out/patterns
+"$VELUM" seams out/pattern-form -o out/hypar-panels.yaml   # the geodesic seams cut in
+"$VELUM" pattern out/hypar-panels.yaml -o out/patterns
 mkdir -p patterns && cp out/patterns/*.dxf patterns/
 "$VELUM" run out/patterns/roundtrip.yaml -o out/roundtrip
 /usr/bin/python3 pattern_numbers.py out/roundtrip out/patterns --check 0.005

@@ -13,6 +13,7 @@
 #include "velum/io/roundtrip_model.hpp"
 #include "velum/run/commands.hpp"
 #include "velum/run/plot_command.hpp"
+#include "velum/run/seams_command.hpp"
 
 namespace velum::run {
 namespace {
@@ -89,6 +90,18 @@ int pattern_command(const std::filesystem::path& input, const std::filesystem::p
   } catch (const InputError& e) {
     for (const auto& m : e.messages()) say(stderr, "error: {}\n", m);
     return kExitBadInput;
+  }
+  if (!in.patterns.seams.empty()) {
+    // Seams first: the model cut into its panels (PDIR/panels.yaml), then flattened.
+    std::filesystem::create_directories(output, ec);
+    model_file = output / "panels.yaml";
+    if (const int code = cut_along_seams(in, input, model_file); code != kExitOk) return code;
+    try {
+      in = read_model(model_file);
+    } catch (const InputError& e) {
+      for (const auto& m : e.messages()) say(stderr, "error: {}\n", m);
+      return kExitBadInput;
+    }
   }
   const PatternSettings& ps = in.patterns;
   if (ps.panels.empty()) {

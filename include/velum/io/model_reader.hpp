@@ -86,6 +86,20 @@ struct PatternSettings {
   std::vector<std::string> panels;
   double warp = 0, fill = 0;
   double seam_allowance = 0;  ///< the cut line's offset outside the seam line (length)
+  /// `seams:` (velum seams): lines that cut the surface into the panels (then named by
+  /// `panels`, or panel_1, panel_2, ...).
+  struct Seam {
+    std::string where;  ///< "file:line: patterns.seams[i]", for messages
+    bool path = false;  ///< `nodes:`: along these nodes as they are; else a geodesic via points
+    std::vector<int> nodes;    ///< per point its node index, or -1 for a point by coordinates
+    std::vector<Vec3> points;  ///< per point its coordinates (a node's where nodes[k] >= 0)
+  };
+  std::vector<Seam> seams;
+  std::string panels_where;   ///< "file:line: patterns.panels" (or "file: patterns"), for messages
+  double seam_tolerance = 0;  ///< how far a seam's point may lie off the shape; 0: automatic
+  /// A crossing within this fraction of its edge from a corner goes through the corner (moved
+  /// onto the seam where it may); 0: every crossing splits its triangles.
+  double seam_snap = 0.45;
 };
 
 struct ModelInput {
@@ -108,6 +122,8 @@ struct ModelInput {
   /// step's); empty for a model without `steps:`.
   std::vector<AnalysisStep> steps;
   PatternSettings patterns;  ///< empty panels: no `patterns:`
+  /// The node sets by name (mesh file's and inline, boxes found), as node indices.
+  std::map<std::string, std::vector<int>> node_sets;
 };
 
 // Limits beyond which a model is refused as bad input (docs/model-format.md, "Limits"): each

@@ -115,6 +115,7 @@ void Reader::parse_mesh(const Node& mesh) {
       }
     }
   }
+  in_.node_sets = node_sets_;  // velum seams writes them as lists
   // Positions that replace the mesh's coordinates (a found form: DIR/form.yaml), after the
   // node sets (boxes included) were found on the mesh's own coordinates.
   if (has(mesh, "positions")) {

@@ -20,9 +20,35 @@ constexpr double kMaxCompensation = 0.1;
 }  // namespace
 
 void Reader::parse_patterns(const Node& pn) {
-  if (!check_map(pn, "patterns", {"panels", "compensation", "seam_allowance"})) return;
+  if (!check_map(
+          pn, "patterns",
+          {"panels", "compensation", "seam_allowance", "seams", "seam_tolerance", "seam_snap"}))
+    return;
   PatternSettings& out = in_.patterns;
-  if (require(pn, "panels", "patterns")) {
+  if (has(pn, "seams")) parse_seams(pn);
+  out.panels_where = has(pn, "panels")
+                         ? fmt::format("{}:{}: patterns.panels", name_, line_of(pn["panels"]))
+                         : fmt::format("{}:{}: patterns", name_, line_of(pn));
+  if (!out.seams.empty()) {
+    // The panels the seams cut: names for them, not sets yet.
+    if (has(pn, "panels")) {
+      const Node ps = pn["panels"];
+      if (!ps.IsSequence() || ps.size() == 0) {
+        error(ps, "patterns.panels", "expected a list of names for the panels the seams cut");
+      } else {
+        for (size_t i = 0; i < ps.size(); ++i) {
+          if (!ps[i].IsScalar()) {
+            error(ps[i], item("patterns.panels", i), "expected a name");
+            continue;
+          }
+          const std::string name = ps[i].Scalar();
+          if (std::find(out.panels.begin(), out.panels.end(), name) != out.panels.end())
+            error(ps[i], item("patterns.panels", i), fmt::format("'{}' is named twice", name));
+          out.panels.push_back(name);
+        }
+      }
+    }
+  } else if (require(pn, "panels", "patterns")) {
     const Node ps = pn["panels"];
     if (!ps.IsSequence() || ps.size() == 0) {
       error(ps, "patterns.panels", "expected a list of element set names");
@@ -91,6 +117,16 @@ void Reader::parse_patterns(const Node& pn) {
       }
     }
   }
+  if (auto t = non_negative(pn, "seam_tolerance", "patterns", "a distance"))
+    out.seam_tolerance = *t;
+  if (auto f = non_negative(pn, "seam_snap", "patterns", "a fraction of an edge")) {
+    if (*f >= 0.5)
+      error(pn["seam_snap"], "patterns.seam_snap",
+            fmt::format("{:g} is not below 0.5: a crossing snaps to the nearer corner of its edge",
+                        *f));
+    else
+      out.seam_snap = *f;
+  }
   if (auto a = non_negative(pn, "seam_allowance", "patterns", "a seam allowance"))
     out.seam_allowance = *a;
   if (has(pn, "compensation")) {
@@ -111,6 +147,65 @@ void Reader::parse_patterns(const Node& pn) {
         return;
       }
     out.warp = *w, out.fill = *f;
+  }
+}
+
+}  // namespace velum::io::model_file
+
+namespace velum::io::model_file {
+
+void Reader::parse_seams(const Node& pn) {
+  const Node ss = pn["seams"];
+  if (!ss.IsSequence() || ss.size() == 0) {
+    error(ss, "patterns.seams",
+          "expected a list of seams: {points: [A, B, ...]} (geodesics through points, each "
+          "[x, y, z] or a node id) or {nodes: [id, ...]} (along element edges)");
+    return;
+  }
+  for (size_t i = 0; i < ss.size(); ++i) {
+    const std::string p = item("patterns.seams", i);
+    const Node s = ss[i];
+    if (!check_map(s, p, {"points", "nodes"})) continue;
+    const bool path = has(s, "nodes");
+    if (path == has(s, "points")) {
+      error(s, p, "give either points: (a geodesic) or nodes: (a node path)");
+      continue;
+    }
+    const char* key = path ? "nodes" : "points";
+    const Node list = s[key];
+    const std::string lp = sub(p, key);
+    if (!list.IsSequence() || list.size() < 2) {
+      error(list, lp,
+            path ? "expected two or more node ids along element edges"
+                 : "expected two or more points, each [x, y, z] or a node id");
+      continue;
+    }
+    PatternSettings::Seam seam;
+    seam.where = fmt::format("{}:{}: {}", name_, line_of(s), p);
+    seam.path = path;
+    bool ok = true;
+    for (size_t k = 0; k < list.size() && ok; ++k) {
+      const Node v = list[k];
+      const std::string q = item(lp, k);
+      if (v.IsSequence() && !path) {
+        auto x = vec3(v, q);
+        ok = x.has_value();
+        if (ok) seam.nodes.push_back(-1), seam.points.push_back(*x);
+        continue;
+      }
+      auto id = integer(v, q, "node id");
+      ok = id.has_value();
+      if (!ok) continue;
+      auto it = in_.model.node_index.find(*id);
+      if (it == in_.model.node_index.end()) {
+        error(v, q, fmt::format("undefined node {}", *id));
+        ok = false;
+        continue;
+      }
+      seam.nodes.push_back(it->second);
+      seam.points.push_back(in_.model.X.col(it->second));
+    }
+    if (ok) in_.patterns.seams.push_back(std::move(seam));
   }
 }
 

@@ -88,6 +88,7 @@ class Reader : public ReaderContext {
 
   // read_patterns.cpp
   void parse_patterns(const Node& p);
+  void parse_seams(const Node& p);
 
   // read_materials.cpp
   void parse_materials(const Node& ms);
