@@ -48,7 +48,7 @@ X = {int(row[0]): row[1:] for row in m["mesh"]["nodes"]}
 worst = 0.0
 for panel in result["panels"]:
     check(panel["max_strain"] < 1e-12, f"{panel['name']}: strain left {panel['max_strain']:.2e}")
-    check(abs(panel["area_flat"] - area) < 1e-12 * area,
+    check(abs(panel["area_flat"] - area) < 1e-9 * area,
           f"{panel['name']}: flat area {panel['area_flat']!r} against {area!r}")
     flat = {int(r[0]): r[1:] for r in panel["nodes"]}
     # The corners: the flat nodes at the vent and skirt radii on the gore's two seams.
