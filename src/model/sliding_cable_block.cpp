@@ -224,6 +224,9 @@ class SlidingCableBlock final : public ElementBlock, public SlidingChains {
   // With friction, the slips at the interior nodes (k − 2 per chain) are the history: the
   // forces are evaluated from those committed at the last accepted state.
   size_t history_size() const override { return slips_.size(); }
+  size_t history_per_element() const override {
+    return section_.friction > 0 ? static_cast<size_t>(nodes_per_element() - 2) : 0;
+  }
   void commit_history(const NodePositions& x) override {
     if (cut_ || slips_.empty()) return;
     FrictionScratch& w = scratch();
