@@ -13,6 +13,11 @@ PYTHONPATH=../../build/release/python /usr/bin/python3 plot.py out
 /usr/bin/python3 staged_model.py hypar-form.yaml out/hypar-staged.yaml
 "$VELUM" run out/hypar-staged.yaml
 PYTHONPATH=../../build/release/python /usr/bin/python3 staged_numbers.py out
+# The edge cables in sleeves (one sliding_cable chain per edge), beside fixed ones: form
+# finding, prestress and snow as steps of one model each (README.md, "Edge cables in sleeves").
+/usr/bin/python3 sleeve_model.py out
+for m in sleeve sleeve-friction fixed; do "$VELUM" run out/hypar-$m.yaml; done
+/usr/bin/python3 sleeve_numbers.py out
 # The same roof meshed with triangles and cut into five panels along the warp: cutting
 # patterns (the DXF files kept in patterns/), then the round trip, per panel (README.md).
 /usr/bin/python3 pattern_model.py hypar-pattern.yaml out/pattern-form

@@ -205,25 +205,41 @@ void MechanicalSystem::restore_load_state(const std::vector<double>& in) {
 
 std::vector<double> MechanicalSystem::save_law_history() const {
   // Its count of blocks, then each one's index, length and values; empty when no law keeps one.
+  // The values are every element's, in element order (a process's held ones only otherwise):
+  // the one-process format, so that a checkpoint's first process writes the whole history.
   std::vector<double> out;
   std::vector<int> with;
   for (size_t b = 0; b < model_.blocks.size(); ++b)
-    if (model_.blocks[b]->history_size() > 0) with.push_back(static_cast<int>(b));
-  // Several processes: decided together. A block with a history may sit on one process only
-  // (a sliding cable's chain); refusing there alone left the others waiting in the
-  // checkpoint's collectives for ever.
-  if (distributed() ? processes::all(with.empty()) : with.empty()) return out;
-  if (distributed())
-    throw std::invalid_argument(
-        "element histories (a plastic law's, a sliding cable's slips with friction) cannot yet "
-        "be saved from a run on several processes: run without output.checkpoint, or on one "
-        "process");
+    if (model_.blocks[b]->history_per_element() > 0) with.push_back(static_cast<int>(b));
+  if (with.empty()) return out;
   out.push_back(static_cast<double>(with.size()));
+  std::vector<double> held;
   for (int b : with) {
     const ElementBlock& blk = *model_.blocks[static_cast<size_t>(b)];
     out.push_back(b);
-    out.push_back(static_cast<double>(blk.history_size()));
-    blk.save_history(out);
+    if (!distributed()) {
+      out.push_back(static_cast<double>(blk.history_size()));
+      blk.save_history(out);
+      continue;
+    }
+    // Several processes: each element is held by one; its values at its place, zeros
+    // elsewhere, summed over the processes (the same on every one).
+    const size_t p = blk.history_per_element(), n = static_cast<size_t>(blk.size()) * p;
+    out.push_back(static_cast<double>(n));
+    const size_t at = out.size();
+    out.resize(at + n, 0.0);
+    held.clear();
+    blk.save_history(held);
+    size_t k = 0;  // the held elements' histories, in ascending element order
+    for (int e = 0; e < blk.size(); ++e)
+      if (blk.holds(e)) {
+        if (k + p > held.size())
+          throw std::logic_error("a block's history does not match its held elements");
+        std::copy_n(held.begin() + static_cast<std::ptrdiff_t>(k), p,
+                    out.begin() + static_cast<std::ptrdiff_t>(at + static_cast<size_t>(e) * p));
+        k += p;
+      }
+    processes::sum(out.data() + at, static_cast<long>(n));
   }
   return out;
 }
@@ -231,14 +247,35 @@ std::vector<double> MechanicalSystem::save_law_history() const {
 void MechanicalSystem::restore_law_history(const std::vector<double>& in, size_t at) {
   if (at >= in.size()) return;
   const auto count = static_cast<size_t>(in[at++]);
+  std::vector<double> held;
   for (size_t k = 0; k < count; ++k) {
     if (at + 2 > in.size()) throw std::invalid_argument("the laws' saved history is cut short");
     const auto b = static_cast<size_t>(in[at]);
     const auto n = static_cast<size_t>(in[at + 1]);
     at += 2;
-    if (b >= model_.blocks.size() || model_.blocks[b]->history_size() != n)
+    if (b >= model_.blocks.size())
       throw std::invalid_argument("the laws' saved history does not fit this model's blocks");
-    at = model_.blocks[b]->restore_history(in, at);
+    ElementBlock& blk = *model_.blocks[b];
+    if (!distributed()) {
+      if (blk.history_size() != n)
+        throw std::invalid_argument("the laws' saved history does not fit this model's blocks");
+      at = blk.restore_history(in, at);
+      continue;
+    }
+    // Several processes: every element's history saved; this process takes its held ones'.
+    const size_t p = blk.history_per_element();
+    if (p == 0 || n != static_cast<size_t>(blk.size()) * p || at + n > in.size())
+      throw std::invalid_argument("the laws' saved history does not fit this model's blocks");
+    held.clear();
+    for (int e = 0; e < blk.size(); ++e)
+      if (blk.holds(e)) {
+        const auto from = in.begin() + static_cast<std::ptrdiff_t>(at + static_cast<size_t>(e) * p);
+        held.insert(held.end(), from, from + static_cast<std::ptrdiff_t>(p));
+      }
+    if (held.size() != blk.history_size())
+      throw std::invalid_argument("the laws' saved history does not fit this model's blocks");
+    blk.restore_history(held, 0);
+    at += n;
   }
 }
 

@@ -99,6 +99,12 @@ class MembraneBlock final : public SurfaceBlock {
   bool prestressed() const override { return law_->has_prestress(); }
 
   size_t history_size() const override { return history_.size(); }
+  size_t history_per_element() const override {
+    if constexpr (kHistory)
+      return Shape::kPoints * static_cast<size_t>(policy_.size);
+    else
+      return 0;
+  }
   void commit_history(const NodePositions& x) override {
     if constexpr (kHistory) {
       const size_t n = static_cast<size_t>(policy_.size);

@@ -42,11 +42,12 @@ class SlidingCableBlock final : public ElementBlock, public SlidingChains {
  public:
   SlidingCableBlock(std::string set, int chain_nodes, std::vector<int> conn, const NodePositions& X,
                     const CableLaw& law, double density, double area, BlockSetupReport& report,
-                    const SlidingCableSection& section)
+                    const SlidingCableSection& section, bool stabilized = false)
       : ElementBlock(chain_shape(chain_nodes), std::move(set), std::move(conn), density),
         law_(law),
         area_(area),
-        section_(section) {
+        section_(section),
+        stabilized_(stabilized) {
     const int ne = size();
     const int k = nodes_per_element();
     segments_.resize(static_cast<size_t>(ne) * static_cast<size_t>(k - 1));
@@ -85,10 +86,16 @@ class SlidingCableBlock final : public ElementBlock, public SlidingChains {
                                         std::span<const int> listed) const override {
     BlockSetupReport report;
     const bool any = !connectivity.empty();
+    // Form finding lays a prestressed cable in its sleeves at the shape it finds: its prestress
+    // one force along the chain, held by a stabilizer per segment (E A = stabilizer times the
+    // force, as a cable2's), nothing slipped, reefed or cut yet: friction, reefing and the cut
+    // act in the analyses that follow (stabilizer 0).
+    const bool stabilized = stabilizer > 0 && law_.S0 > 0;
     CableLaw law = law_;
-    if (stabilizer > 0 && law_.S0 > 0) law.E = stabilizer * law_.S0;
-    auto out = make_sliding_cable_block(set_name(), nodes_per_element(), std::move(connectivity), X,
-                                        law, density(), area_, report, section_);
+    if (stabilized) law.E = stabilizer * law_.S0;
+    auto out = std::make_unique<SlidingCableBlock>(
+        set_name(), nodes_per_element(), std::move(connectivity), X, law, density(), area_, report,
+        stabilized ? SlidingCableSection{} : section_, stabilized);
     if (any && !(report.worst_jacobian > 0))
       throw std::invalid_argument(
           fmt::format("sliding_cable element {} of set '{}' has a zero-length segment on the new "
@@ -111,7 +118,10 @@ class SlidingCableBlock final : public ElementBlock, public SlidingChains {
         continue;
       }
       const Chain& xe = gather(x, e);
-      if (section_.friction > 0) {
+      if (stabilized_) {
+        sliding_cable::stabilized_force_tangent(xe, reference_segments(e), area_, law_.S0, law_.E,
+                                                re, Ke ? &*Ke : nullptr);
+      } else if (section_.friction > 0) {
         FrictionScratch& w = scratch();
         sliding_cable::friction_force_tangent(xe, friction_chain(e), area_, law_, re,
                                               Ke ? &*Ke : nullptr, w.slips, w.work);
@@ -147,7 +157,9 @@ class SlidingCableBlock final : public ElementBlock, public SlidingChains {
     double U = 0;
     if (cut_) return U;
     for (int e : elements)
-      U += section_.friction > 0
+      U += stabilized_ ? sliding_cable::stabilized_strain_energy(
+                             gather(x, e), reference_segments(e), area_, law_.S0, law_.E)
+           : section_.friction > 0
                ? sliding_cable::friction_strain_energy(gather(x, e), friction_chain(e), area_, law_,
                                                        scratch().work)
                : sliding_cable::strain_energy(gather(x, e), g_ * L0(e), area_, law_);
@@ -187,7 +199,9 @@ class SlidingCableBlock final : public ElementBlock, public SlidingChains {
   ElementOutput output(int e, const NodePositions& x) const override {
     ElementOutput out;
     if (cut_) return out;
-    out.cable_force = section_.friction > 0
+    out.cable_force = stabilized_ ? sliding_cable::stabilized_mean_force(
+                                        gather(x, e), reference_segments(e), area_, law_.S0, law_.E)
+                      : section_.friction > 0
                           ? sliding_cable::friction_mean_force(gather(x, e), friction_chain(e),
                                                                area_, law_, scratch().work)
                           : sliding_cable::true_force(gather(x, e), g_ * L0(e), area_, law_);
@@ -210,6 +224,9 @@ class SlidingCableBlock final : public ElementBlock, public SlidingChains {
   // With friction, the slips at the interior nodes (k − 2 per chain) are the history: the
   // forces are evaluated from those committed at the last accepted state.
   size_t history_size() const override { return slips_.size(); }
+  size_t history_per_element() const override {
+    return section_.friction > 0 ? static_cast<size_t>(nodes_per_element() - 2) : 0;
+  }
   void commit_history(const NodePositions& x) override {
     if (cut_ || slips_.empty()) return;
     FrictionScratch& w = scratch();
@@ -280,6 +297,7 @@ class SlidingCableBlock final : public ElementBlock, public SlidingChains {
   std::vector<double> slips_;     // with friction: committed slips, k − 2 per element
   double g_ = 1;                  // the reefing factor at the time set
   bool cut_ = false;              // the line cut at the time set
+  bool stabilized_ = false;       // form finding's chain (rebuilt with a stabilizer)
 };
 
 }  // namespace

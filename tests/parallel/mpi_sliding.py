@@ -2,7 +2,8 @@
 """A sliding cable with friction on 2 processes (issue 44): the capstan over a fixed pulley
 node (tests/cli/data/sliding/capstan.yaml) gives the one-process history within 1e-8, its `slip`
 column included (the slip's interior node is a place in the chain, not a node index of the
-piece).
+piece); checkpointed at t = 1 and restarted on 2 processes, it goes on as the run never
+stopped.
 
 Usage: mpi_sliding.py VELUM DATA OUTDIR
 """
@@ -43,25 +44,40 @@ def main():
     if errors:
         sys.exit("FAIL:\n" + "\n".join(errors))
     print("sliding cable with friction on 2 processes: the one-process history, slip included")
-    # A checkpoint of the slips on 2 processes is refused on every process at once: refused on
-    # the process holding the chain alone, it left the other in the checkpoint's collectives
-    # for ever (a hang).
+    # Checkpointed on 2 processes at t = 1 (the slip committed) and continued with --restart on 2: the history of the run never stopped,
+    # through the sticking half (where only the committed slip holds the force). The slips are
+    # saved in the one-process order (each chain from the process holding it); until
+    # 2026-12-04 such a checkpoint was refused.
     with open(model) as f:
         saving = f.read().replace("output:\n", "output:\n  checkpoint: {interval: 0.5}\n", 1)
-    model_cp = os.path.join(out, "capstan-checkpoint.yaml")
-    with open(model_cp, "w") as f:
+    if "end: 2.0" not in saving:
+        sys.exit("FAIL: capstan.yaml: no end time 2.0 to stop at 1.0")
+    whole_m, first_m = (os.path.join(out, f) for f in ("whole.yaml", "first.yaml"))
+    with open(whole_m, "w") as f:
         f.write(saving)
+    with open(first_m, "w") as f:
+        f.write(saving.replace("end: 2.0", "end: 1.0"))
+    mpirun = ["mpirun", "-np", "2", velum, "run"]
+    whole, cont = os.path.join(out, "whole"), os.path.join(out, "restarted")
+    run(mpirun + [whole_m, "-q", "-o", whole], env)
+    run(mpirun + [first_m, "-q", "-o", cont], env)
+    stopped = history(os.path.join(cont, "history.csv"))
     try:
-        p = subprocess.run(["mpirun", "-np", "2", velum, "run", model_cp, "-q", "-o",
-                            os.path.join(out, "checkpoint")], env=env, capture_output=True,
-                           text=True, timeout=120)
+        run(mpirun + [whole_m, "--restart", cont, "-q"], env)
     except subprocess.TimeoutExpired:
-        sys.exit("FAIL: a checkpoint of the slips on 2 processes hangs")
-    if p.returncode == 0 or "cannot yet be saved from a run on several processes" not in p.stderr:
-        sys.exit(f"FAIL: a checkpoint of the slips on 2 processes: exit {p.returncode}, {p.stderr}")
-    print("a checkpoint of the slips on 2 processes is refused (exit "
-          f"{p.returncode}), not a hang")
-
+        sys.exit("FAIL: a restart of the slips on 2 processes hangs")
+    got = history(os.path.join(cont, "history.csv"))
+    errors = []
+    if not len(stopped[1]) < len(got[1]) or got[1][-1][0] != 2.0:
+        errors.append(f"the restart did not continue to t = 2 ({len(stopped[1])} rows before, "
+                      f"{len(got[1])} after)")
+    errors += compare(history(os.path.join(whole, "history.csv")), got,
+                      "capstan, restarted vs uninterrupted, 2 processes")
+    errors += compare(ref, got, "capstan, restarted on 2 processes vs one process")
+    if errors:
+        sys.exit("FAIL:\n" + "\n".join(errors))
+    print(f"a checkpoint of the slips on 2 processes restarts: {len(got[1])} history rows "
+          f"({len(stopped[1])} before the restart), the uninterrupted history")
 
 if __name__ == "__main__":
     main()

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <span>
 
 #include "velum/material/cable_law.hpp"
 #include "velum/math/types.hpp"
@@ -35,5 +36,22 @@ double strain_energy(const Chain& x, double L0, double area, const CableLaw& law
 
 /// True (Cauchy) force A S λ.
 double true_force(const Chain& x, double L0, double area, const CableLaw& law);
+
+/// Form finding's chain (docs/fabric-structures.md): the prestress as one force along the chain,
+/// A S0 λ (λ = l / L0, the sleeve: its points slide), plus a stabilizer per segment, each
+/// segment's own Green strain ε_j against its reference length L0_j at modulus E (it holds the
+/// sleeve points along the chain as the sheet's stabilizer holds the mesh in its plane, and
+/// vanishes with the strains once the updates stop moving the shape). Internal forces r and
+/// (when K is non-null) the tangent: the one-force chain's with S' = 0, plus each segment's
+/// (A / L0_j) E (λ_j² + ε_j) e_j ⊗ e_j and geometric term. `L0j` holds the k − 1 segments'.
+void stabilized_force_tangent(const Chain& x, std::span<const double> L0j, double area, double S0,
+                              double E, VectorMap r, MatrixMap* K);
+
+/// Its strain energy A (L0 S0 ε + Σ L0_j E ε_j² / 2) and its mean force (the prestress's plus
+/// the segments' stabilizing forces weighted by their current lengths).
+double stabilized_strain_energy(const Chain& x, std::span<const double> L0j, double area, double S0,
+                                double E);
+double stabilized_mean_force(const Chain& x, std::span<const double> L0j, double area, double S0,
+                             double E);
 
 }  // namespace velum::sliding_cable

@@ -118,6 +118,9 @@ class ElementBlock {
 
   /// Doubles of history held (0: the law keeps none).
   virtual size_t history_size() const { return 0; }
+  /// Doubles of history per element, held or not (the same on every process; 0: none):
+  /// history_size() is this times the held elements, saved in ascending element order.
+  virtual size_t history_per_element() const { return 0; }
   /// Advances each held point's history to the positions x of an accepted step.
   virtual void commit_history(const NodePositions& /*x*/) {}
   /// The held history, appended to `out`; and read back from `in` at `at` (returns the position

@@ -24,8 +24,8 @@ std::unique_ptr<ElementBlock> make(const NodePositions& X, const CableLaw& law) 
   return make_sliding_cable_block("rope", 4, {0, 1, 2, 3}, X, law, 7.0, 0.01, report);
 }
 
-void check_tangent(const CableLaw& law, const NodePositions& x0, const NodePositions& X) {
-  auto b = make(X, law);
+void check_tangent(const ElementBlock& block, const NodePositions& x0) {
+  const ElementBlock* b = &block;
   const int nd = 12;
   const std::vector<int> e{0};
   Eigen::VectorXd r(nd), rp(nd), rm(nd);
@@ -46,6 +46,10 @@ void check_tangent(const CableLaw& law, const NodePositions& x0, const NodePosit
   }
 }
 
+void check_tangent(const CableLaw& law, const NodePositions& x0, const NodePositions& X) {
+  check_tangent(*make(X, law), x0);
+}
+
 TEST(SlidingCable, TangentMatchesCentralDifferencesTaut) {
   Chain c;
   check_tangent({2.0e9, false, 0.0}, c.x, c.X);
@@ -57,6 +61,24 @@ TEST(SlidingCable, TangentMatchesCentralDifferencesTrussInCompression) {
   x.col(3) -= Vec3(0.6, 0, 0);  // the chain shorter than its reference
   x.col(1) += Vec3(0.02, 0.01, 0.03);
   check_tangent({2.0e9, true, 0.0}, x, c.X);
+}
+
+// Form finding's chain (on_reference with a stabilizer): the prestress one force along the
+// chain, a stabilizer per segment; stretched, and with segments shorter than their reference
+// (the stabilizer then pushes).
+TEST(SlidingCable, FormFindingTangentMatchesCentralDifferences) {
+  Chain c;
+  const auto ff = make(c.X, {2.0e9, false, 3.0e7})->on_reference(c.X, 1.0);
+  check_tangent(*ff, c.x);
+  NodePositions x = c.X;
+  x.col(1) += Vec3(0.3, 0.02, 0.03);  // segment 1 longer, segment 2 shorter
+  check_tangent(*ff, x);
+  // On its own reference it carries the prestress, one force: A S0 at both ends.
+  Eigen::VectorXd r(12);
+  ff->internal(std::vector<int>{0}, c.X, r.data(), nullptr);
+  EXPECT_NEAR(r.segment<3>(0).norm(), 0.01 * 3.0e7, 1e-9 * 3.0e5);
+  EXPECT_NEAR(r.segment<3>(9).norm(), 0.01 * 3.0e7, 1e-9 * 3.0e5);
+  EXPECT_NEAR(ff->output(0, c.X).cable_force, 0.01 * 3.0e7, 1e-9 * 3.0e5);
 }
 
 TEST(SlidingCable, OneForceAlongTheChainAndBalanced) {
