@@ -19,41 +19,17 @@
 #include <vector>
 
 #include "load/face_tree.hpp"
+#include "wavy_sheet.hpp"
 
 namespace {
 
 using velum::Vec3;
 using velum::contact::Box;
 
-struct Sheet {
-  std::vector<Box> boxes;
-  std::vector<Vec3> points;
-};
+using Sheet = velum::bench::WavySheet;
 
-// n x n quads split in two: 2 n² faces, boxes grown by the contact reach; one node per quad a
-// little above the sheet. `shift` moves the wave (the sheet of the next evaluation).
 Sheet sheet(long faces, double shift = 0) {
-  const int n = static_cast<int>(std::sqrt(faces / 2.0));
-  const double h = 1.0 / n, reach = 0.5 * h;
-  auto at = [&](int i, int j) {
-    const double x = i * h, y = j * h;
-    return Vec3(x, y, 0.05 * std::sin(6 * x + shift) * std::cos(5 * y));
-  };
-  Sheet s;
-  s.boxes.reserve(2 * static_cast<size_t>(n) * n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      for (int t = 0; t < 2; ++t) {
-        Box b(at(i, j));
-        b.extend(t ? at(i + 1, j + 1) : at(i + 1, j));
-        b.extend(t ? at(i, j + 1) : at(i + 1, j + 1));
-        b.min().array() -= reach;
-        b.max().array() += reach;
-        s.boxes.push_back(b);
-      }
-      s.points.push_back(at(i, j) + Vec3(0.3 * h, 0.3 * h, 0.2 * h));
-    }
-  return s;
+  return velum::bench::wavy_sheet(faces, shift);
 }
 
 // Two sheets, alternated so every evaluation moves every face.

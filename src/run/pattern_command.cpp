@@ -72,25 +72,11 @@ int draw_sheet(const std::filesystem::path& output) {
 }  // namespace
 
 int pattern_command(const std::filesystem::path& input, const std::filesystem::path& output) {
-  std::filesystem::path model_file = input;
+  std::filesystem::path model_file;
+  std::optional<ModelInput> read = read_shape_model(input, "velum pattern", model_file);
+  if (!read) return kExitBadInput;
+  ModelInput& in = *read;
   std::error_code ec;
-  if (std::filesystem::is_directory(input, ec)) {
-    model_file = input / "form.yaml";
-    if (!std::filesystem::exists(model_file, ec)) {
-      say(stderr,
-          "error: {}: a results folder gives its shape to `velum pattern` through its found form "
-          "(form.yaml, written by form finding), and it has none: give the model file\n",
-          input.string());
-      return kExitBadInput;
-    }
-  }
-  ModelInput in;
-  try {
-    in = read_model(model_file);
-  } catch (const InputError& e) {
-    for (const auto& m : e.messages()) say(stderr, "error: {}\n", m);
-    return kExitBadInput;
-  }
   if (!in.patterns.seams.empty()) {
     // Seams first: the model cut into its panels (PDIR/panels.yaml), then flattened.
     std::filesystem::create_directories(output, ec);

@@ -36,6 +36,13 @@ void renumber_history(std::vector<HistoryEntry>& history, const std::vector<int>
 /// to write steps.csv: that failure is raised after it. Throws OutputError.
 void write_step_output(ResultsWriter& writer, const StepSnapshot& snap, bool several);
 
+/// The model `velum pattern` and `velum seams` (`command`) read: the file, or the found form
+/// (form.yaml) of a results folder, whose path goes to `model_file`; nullopt after saying why
+/// on stderr (bad input).
+std::optional<ModelInput> read_shape_model(const std::filesystem::path& input,
+                                           const std::string& command,
+                                           std::filesystem::path& model_file);
+
 /// Debian's interpreter (the `python3` first on PATH may lack numpy).
 inline constexpr const char* kPython = "/usr/bin/python3";
 /// Runs kPython with `words` (and `environment` set in the child) for `command` (its name in

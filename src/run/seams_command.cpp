@@ -299,26 +299,34 @@ int cut_along_seams(const ModelInput& in, const std::filesystem::path& model_fil
   return kExitOk;
 }
 
-int seams_command(const std::filesystem::path& input, const std::filesystem::path& output) {
-  std::filesystem::path model_file = input;
+std::optional<ModelInput> read_shape_model(const std::filesystem::path& input,
+                                           const std::string& command,
+                                           std::filesystem::path& model_file) {
+  model_file = input;
   std::error_code ec;
   if (std::filesystem::is_directory(input, ec)) {
     model_file = input / "form.yaml";
     if (!std::filesystem::exists(model_file, ec)) {
       say(stderr,
-          "error: {}: a results folder gives its shape to `velum seams` through its found form "
+          "error: {}: a results folder gives its shape to `{}` through its found form "
           "(form.yaml, written by form finding), and it has none: give the model file\n",
-          input.string());
-      return kExitBadInput;
+          input.string(), command);
+      return std::nullopt;
     }
   }
-  ModelInput in;
   try {
-    in = read_model(model_file);
+    return read_model(model_file);
   } catch (const InputError& e) {
     for (const auto& msg : e.messages()) say(stderr, "error: {}\n", msg);
-    return kExitBadInput;
+    return std::nullopt;
   }
+}
+
+int seams_command(const std::filesystem::path& input, const std::filesystem::path& output) {
+  std::filesystem::path model_file;
+  std::optional<ModelInput> read = read_shape_model(input, "velum seams", model_file);
+  if (!read) return kExitBadInput;
+  ModelInput& in = *read;
   if (in.patterns.seams.empty()) {
     say(stderr,
         "error: {}: patterns.seams: the model gives no seams: add patterns: {{seams: [{{points: "
