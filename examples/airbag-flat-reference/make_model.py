@@ -95,7 +95,7 @@ functions:
   fill: {{type: table, points: [[0, 1], [1, {amount!r}]]}}
 analysis:
   type: static
-  time: {{end: 1.0, step: 0.1, min_step: 1.0e-6, adaptive: true}}
+  time: {{end: 1.0, step: 0.125, min_step: 1.0e-6, adaptive: true}}
 output:
   directory: out
   interval: 1.0

@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "velum/math/threads.hpp"
 #include "velum/parallel/processes.hpp"
 
 namespace velum {
@@ -433,24 +434,24 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     const int* inner = J->innerIndexPtr();
     double* jv = J->valuePtr();
     const double* mv = cm != 0 ? mass_matrix().valuePtr() : nullptr;
-#pragma omp parallel for schedule(static) if (J->nonZeros() > kParallelMatrixEntries)
-    for (int j = 0; j < J->outerSize(); ++j) {
-      double sum = 0;
-      if (mv) {
-        for (int k = outer[j]; k < outer[j + 1]; ++k) {
-          sum += std::abs(jv[k] * x_eq_[inner[k]]);
-          jv[k] = cu * jv[k] + cm * mv[k];
-        }
-      } else if (cu != 1) {
-        for (int k = outer[j]; k < outer[j + 1]; ++k) {
-          sum += std::abs(jv[k] * x_eq_[inner[k]]);
-          jv[k] *= cu;
-        }
-      } else {  // statics: J is K − Kp as assembled, and a pass that writes nothing is faster
-        for (int k = outer[j]; k < outer[j + 1]; ++k) sum += std::abs(jv[k] * x_eq_[inner[k]]);
-      }
-      noise_eq_[j] = sum;
-    }
+    parallel_for(
+        static_cast<int>(J->outerSize()), J->nonZeros() > kParallelMatrixEntries, [&](int j) {
+          double sum = 0;
+          if (mv) {
+            for (int k = outer[j]; k < outer[j + 1]; ++k) {
+              sum += std::abs(jv[k] * x_eq_[inner[k]]);
+              jv[k] = cu * jv[k] + cm * mv[k];
+            }
+          } else if (cu != 1) {
+            for (int k = outer[j]; k < outer[j + 1]; ++k) {
+              sum += std::abs(jv[k] * x_eq_[inner[k]]);
+              jv[k] *= cu;
+            }
+          } else {  // statics: J is K − Kp as assembled, and a pass that writes nothing is faster
+            for (int k = outer[j]; k < outer[j + 1]; ++k) sum += std::abs(jv[k] * x_eq_[inner[k]]);
+          }
+          noise_eq_[j] = sum;
+        });
     // On several processes: the sum of the shares' |J| |x| (equal to |J| |x| except where
     // two processes add into one entry, where it bounds it from above).
     complete(noise_eq_);

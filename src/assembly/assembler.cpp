@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "element_colors.hpp"
+#include "velum/math/threads.hpp"
 #include "velum/parallel/model_piece.hpp"
 #include "velum/parallel/processes.hpp"
 
@@ -237,18 +238,15 @@ void combine_values(SparseMatrix& A, double a, const SparseMatrix* B, double b) 
   double* av = A.valuePtr();
   const Eigen::Index n = A.nonZeros();
   const double* bv = B ? B->valuePtr() : nullptr;
+  const bool worth = n > kParallelMatrixEntries;
   if (bv && a != 0) {
-#pragma omp parallel for simd schedule(static) if (n > kParallelMatrixEntries)
-    for (Eigen::Index i = 0; i < n; ++i) av[i] = a * av[i] + b * bv[i];
+    parallel_for(n, worth, [&](Eigen::Index i) { av[i] = a * av[i] + b * bv[i]; });
   } else if (bv) {
-#pragma omp parallel for simd schedule(static) if (n > kParallelMatrixEntries)
-    for (Eigen::Index i = 0; i < n; ++i) av[i] = b * bv[i];
+    parallel_for(n, worth, [&](Eigen::Index i) { av[i] = b * bv[i]; });
   } else if (a != 0) {
-#pragma omp parallel for simd schedule(static) if (n > kParallelMatrixEntries)
-    for (Eigen::Index i = 0; i < n; ++i) av[i] *= a;
+    parallel_for(n, worth, [&](Eigen::Index i) { av[i] *= a; });
   } else {
-#pragma omp parallel for simd schedule(static) if (n > kParallelMatrixEntries)
-    for (Eigen::Index i = 0; i < n; ++i) av[i] = 0.0;
+    parallel_for(n, worth, [&](Eigen::Index i) { av[i] = 0.0; });
   }
 }
 
@@ -267,8 +265,7 @@ void Assembler::make_matrix(SparseMatrix& A) const {
   }
   double* values = A.valuePtr();
   const Eigen::Index n = nonzeros();
-#pragma omp parallel for schedule(static) if (n > kParallelMatrixEntries)
-  for (Eigen::Index i = 0; i < n; ++i) values[i] = 0.0;
+  parallel_for(n, n > kParallelMatrixEntries, [&](Eigen::Index i) { values[i] = 0.0; });
 }
 
 template <class Compute>
@@ -297,9 +294,7 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
     // machine): below a few thousand element-dofs² of work per colour it costs more than it
     // saves, so small colours run on the calling thread; so does every colour on one thread
     // (libgomp enters even a one-thread region through the kernel).
-    const bool parallel = threads > 1 && nchunks >= kMinParallelChunks;
-#pragma omp parallel if (parallel)
-    {
+    parallel_region(nchunks >= kMinParallelChunks, [&] {
       ElementBuffers& buf = buffers_[omp_get_thread_num()];
 #pragma omp for schedule(static)
       for (int c = 0; c < nchunks; ++c) {
@@ -331,7 +326,7 @@ void Assembler::run(int bi, const std::vector<std::vector<int>>& colors, const C
           scatter.add(local[e], ke, values);
         }
       }
-    }
+    });
   }
 }
 

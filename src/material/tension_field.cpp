@@ -122,6 +122,30 @@ struct SampleAngles {
 };
 const SampleAngles kSampleAngles;
 
+/// Whether Q is an isotropic sheet's (to round-off, as a rotated isotropic Q comes out): no
+/// coupling of shear and stretch, equal stretch stiffness both ways, shear (Q00 − Q01) / 2.
+bool isotropic(const Mat3& Q, double scale) {
+  const double tol = 1e-12 * scale;
+  return std::abs(Q(0, 2)) <= tol && std::abs(Q(1, 2)) <= tol && std::abs(Q(2, 0)) <= tol &&
+         std::abs(Q(2, 1)) <= tol && std::abs(Q(0, 0) - Q(1, 1)) <= tol &&
+         std::abs(Q(0, 0) - Q(0, 1) - 2 * Q(2, 2)) <= tol;
+}
+
+/// The admissible root of H for an isotropic Q: there v_ntᵀQv_t = 0 at every angle, so
+/// H = (v_tᵀQv_t) S_nt vanishes at the trial stress's principal directions only, and of those
+/// only the major one can carry tension with β ≤ 0 (along the minor one β ≤ 0 needs σ1 ≤ 0,
+/// and then σ2 − ν σ1 ≤ 0). One Newton step on H takes it to the root of Q as given (a Q
+/// isotropic to round-off only moves the root by as much). In [0, π), as the scan's roots.
+double isotropic_root(const AngleEquation& H, const Vec3& St, double half_difference) {
+  double theta = 0.5 * std::atan2(St[2], half_difference);
+  double dH = 0;
+  const double h = H(theta, &dH);
+  if (dH != 0 && std::isfinite(h / dH)) theta -= h / dH;
+  if (theta < 0) theta += std::numbers::pi;
+  if (theta >= std::numbers::pi) theta -= std::numbers::pi;
+  return theta;
+}
+
 }  // namespace
 
 TensionField tension_field(const Mat3& Q, const Vec3& St) {
@@ -141,36 +165,41 @@ TensionField tension_field(const Mat3& Q, const Vec3& St) {
   const AngleEquation H(Q, St);
   const double scale = Q.cwiseAbs().maxCoeff();
   double best_relief = -1, best_theta = 0, best_beta = 0;
-  const double h = std::numbers::pi / kSamples;
-  const auto& sample = kSampleAngles;
-  const std::array<double, kSamples> Hs = H.samples(sample.c, sample.s);
-  double theta0 = 0, H0 = Hs[0];
-  for (int k = 1; k <= kSamples; ++k) {
-    const double theta1 = k * h;
-    const double H1 = Hs[k % kSamples];  // period π
-    double root = -1;
-    if (H0 == 0) {
-      root = theta0;
-    } else if ((H0 < 0) != (H1 < 0) && H1 != 0) {
-      root = refine_root(H, theta0, theta1, H0);
-    }
-    if (root >= 0) {
-      const WrinkleFrame f(std::cos(root), std::sin(root));
-      const Vec3 Qvt = Q * f.vt;
-      const double d = f.vt.dot(Qvt);
-      if (d > 1e-12 * scale) {
-        const double beta = f.vt.dot(St) / d;
-        const double tension = f.vn.dot(St - beta * Qvt);
-        const double relief = 0.5 * beta * beta * d;
-        if (beta <= 0 && tension > 0 && relief > best_relief) {
-          best_relief = relief;
-          best_theta = root;
-          best_beta = beta;
-        }
+  // A root of H is a candidate: admissible when β ≤ 0 and the tension is positive, the best
+  // of lowest elastic energy (largest relief).
+  auto consider = [&](double root) {
+    const WrinkleFrame f(std::cos(root), std::sin(root));
+    const Vec3 Qvt = Q * f.vt;
+    const double d = f.vt.dot(Qvt);
+    if (d > 1e-12 * scale) {
+      const double beta = f.vt.dot(St) / d;
+      const double tension = f.vn.dot(St - beta * Qvt);
+      const double relief = 0.5 * beta * beta * d;
+      if (beta <= 0 && tension > 0 && relief > best_relief) {
+        best_relief = relief;
+        best_theta = root;
+        best_beta = beta;
       }
     }
-    theta0 = theta1;
-    H0 = H1;
+  };
+  if (isotropic(Q, scale)) {
+    consider(isotropic_root(H, St, half_difference));
+  } else {
+    const double h = std::numbers::pi / kSamples;
+    const auto& sample = kSampleAngles;
+    const std::array<double, kSamples> Hs = H.samples(sample.c, sample.s);
+    double theta0 = 0, H0 = Hs[0];
+    for (int k = 1; k <= kSamples; ++k) {
+      const double theta1 = k * h;
+      const double H1 = Hs[k % kSamples];  // period π
+      if (H0 == 0) {
+        consider(theta0);
+      } else if ((H0 < 0) != (H1 < 0) && H1 != 0) {
+        consider(refine_root(H, theta0, theta1, H0));
+      }
+      theta0 = theta1;
+      H0 = H1;
+    }
   }
   if (best_relief < 0) {
     out.state = WrinkleState::kSlack;  // S = 0, C = 0

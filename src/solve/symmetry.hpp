@@ -11,6 +11,7 @@
 #include <limits>
 #include <vector>
 
+#include "velum/math/threads.hpp"
 #include "velum/solve/linear_solver.hpp"
 
 namespace velum {
@@ -92,15 +93,21 @@ class SymmetryCheck {
     const int* p = partner_.data();
     const std::ptrdiff_t nnz = A.nonZeros();
     double dmax = 0, vmax = 0;
+    auto scan = [&](std::ptrdiff_t k, double& d, double& m) {
+      m = std::max(m, std::abs(v[k]));
+      if (p[k] >= 0) d = std::max(d, std::abs(v[k] - v[p[k]]));
+    };
+    if (share_between_threads(nnz > kParallelEntries)) {
 #pragma omp parallel for schedule(static) reduction(max : dmax, vmax)
-    for (std::ptrdiff_t k = 0; k < nnz; ++k) {
-      vmax = std::max(vmax, std::abs(v[k]));
-      if (p[k] >= 0) dmax = std::max(dmax, std::abs(v[k] - v[p[k]]));
+      for (std::ptrdiff_t k = 0; k < nnz; ++k) scan(k, dmax, vmax);
+    } else {
+      for (std::ptrdiff_t k = 0; k < nnz; ++k) scan(k, dmax, vmax);
     }
     if (vmax == 0) return true;  // a zero matrix
     return std::isfinite(vmax) && dmax <= kTolerance * vmax;
   }
   static constexpr Eigen::Index kMapped = 1'000'000;
+  static constexpr std::ptrdiff_t kParallelEntries = 200'000;  ///< below: one thread
 
   std::vector<int> partner_;  ///< per entry: its partner's position if it is below the diagonal
   std::vector<int> cursor_;

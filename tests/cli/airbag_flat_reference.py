@@ -99,7 +99,7 @@ text = mm.model(N, "model").replace("gamma: 1.0, amount: fill}",
                                     "gamma: 1.4, temperature: 300.0, gas_constant: 287.0}")
 text = text.replace("- {name: p, quantity: gas_pressure, load: 0}",
                     "- {name: p, quantity: gas_pressure, load: 0}\n    - {name: m, quantity: gas_mass, load: 0}")
-text = text.replace("end: 1.0, step: 0.1", "end: 0.1, step: 0.1")
+text = text.replace("end: 1.0, step: 0.125", "end: 0.1, step: 0.1")
 path = os.path.join(WORK, "flow.yaml")
 with open(path, "w") as f:
     f.write(text)

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "../support.hpp"
+#include "velum/material/linear_sheet_law.hpp"
 #include "velum/material/sheet_law.hpp"
 
 namespace velum {
@@ -181,6 +182,36 @@ TEST(TensionField, SpuriousRootsWithNegativeTensionAreRejected) {
   const double rad = std::hypot(0.5 * (r.S[0] - r.S[1]), r.S[2]);
   EXPECT_NEAR(mean + rad, 4.0, 1e-12);
   EXPECT_NEAR(mean - rad, 0.0, 1e-12);
+}
+
+TEST(TensionField, IsotropicShortcutAgreesWithTheRootScan) {
+  // An isotropic Q takes the closed-form root (the trial stress's major direction, one
+  // Newton step); a Q made anisotropic by 1e-9 takes the general scan of H. Both must give
+  // the same state, angle, stress and tangent to the perturbation's order, with and
+  // without prestress, over random strains (wrinkled, slack and taut).
+  const Mat3 Qiso = PlaneStressLaw::isotropic("iso", 1000.0, 0.3).Q();
+  Mat3 Qnear = Qiso;
+  Qnear(0, 0) *= 1 + 1e-9;
+  test::Random rnd(5);
+  int wrinkled = 0;
+  for (const Vec3& S0 : {Vec3(0, 0, 0), Vec3(30, 10, -4)}) {
+    for (int k = 0; k < 300; ++k) {
+      const Vec3 E = 0.05 * rnd.vec3(-1, 1);
+      const TensionField a = tension_field(Qiso, Qiso * E + S0);
+      const TensionField b = tension_field(Qnear, Qnear * E + S0);
+      ASSERT_EQ(a.state, b.state) << E.transpose();
+      const double scale = Qiso.cwiseAbs().maxCoeff();
+      EXPECT_LT((a.S - b.S).norm(), 1e-7 * std::max(b.S.norm(), 1e-3 * scale * E.norm()));
+      EXPECT_LT((a.C - b.C).cwiseAbs().maxCoeff(), 1e-6 * scale) << E.transpose();
+      if (a.state == WrinkleState::kWrinkled) {
+        ++wrinkled;
+        EXPECT_NEAR(std::remainder(a.angle - b.angle, std::numbers::pi), 0, 1e-6);
+        EXPECT_GE(a.angle, 0);
+        EXPECT_LT(a.angle, std::numbers::pi);
+      }
+    }
+  }
+  EXPECT_GE(wrinkled, 50);
 }
 
 }  // namespace
