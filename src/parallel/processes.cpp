@@ -9,13 +9,16 @@
 
 #ifdef VELUM_HAVE_PETSC
 #include <petscmat.h>
+#else
+#include <unistd.h>
 #endif
 
 namespace velum::processes {
 namespace {
 
-bool started = false;
+[[maybe_unused]] bool started = false;  // MPI and PETSc initialised (a PETSc build)
 int my_rank = 0, my_count = 1;
+char** saved_argv = nullptr;  ///< main's arguments, for relaunch_with_petsc
 
 int env_int(const char* name) {
   const char* v = std::getenv(name);
@@ -59,14 +62,42 @@ int launched_size() {
   return 1;
 }
 
+bool relaunched() {
+  return launched_size() <= 1 && std::getenv("VELUM_RELAUNCHED") != nullptr;
+}
+
+bool relaunch_with_petsc() {
+#ifdef VELUM_HAVE_PETSC
+  return false;
+#else
+  // The one-process executable leaves out PETSc, whose hundred shared libraries cost about
+  // 0.06 s of CPU at every start; its sibling velum-mpi is the same program with them.
+  if (saved_argv == nullptr || saved_argv[0] == nullptr) return false;
+  char self[4096];
+  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+  if (n <= 0) return false;
+  self[n] = '\0';
+  std::string sibling(self);
+  const size_t slash = sibling.rfind('/');
+  sibling = sibling.substr(0, slash + 1) + "velum-mpi";
+  if (sibling == self || access(sibling.c_str(), X_OK) != 0) return false;
+  std::fflush(nullptr);
+  setenv("VELUM_RELAUNCHED", "1", 1);  // what this process printed is not printed again
+  execv(sibling.c_str(), saved_argv);
+  return false;  // exec failed: the caller says what is missing
+#endif
+}
+
 bool start(int* argc, char*** argv) {
+  if (argv) saved_argv = *argv;
   const int n = launched_size();
   if (n <= 1) return true;
 #ifdef VELUM_HAVE_PETSC
   initialize(argc, argv);
   return true;
 #else
-  (void)argc, (void)argv;
+  (void)argc;
+  relaunch_with_petsc();  // returns only when there is no velum-mpi beside this executable
   if (env_int("OMPI_COMM_WORLD_RANK") == 0 && env_int("PMI_RANK") == 0)
     std::fprintf(stderr,
                  "error: launched on %d processes, but this build of velum has no PETSc and MPI "

@@ -84,7 +84,7 @@ int check_command(const std::filesystem::path& file) {
 int run_command(const RunOptions& opt) {
   RunControls controls;
   const bool speaks = processes::rank() == 0;  // under mpirun, the first process only
-  if (!opt.quiet && speaks)
+  if (!opt.quiet && speaks && !processes::relaunched())
     say(stderr, "velum {} run: {}\n{}\n", VELUM_VERSION, opt.model.string(), kUnitsNote);
   controls.output = opt.output;
   controls.threads = opt.threads;

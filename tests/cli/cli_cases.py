@@ -15,7 +15,10 @@ import yaml
 
 VELUM, DATA, WORK = sys.argv[1], sys.argv[2], sys.argv[3]
 # A build with PETSc (issue 18) links it: `linear_solver: petsc` is then valid.
-HAVE_PETSC = b"libpetsc" in subprocess.run(["ldd", VELUM], capture_output=True).stdout
+# `velum` itself starts without PETSc and hands such runs to velum-mpi beside it.
+_with_petsc = os.path.join(os.path.dirname(VELUM), "velum-mpi")
+HAVE_PETSC = b"libpetsc" in subprocess.run(["ldd", _with_petsc if os.path.exists(_with_petsc) else VELUM],
+                                           capture_output=True).stdout
 ONLY = sys.argv[4] if len(sys.argv) > 4 else ""
 
 # A valid base model: a 2x1 quad4 sheet with a cable along its top edge.

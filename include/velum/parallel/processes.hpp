@@ -19,6 +19,14 @@ int launched_size();
 /// read: every process must reach every collective call. Returns false (with a message on
 /// stderr) when several processes were launched but this build has no PETSc.
 bool start(int* argc, char*** argv);
+/// In the one-process executable (`velum`, built without PETSc: it starts about 0.06 s of CPU
+/// faster), runs `velum-mpi` from the same directory, the same program with PETSc, with main's
+/// arguments in place of this process (exec: it does not return then). Called when several
+/// processes were launched or a model asks for `linear_solver: petsc`, before anything is
+/// written. Returns false when this build has PETSc, or no velum-mpi is there.
+bool relaunch_with_petsc();
+/// True in a one-process run relaunched so (its first lines were printed already).
+bool relaunched();
 /// Initialises MPI and PETSc on first use in a one-process run (a model with
 /// `linear_solver: petsc`): MPI's singleton start costs about a second, paid only then.
 void ensure_started();

@@ -240,7 +240,7 @@ void Reader::parse_analysis(const Node& a) {
   }
   if (has(a, "path")) parse_path(a["path"]);
   if (auto ls = text(a, "linear_solver", "analysis", false)) {
-    if (*ls == "petsc" && !processes::have_petsc()) {
+    if (*ls == "petsc" && !processes::have_petsc() && !processes::relaunch_with_petsc()) {
       error(a["linear_solver"], "analysis.linear_solver",
             "the PETSc back-end is not available in this build (install petsc-dev and rebuild "
             "with VELUM_WITH_PETSC=ON, or use auto, cholmod, umfpack, klu or mumps)");
