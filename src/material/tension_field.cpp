@@ -131,19 +131,45 @@ bool isotropic(const Mat3& Q, double scale) {
          std::abs(Q(0, 0) - Q(0, 1) - 2 * Q(2, 2)) <= tol;
 }
 
+/// An angle with its cosine and sine.
+struct Angle {
+  double theta, c, s;
+};
+
 /// The admissible root of H for an isotropic Q: there v_ntᵀQv_t = 0 at every angle, so
 /// H = (v_tᵀQv_t) S_nt vanishes at the trial stress's principal directions only, and of those
 /// only the major one can carry tension with β ≤ 0 (along the minor one β ≤ 0 needs σ1 ≤ 0,
 /// and then σ2 − ν σ1 ≤ 0). One Newton step on H takes it to the root of Q as given (a Q
-/// isotropic to round-off only moves the root by as much). In [0, π), as the scan's roots.
-double isotropic_root(const AngleEquation& H, const Vec3& St, double half_difference) {
-  double theta = 0.5 * std::atan2(St[2], half_difference);
+/// isotropic to round-off only moves the root by as much). In [0, π), as the scan's roots;
+/// cosine and sine from the stress (half-angle formulas) and the step's rotation, so that a
+/// point costs one atan2 and no sine or cosine.
+Angle isotropic_root(const AngleEquation& H, const Vec3& St, double half_difference,
+                     double radius) {
+  double c = 1, s = 0;
+  if (radius > 0) {
+    const double cos2 = half_difference / radius, sin2 = St[2] / radius;  // of 2θ
+    if (cos2 >= 0) {
+      c = std::sqrt(0.5 * (1 + cos2));
+      s = sin2 / (2 * c);
+    } else {
+      s = std::sqrt(0.5 * (1 - cos2));
+      c = sin2 / (2 * s);
+    }
+  }
   double dH = 0;
-  const double h = H(theta, &dH);
-  if (dH != 0 && std::isfinite(h / dH)) theta -= h / dH;
-  if (theta < 0) theta += std::numbers::pi;
-  if (theta >= std::numbers::pi) theta -= std::numbers::pi;
-  return theta;
+  const double h = H.at(c, s, &dH);
+  if (const double d = -h / dH; dH != 0 && std::isfinite(d) && d != 0) {
+    // Rotated by d: its cosine and sine to round-off from two terms while d is small.
+    const bool small = std::abs(d) < 1e-8;
+    const double cd = small ? 1 - 0.5 * d * d : std::cos(d), sd = small ? d : std::sin(d);
+    const double c1 = c * cd - s * sd, s1 = s * cd + c * sd;
+    c = c1;
+    s = s1;
+  }
+  double theta = std::atan2(s, c);
+  if (theta < 0) theta += std::numbers::pi, c = -c, s = -s;  // n and −n: the same frame
+  if (theta >= std::numbers::pi) theta -= std::numbers::pi, c = -c, s = -s;
+  return {theta, c, s};
 }
 
 }  // namespace
@@ -164,11 +190,11 @@ TensionField tension_field(const Mat3& Q, const Vec3& St) {
   }
   const AngleEquation H(Q, St);
   const double scale = Q.cwiseAbs().maxCoeff();
-  double best_relief = -1, best_theta = 0, best_beta = 0;
+  double best_relief = -1, best_theta = 0, best_beta = 0, best_c = 1, best_s = 0;
   // A root of H is a candidate: admissible when β ≤ 0 and the tension is positive, the best
   // of lowest elastic energy (largest relief).
-  auto consider = [&](double root) {
-    const WrinkleFrame f(std::cos(root), std::sin(root));
+  auto consider = [&](double root, double c, double s) {
+    const WrinkleFrame f(c, s);
     const Vec3 Qvt = Q * f.vt;
     const double d = f.vt.dot(Qvt);
     if (d > 1e-12 * scale) {
@@ -178,12 +204,15 @@ TensionField tension_field(const Mat3& Q, const Vec3& St) {
       if (beta <= 0 && tension > 0 && relief > best_relief) {
         best_relief = relief;
         best_theta = root;
+        best_c = c;
+        best_s = s;
         best_beta = beta;
       }
     }
   };
   if (isotropic(Q, scale)) {
-    consider(isotropic_root(H, St, half_difference));
+    const Angle a = isotropic_root(H, St, half_difference, radius);
+    consider(a.theta, a.c, a.s);
   } else {
     const double h = std::numbers::pi / kSamples;
     const auto& sample = kSampleAngles;
@@ -193,9 +222,10 @@ TensionField tension_field(const Mat3& Q, const Vec3& St) {
       const double theta1 = k * h;
       const double H1 = Hs[k % kSamples];  // period π
       if (H0 == 0) {
-        consider(theta0);
+        consider(theta0, std::cos(theta0), std::sin(theta0));
       } else if ((H0 < 0) != (H1 < 0) && H1 != 0) {
-        consider(refine_root(H, theta0, theta1, H0));
+        const double root = refine_root(H, theta0, theta1, H0);
+        consider(root, std::cos(root), std::sin(root));
       }
       theta0 = theta1;
       H0 = H1;
@@ -211,7 +241,7 @@ TensionField tension_field(const Mat3& Q, const Vec3& St) {
   // d(β, θ)/dE = −J⁻¹ ∂R/∂E with ∂R/∂E = [Q v_t, Q v_nt]ᵀ and
   // J = [[−v_tᵀQv_t, 2β v_tᵀQv_nt], [−v_ntᵀQv_t, −s + 2β v_ntᵀQv_nt]]
   // (using S_nt = 0, S_tt = 0 at the root; s = n·S·n).
-  const WrinkleFrame f(std::cos(best_theta), std::sin(best_theta));
+  const WrinkleFrame f(best_c, best_s);
   const Vec3 Qvt = Q * f.vt, Qvnt = Q * f.vnt;
   const double beta = best_beta;
   out.S = St - beta * Qvt;

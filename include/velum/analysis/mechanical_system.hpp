@@ -139,6 +139,7 @@ class MechanicalSystem final : public SecondOrderSystem {
                          bool at_supports = false);
   // |diagonal| of a matrix on the assembler's pattern (J, T_), whole (the shares summed).
   VecX abs_diagonal(const SparseMatrix& J) const;
+  const SparseMatrix& mass_entries() const;  ///< mass_matrix() without its pattern's zeros
   double distributed_force_scale();
 
   const Model& model_;
@@ -148,6 +149,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   // is assembled in place (evaluate); K_ is kept apart only for stiffness-proportional
   // damping, and M_ is built on first use (a static run never needs it).
   mutable SparseMatrix M_;
+  mutable SparseMatrix M_entries_;  ///< M_ without the zeros of its pattern (products)
   mutable bool have_mass_ = false;
   mutable SparseMatrix T_;  ///< tension stiffness (stiffen_stress_free), built on first use
   SparseMatrix K_;
