@@ -385,7 +385,12 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     double p = 0;
     for (const auto& term : terms_)
       if (term->whole_block_pressure(t, block, p)) block_pressure_[block] += p;
-    assembler_.internal(x_, Fint_, J && cu != 0 ? J : nullptr, block_pressure_, Fp_);
+    // No Jacobian and no shift (cu = cv = ca = 0): the forces of an explicit step, which
+    // take the blocks' explicit path (equal to round-off; implicit results untouched).
+    if (!J && cu == 0 && cv == 0 && ca == 0)
+      assembler_.explicit_forces(x_, Fint_, block_pressure_, Fp_);
+    else
+      assembler_.internal(x_, Fint_, J && cu != 0 ? J : nullptr, block_pressure_, Fp_);
     if (J && cu == 0) combine_values(*J, 0.0, nullptr, 0.0);
     assemble_external(t, v, J && cu != 0 ? J : nullptr, true);
   }

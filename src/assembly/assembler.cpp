@@ -337,6 +337,17 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
 
 void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix* K,
                          std::span<const double> block_pressure, NodePositions& Fp) const {
+  internal_pass(x, F, K, block_pressure, Fp, false);
+}
+
+void Assembler::explicit_forces(const NodePositions& x, NodePositions& F,
+                                std::span<const double> block_pressure, NodePositions& Fp) const {
+  internal_pass(x, F, nullptr, block_pressure, Fp, true);
+}
+
+void Assembler::internal_pass(const NodePositions& x, NodePositions& F, SparseMatrix* K,
+                              std::span<const double> block_pressure, NodePositions& Fp,
+                              bool explicit_step) const {
   F.setZero(3, model_.num_nodes());
   if (!block_pressure.empty()) Fp.setZero(3, model_.num_nodes());
   if (K) combine_values(*K, 0.0, nullptr, 0.0);
@@ -350,7 +361,10 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
             b.internal(elems, x, r, Ke);
             return false;
           }
-          b.surface()->internal_and_pressure(elems, x, p, r, Ke, f, Kp);
+          if (explicit_step)
+            b.surface()->explicit_forces(elems, x, p, r, f);
+          else
+            b.surface()->internal_and_pressure(elems, x, p, r, Ke, f, Kp);
           return true;
         },
         K != nullptr, F, &Fp, K, 1.0);

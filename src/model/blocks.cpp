@@ -48,6 +48,7 @@ class MembraneBlock final : public SurfaceBlock {
   using K = Membrane<Shape>;
   static constexpr int kN = Shape::kNodes;
   static constexpr bool kHistory = std::is_same_v<Law, HistoryLawPoints>;
+  static constexpr bool kPrestressed = std::is_same_v<Law, PrestressedPoints>;
 
  public:
   MembraneBlock(std::string set, std::vector<int> conn, const NodePositions& X, const SheetLaw& law,
@@ -87,6 +88,12 @@ class MembraneBlock final : public SurfaceBlock {
         report.worst_jacobian = jac;
         report.worst_element = e;
       }
+    }
+    if constexpr (kPrestressed) {
+      prestress_.resize(ne);
+      for (int e = 0; e < ne; ++e)
+        for (int q = 0; q < Shape::kPoints; ++q)
+          prestress_[e][q] = sheet_strain_map(points_[e][q].T).transpose() * policy_.S0;
     }
     if constexpr (kHistory) {
       const size_t n = static_cast<size_t>(policy_.size);
@@ -167,6 +174,10 @@ class MembraneBlock final : public SurfaceBlock {
                              double* r, double* Kout, double* f, double* Kp) const override {
     forces<true>(elements, x, p, r, Kout, f, Kp);
   }
+  void explicit_forces(std::span<const int> elements, const NodePositions& x, double p, double* r,
+                       double* f) const override {
+    forces<true, true>(elements, x, p, r, nullptr, f, nullptr);
+  }
 
   void pressure(std::span<const int> elements, const NodePositions& x, double p, double* f,
                 double* Kout) const override {
@@ -246,6 +257,7 @@ class MembraneBlock final : public SurfaceBlock {
       history_ = std::move(h);
     }
     points_ = kept(points_, elements);  // the others' storage freed
+    if constexpr (kPrestressed) prestress_ = kept(prestress_, elements);
     Xref_ = kept(Xref_, elements);
     set_kept(elements);
   }
@@ -348,15 +360,16 @@ class MembraneBlock final : public SurfaceBlock {
 
  private:
   // The internal forces (and tangents, when Kout) of `elements`, with the pressure p's forces
-  // (and load stiffnesses) in the same pass when kPressure.
-  template <bool kPressure>
+  // (and load stiffnesses) in the same pass when kPressure. kExplicit: the explicit step's
+  // policy (a prestressed law's Aᵀ S0 formed at set-up), forces only.
+  template <bool kPressure, bool kExplicit = false>
   void forces(std::span<const int> elements, const NodePositions& x, double p, double* r,
               double* Kout, double* f, double* Kp) const {
     typename K::Vector re, fe;
     for (size_t i = 0; i < elements.size(); ++i) {
       if (i + 1 < elements.size()) prefetch(points_[slot(elements[i + 1])]);
       const auto& pts = points_[slot(elements[i])];
-      const auto& law = policy_at(slot(elements[i]));
+      const auto& law = policy_at<kExplicit>(slot(elements[i]));
       const auto xe = gather<kN>(x, nodes(elements[i]));
       using Matrix = typename K::Matrix;
       if (Kout) {
@@ -376,13 +389,21 @@ class MembraneBlock final : public SurfaceBlock {
   }
 
   // The law's policy at the element of slot s: the block's own, or (a law with history) a copy
-  // pointing at that element's points and history.
+  // pointing at that element's points and history; kExplicit and a prestressed law: a copy
+  // pointing at the element's Aᵀ S0 (not used by the implicit passes: the sum D γ + Aᵀ S0 of a
+  // stored product rounds differently from the product formed in place).
+  template <bool kExplicit = false>
   decltype(auto) policy_at(int s) const {
     if constexpr (kHistory) {
       Law p = policy_;
       p.first = &points_[static_cast<size_t>(s)].at[0];
       p.history = history_.data() +
                   static_cast<size_t>(s) * Shape::kPoints * static_cast<size_t>(policy_.size);
+      return p;
+    } else if constexpr (kPrestressed && kExplicit) {
+      Law p = policy_;
+      p.first = &points_[static_cast<size_t>(s)].at[0];
+      p.convected = prestress_[static_cast<size_t>(s)].data();
       return p;
     } else {
       return static_cast<const Law&>(policy_);
@@ -398,6 +419,9 @@ class MembraneBlock final : public SurfaceBlock {
   std::vector<double> history_;     // a law with history: committed, per held element and point
   shape::Integration integration_;  // kept for on_reference (form finding)
   std::vector<typename K::Points> points_;
+  // A prestressed law: Aᵀ S0 at each point, per held element (the term of the stress that
+  // does not change with the strain).
+  std::vector<std::array<Vec3, Shape::kPoints>> prestress_;
   std::vector<Eigen::Matrix<double, 3, kN>, Eigen::aligned_allocator<Eigen::Matrix<double, 3, kN>>>
       Xref_;  // reference coordinates per element (locate, output_at)
 };

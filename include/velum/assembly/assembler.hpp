@@ -61,6 +61,10 @@ class Assembler {
   /// of two).
   void internal(const NodePositions& x, NodePositions& F, SparseMatrix* K,
                 std::span<const double> block_pressure, NodePositions& Fp) const;
+  /// The same forces (no tangent) for an explicit step, through the blocks' explicit fast
+  /// path (SurfaceBlock::explicit_forces): equal to internal()'s to round-off.
+  void explicit_forces(const NodePositions& x, NodePositions& F,
+                       std::span<const double> block_pressure, NodePositions& Fp) const;
   /// Follower pressure load i of the model (Model::pressures) at pressure p: forces added to
   /// Fext; the load stiffness subtracted from K when K != null. A convenience over the
   /// load's own term (load/pressure_load.hpp), which binds it anew at every call.
@@ -193,6 +197,10 @@ class Assembler {
   using Colors = std::vector<std::vector<int>>;
   // Sums a per-node vector at the shared nodes (nothing on one process or for a local share).
   void reduce(NodePositions& F) const;
+  // internal() and explicit_forces(): explicit_step takes the blocks' explicit path.
+  void internal_pass(const NodePositions& x, NodePositions& F, SparseMatrix* K,
+                     std::span<const double> block_pressure, NodePositions& Fp,
+                     bool explicit_step) const;
   bool shared() const { return piece_ && !share_only_; }
   // A point mass is added once, by the first process (its share holds their nodes' blocks).
   bool adds_point_masses() const;
