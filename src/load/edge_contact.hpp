@@ -2,7 +2,8 @@
 // straight edges (a, b) and (c, d) across their common normal, g = (a − c)·n with
 // n = (b − a)×(d − c)/|…| (the distance of the closest points while they lie inside both
 // edges), its gradient in the 12 coordinates and its Hessian by nested forward
-// differentiation of fixed size (allocation-free), and the penalty pair of face_contact.hpp.
+// differentiation of fixed size (allocation-free), the penalty pair of face_contact.hpp and
+// its Coulomb friction.
 #pragma once
 
 #include <Eigen/Core>
@@ -66,6 +67,50 @@ inline bool edge_pair_force(const Vec12& X, double side, double thickness, doubl
                             PairResult& r) {
   return penalty_pair_force([](const Vec12& Y, Vec12& g, Mat12* H) { return edge_gap(Y, g, H); }, X,
                             side, thickness, k, tangent, r);
+}
+
+/// Coulomb friction of an edge pair (docs/contact.md, "Sheets"), added to an edge_pair_force
+/// result r (its p > 0): the tangential penalty k on e, the part across the common normal n of
+/// w = P(s0) − Q(t0), the edges' material points (s0 on (a, b), t0 on (c, d)) that touched at
+/// the anchor, returned to the cone |f_T| <= μ p (slip); (a, b) take (1 − s0, s0) f_T, (c, d)
+/// −(1 − t0, t0) f_T (no net force). ∂f/∂X by forward differentiation of the force (exact for
+/// fixed anchors; unsymmetric). `keep`: the part of e the anchors keep at an accepted state
+/// (μ p / (k |e|) in slip, 1 in stick): with the closest points (s, t) now, the anchors move
+/// to s + keep (s0 − s), t + keep (t0 − t) (e is (s0 − s)(b − a) − (t0 − t)(d − c) exactly).
+inline Status edge_friction(const Vec12& X, double side, double thickness, double k, double mu,
+                            const Vec2& st0, bool tangent, PairResult& r, double& keep) {
+  using AD = Eigen::AutoDiffScalar<Vec12>;
+  using V = Eigen::Matrix<AD, 3, 1>;
+  Eigen::Matrix<AD, 12, 1> Y;
+  for (int i = 0; i < 12; ++i) Y[i] = tangent ? AD(X[i], 12, i) : AD(X[i]);
+  const V a = Y.segment<3>(0), b = Y.segment<3>(3), c = Y.segment<3>(6), d = Y.segment<3>(9);
+  const V m = (b - a).cross(d - c);
+  const V n = m / sqrt(m.squaredNorm());
+  const AD p = -k * (side * (a - c).dot(n) - thickness);
+  const double s0 = st0[0], t0 = st0[1];
+  const V w = ((1 - s0) * a + s0 * b) - ((1 - t0) * c + t0 * d);
+  const V e = w - w.dot(n) * n;
+  const double en = std::sqrt(e[0].value() * e[0].value() + e[1].value() * e[1].value() +
+                              e[2].value() * e[2].value());
+  V fT;
+  Status status = Status::kStick;
+  keep = 1;
+  if (k * en <= mu * p.value()) {
+    fT = -k * e;
+  } else {
+    status = Status::kSlip;
+    const AD len = sqrt(e.squaredNorm());
+    fT = -(mu * p / len) * e;
+    keep = mu * p.value() / (k * en);
+  }
+  const double Ns[4] = {1 - s0, s0, -(1 - t0), -t0};
+  for (int q = 0; q < 4; ++q)
+    for (int i = 0; i < 3; ++i) {
+      const AD v = Ns[q] * fT[i];
+      r.f[3 * q + i] += v.value();
+      if (tangent) r.D.row(3 * q + i) += v.derivatives().transpose();
+    }
+  return status;
 }
 
 }  // namespace velum::contact

@@ -86,12 +86,21 @@ struct Pair {
   double side = 1;
 };
 
+// An edge pair at the last accepted state: its side and, with friction while it touched, its
+// anchor (the material points s0 on the first edge and t0 on the second that touched).
+struct EdgePair {
+  double side = 1;
+  bool anchored = false;
+  Vec2 anchor = Vec2::Zero();
+};
+
 class SheetContactTerm final : public LoadTerm {
  public:
   SheetContactTerm(const SheetContact& load, const LoadSite& site);
 
   void add(const LoadState& s, LoadOutput& out) override;
-  int low_rank_columns() const override { return 6 * budget_; }
+  // Six columns a node–face pair, then twelve an edge pair (sheet_contact_edges.cpp).
+  int low_rank_columns() const override { return 6 * budget_ + 12 * edge_budget_; }
   void start(const LoadState& s) override;
   void commit(const LoadState& s) override;
   // The pairs, the steps taken and the initial penetrations with their relaxation offsets
@@ -109,6 +118,7 @@ class SheetContactTerm final : public LoadTerm {
     out.push_back(steps_);
     out.push_back(initial_count_);
     out.push_back(initial_depth_);
+    if (load_.edges) save_edges(out);
   }
   size_t restore_state(const std::vector<double>& in, size_t at) override {
     const size_t per = load_.friction > 0 ? 9 : 3;
@@ -128,6 +138,7 @@ class SheetContactTerm final : public LoadTerm {
     steps_ = static_cast<int>(in[at++]);
     initial_count_ = static_cast<int>(in[at++]);
     initial_depth_ = in[at++];
+    if (load_.edges) at = restore_edges(in, at);
     started_ = true;  // the state is the saved one, not a new start's
     return at;
   }
@@ -206,11 +217,19 @@ class SheetContactTerm final : public LoadTerm {
     return false;
   }
   void refit(const NodePositions& x);
-  // Edge pairs: calls found(i, j, X, side, thickness) for every pair of a first-list edge i
+  // Edge pairs: calls found(i, j, X, pair, thickness) for every pair of a first-list edge i
   // and a second-list edge j (self: j > i) away from each other's rings whose closest points
-  // lie inside both and within reach.
+  // lie inside both and within reach; `pair` the state it had at the last accepted state (a
+  // new pair: the side its edges had there, not anchored).
   template <class Found>
   void scan_edges(const NodePositions& x, Found&& found);
+  // An edge pair's force (and tangent), with its friction from its anchor (a new pair's: the
+  // closest points at the last accepted state); `keep` and the status as edge_friction's.
+  contact::Status edge_force(int i, int j, const contact::Vec12& X, const EdgePair& pair,
+                             double thickness, bool tangent, contact::PairResult& r, Vec2& anchor,
+                             double& keep) const;
+  void save_edges(std::vector<double>& out) const;
+  size_t restore_edges(const std::vector<double>& in, size_t at);
   bool near(int n, int m) const {
     if (n == m) return true;
     const int* r0 = load_.ring.data() + load_.ring_start[static_cast<size_t>(n)];
@@ -278,13 +297,14 @@ class SheetContactTerm final : public LoadTerm {
   std::vector<Vec2> anchor_xi_;      ///< its barycentric coordinates of b and c
   std::vector<Vec3> last_x_;         ///< the node's accepted position (a new pair's anchor)
   NodePositions x_accepted_;         ///< friction, edges: the positions at the last accepted state
-  // Edge pairs (edges: true): a tree over the second list's edges, and the side of each pair
-  // (first list's edge, second's) at the last accepted state.
+  // Edge pairs (edges: true): a tree over the second list's edges, and each pair (first
+  // list's edge, second's) at the last accepted state.
   contact::FaceTree edge_tree_;
   std::vector<contact::Box> edge_boxes_;
-  std::map<std::pair<int, int>, double> edge_side_;
+  std::map<std::pair<int, int>, EdgePair> edge_pairs_;
   double edge_grow_ = 0;
   int edge_active_ = 0;
+  int edge_budget_ = 0;              ///< edge pairs whose coupling goes into the low-rank part
   std::vector<double> node_status_;  ///< per model node: 0 open, 1 stick, 2 slip (accepted)
   std::array<contact::FaceTree, 2> tree_;
   std::array<std::vector<contact::Box>, 2> boxes_;
