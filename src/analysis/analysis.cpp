@@ -86,9 +86,10 @@ class StabilityWatch {
 // Fext·ΔU (full vectors: loads on prescribed nodes included), the work of prescribed motions
 // likewise on the reactions (R·ΔU at eliminated components), the work of sections that change
 // in time (MechanicalSystem::section_work), the damping work on the mass-proportional
-// Rayleigh force. The work is booked every step (book); the energies held (kinetic, strain)
-// when settle() is called: every step in implicit runs, every few steps and at every output in
-// explicit ones (march below).
+// Rayleigh force, the loads' work on their own states (a free body's rotation, whose kinetic
+// energy counts with the nodes'). The work is booked every step (book); the energies held (kinetic,
+// strain) when settle() is called: every step in implicit runs, every few steps and at every output
+// in explicit ones (march below).
 class EnergyAccount {
  public:
   // `reuse`: book the work from the forces of the step's own evaluation when the system says
@@ -103,7 +104,7 @@ class EnergyAccount {
     F_prev_ = sys.external_forces(t0, s.u, s.v);
     if (prescribed_) R_prev_ = sys.reactions(t0, s.u, s.v);
     v_prev_ = s.v;
-    E.kinetic = dynamic_ ? sys.kinetic_energy(s.v) : 0.0;
+    E.kinetic = dynamic_ ? sys.kinetic_energy(s.v) + sys.load_kinetic_energy() : 0.0;
     E.strain = sys.strain_energy(t0, s.u);
     held0_ = E.kinetic + E.strain;
     if (reuse_) equations_from_nodes();
@@ -114,13 +115,13 @@ class EnergyAccount {
     if (reuse_) {
       // Free components only: the others do not move (nothing is prescribed).
       sys_.dofs().gather(sys_.last_external(), f_);
-      dW = 0.5 * (f_ + f_prev_).dot(cur.u - u_prev_);
+      dW = 0.5 * (f_ + f_prev_).dot(cur.u - u_prev_) + sys_.load_state_work();
       f_.swap(f_prev_);
       u_prev_ = cur.u;
     } else {
       const NodePositions U = sys_.displacements(st.t, cur.u);
       const NodePositions F = sys_.external_forces(st.t, cur.u, cur.v);
-      dW = 0.5 * ((F + F_prev_).array() * (U - U_prev_).array()).sum();
+      dW = 0.5 * ((F + F_prev_).array() * (U - U_prev_).array()).sum() + sys_.load_state_work();
       if (prescribed_) {
         NodePositions R = sys_.reactions(st.t, cur.u, cur.v);
         dW += 0.5 * ((R + R_prev_).array() * (U - U_prev_).array()).sum();
@@ -151,7 +152,8 @@ class EnergyAccount {
   NodePositions settle(double t, const State& cur, Energies& E) {
     if (dynamic_) {
       const double vmv = std::isnan(vmv_now_) ? sys_.dot(cur.v, sys_.mass_times(cur.v)) : vmv_now_;
-      E.kinetic = sys_.squared_norm(cur.v) != 0 ? 0.5 * vmv : 0.0;  // kinetic_energy()
+      E.kinetic = (sys_.squared_norm(cur.v) != 0 ? 0.5 * vmv : 0.0)  // kinetic_energy()
+                  + sys_.load_kinetic_energy();
       vmv_prev_ = vmv;
     }
     E.strain = sys_.strain_energy(t, cur.u);

@@ -132,6 +132,9 @@ class ContactTerm final : public LoadTerm {
       }
   }
   int low_rank_columns() const override { return load_.body_node >= 0 ? 6 : 0; }
+  // A rotating free body: the rotation's kinetic energy and the contact moment's work on it.
+  double kinetic_energy() const override { return rot_ ? rot_->kinetic_energy() : 0.0; }
+  double state_work() const override { return rot_ ? rot_->last_work() : 0.0; }
 
   void start(const LoadState& s) override {
     if (rot_) rot_->start(s.t, Vec3::Zero());  // the orientation at s.t is the committed one

@@ -67,15 +67,18 @@ class Rotation {
     return rotation_matrix(theta) * R;
   }
   /// The step to t accepted: R at t (from orientation(t)), M the moment about the centre there.
+  /// Also books the moment's work over the step: ½ (M_c + M)·θ, θ the rotation vector of
+  /// R R_cᵀ (the trapezoidal rule, as the nodes' work is booked).
   void commit(double t, const Mat3& R, const Vec3& M) {
     const double tau = t - t_;
+    work_ = 0.5 * (M_ + M).dot(rotation_vector(R * orientation().transpose()));
     pi_ += 0.5 * tau * (M_ + M);
     q_ = Eigen::Quaterniond(R).normalized();
     M_ = M;
     t_ = t;
   }
   /// Where the analysis starts: the committed time t, the moment M at the start.
-  void start(double t, const Vec3& M) { t_ = t, M_ = M; }
+  void start(double t, const Vec3& M) { t_ = t, M_ = M, work_ = 0; }
 
   double time() const { return t_; }
   Mat3 orientation() const { return q_.toRotationMatrix(); }
@@ -91,6 +94,8 @@ class Rotation {
     return R * (J0_inv_ * (R.transpose() * pi_));
   }
   double kinetic_energy() const { return 0.5 * pi_.dot(angular_velocity()); }
+  /// The moment's work over the last committed step (0 before one, and after a restore).
+  double last_work() const { return work_; }
   /// The least principal moment (the explicit step's bound).
   double least_inertia() const {
     return Eigen::SelfAdjointEigenSolver<Mat3>(J0_, Eigen::EigenvaluesOnly).eigenvalues()[0];
@@ -106,6 +111,7 @@ class Rotation {
     pi_ = Vec3(in[at + 4], in[at + 5], in[at + 6]);
     M_ = Vec3(in[at + 7], in[at + 8], in[at + 9]);
     t_ = in[at + 10];
+    work_ = 0;
     return at + 11;
   }
   static constexpr size_t kSaved = 11;
@@ -114,7 +120,7 @@ class Rotation {
   Mat3 J0_ = Mat3::Identity(), J0_inv_ = Mat3::Identity();
   Eigen::Quaterniond q_ = Eigen::Quaterniond::Identity();
   Vec3 pi_ = Vec3::Zero(), M_ = Vec3::Zero();
-  double t_ = 0;
+  double t_ = 0, work_ = 0;
 };
 
 }  // namespace velum::rigid

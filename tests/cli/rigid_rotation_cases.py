@@ -1,12 +1,16 @@
 #!/usr/bin/python3
 """Free rigid bodies that rotate (issue 41): a solid sphere thrown with backspin onto a held
 floor with friction slides, then rolls without slipping at v = (5 v0 - 2 R w0)/7 (w0 the
-backspin); bad `inertia` input is exit 1 with the file, line and key named.
+backspin); a spinning box struck off its centre of mass by a prestressed sheet keeps its
+energy (rotation included) with generalized-alpha rho_inf = 1; bad `inertia` input is exit 1
+with the file, line and key named.
 
 usage: rigid_rotation_cases.py VELUM WORK_DIR
 """
 import copy
 import csv
+import json
+import math
 import os
 import shutil
 import subprocess
@@ -95,6 +99,121 @@ for kind in ("implicit",):
     check(abs(v - r * w) < 0.01 * v_rolling, f"{kind}: rolls without slipping at the end")
     first_slide = float(rows[1]["vx"]) - R * float(rows[1]["wy"])
     check(first_slide > 0.5, f"{kind}: it slides at first ({first_slide:.3f} m/s)")
+
+
+def slab_msh(path, lo, hi):
+    """The box lo..hi, each face two triangles, normals out of the box (MSH 2.2 ASCII)."""
+    pts = [(x, y, z) for z in (lo[2], hi[2]) for y in (lo[1], hi[1]) for x in (lo[0], hi[0])]
+    quads = [(4, 5, 7, 6), (0, 2, 3, 1), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+    tris = [t for q in quads for t in ((q[0], q[1], q[2]), (q[0], q[2], q[3]))]
+    with open(path, "w") as f:
+        f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n%d\n" % len(pts))
+        for i, q in enumerate(pts):
+            f.write("%d %.17g %.17g %.17g\n" % (i + 1, *q))
+        f.write("$EndNodes\n$Elements\n%d\n" % len(tris))
+        for i, t in enumerate(tris):
+            f.write("%d 2 2 1 1 %d %d %d\n" % (i + 1, t[0] + 1, t[1] + 1, t[2] + 1))
+        f.write("$EndElements\n")
+
+
+# A box (a slab 1.4 m x 1.4 m x 0.1 m of twelve triangles, wider than the sheet below it) with
+# its centre of mass 0.25 m off its middle, spinning about z at 2 rad/s and falling at 1 m/s
+# onto a prestressed sheet 1 m square held at its edges: the sheet pushes on the slab's middle,
+# off the centre of mass, so the slab also turns about y, and it bounces off. No gravity, no
+# damping, generalized-alpha rho_inf = 1: the kinetic energy (the nodes' and the rotation's)
+# plus the strain energy stay what they were, within the integrator's error.
+N, A = 10, 1.0
+snodes, selems, sedge = [], [], []
+for j in range(N + 1):
+    for i in range(N + 1):
+        nid = j * (N + 1) + i + 1
+        snodes.append([nid, A * i / N - A / 2, A * j / N - A / 2, 0.0])
+        if i in (0, N) or j in (0, N):
+            sedge.append(nid)
+for j in range(N):
+    for i in range(N):
+        a = j * (N + 1) + i + 1
+        selems.append([a, a + 1, a + N + 2, a + N + 1])
+slab_msh(os.path.join(WORK, "slab.msh"), (-0.7, -0.7, 0.0105), (0.7, 0.7, 0.1105))
+MB, VB, J, WZ, OFF = 5.0, 1.0, [0.3, 0.4, 0.5], 2.0, 0.25
+BOX = {
+    "mesh": {"nodes": snodes, "elements": [{"set": "sheet", "type": "quad4",
+                                            "connectivity": selems}]},
+    "materials": {"pvc": {"type": "isotropic", "E": 1.0e9, "nu": 0.3, "density": 100}},
+    "sections": [{"elements": "sheet", "material": "pvc", "thickness": 0.001,
+                  "prestress": [2.0e6, 2.0e6, 0]}],
+    "boundary": [{"nodes": sedge, "fix": ["x", "y", "z"]}],
+    "rigid_bodies": [{"name": "box", "shape": "mesh", "file": "slab.msh", "mass": MB,
+                      "center_of_mass": [OFF, 0, 0.0605], "inertia": J,
+                      "velocity": [0, 0, -VB], "angular_velocity": [0, 0, WZ]}],
+    "contact": [{"surfaces": ["sheet", "box"]}],
+    "analysis": {"type": "dynamic", "time": {"end": 0.04, "step": 2.0e-4},
+                 "integrator": {"scheme": "generalized-alpha", "rho_inf": 1.0}},
+    "output": {"fields": False, "history": [
+        {"name": "ke", "quantity": "kinetic_energy"},
+        {"name": "vz", "quantity": "rigid_velocity", "body": "box", "component": "z"},
+        {"name": "fz", "quantity": "contact_force", "body": "box", "component": "z"},
+        {"name": "wx", "quantity": "rigid_angular_velocity", "body": "box", "component": "x"},
+        {"name": "wy", "quantity": "rigid_angular_velocity", "body": "box", "component": "y"},
+        {"name": "wz", "quantity": "rigid_angular_velocity", "body": "box", "component": "z"},
+        {"name": "rx", "quantity": "rigid_rotation", "body": "box", "component": "x"},
+        {"name": "ry", "quantity": "rigid_rotation", "body": "box", "component": "y"},
+        {"name": "rz", "quantity": "rigid_rotation", "body": "box", "component": "z"}]},
+}
+
+
+def rotation_energy(row):
+    """1/2 w.I(R) w with I(R) = R J0 R^T from the history's rotation vector."""
+    w = [float(row[k]) for k in ("wx", "wy", "wz")]
+    r = [float(row[k]) for k in ("rx", "ry", "rz")]
+    t = math.sqrt(sum(c * c for c in r))
+    k = [c / t for c in r] if t > 0 else [0.0, 0.0, 1.0]
+    c, s_ = math.cos(t), math.sin(t)
+    K = [[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]]
+    R = [[c * (i == j) + (1 - c) * k[i] * k[j] + s_ * K[i][j] for j in range(3)]
+         for i in range(3)]
+    wb = [sum(R[m][i] * w[m] for m in range(3)) for i in range(3)]  # R^T w: body axes at t = 0
+    return 0.5 * sum(J[i] * wb[i] * wb[i] for i in range(3))
+
+
+errors = []
+for h in (1.0e-4, 5.0e-5):
+    box = copy.deepcopy(BOX)
+    box["analysis"]["time"]["step"] = h
+    p, out, _ = run(f"spinning_box_{h:g}", box)
+    check(p.returncode == 0 and "warning" not in p.stderr,
+          f"spinning box, h = {h:g}: runs (exit {p.returncode}: {p.stderr.strip()[-300:]})")
+    if p.returncode != 0:
+        continue
+    rows = list(csv.DictReader(open(os.path.join(out, "history.csv"))))
+    summary = json.load(open(os.path.join(out, "summary.json")))
+    e0 = 0.5 * MB * VB * VB + 0.5 * J[2] * WZ * WZ
+    first, last = rows[0], rows[-1]
+    energy = summary["energy"]
+    held = energy["kinetic"] + energy["strain"]
+    rot0, rot1 = rotation_energy(first), rotation_energy(last)
+    errors.append((held - e0, held - e0 - energy["external_work"]))
+    print(f"spinning box, h = {h:g}: kinetic energy at the start {float(first['ke']):.6f} J "
+          f"against 1/2 m v^2 + 1/2 w.Jw = {e0:.6f} J (rotation {rot0:.6f} J); at the end "
+          f"kinetic {energy['kinetic']:.6f} J + strain {energy['strain']:.6f} J = {held:.6f} J "
+          f"({(held - e0) / e0:+.2e}), of which rotation {rot1:.6f} J (w = "
+          f"{float(last['wx']):.4f}, {float(last['wy']):.4f}, {float(last['wz']):.4f} rad/s); "
+          f"rebound {float(last['vz']):.4f} m/s, peak force "
+          f"{max(float(r['fz']) for r in rows):.1f} N; work booked {energy['external_work']:.3e} J")
+    check(abs(float(first["ke"]) - e0) < 1e-9 * e0,
+          "spinning box: the kinetic energy at the start counts the rotation")
+    check(float(last["fz"]) == 0 and float(last["vz"]) > 0, "spinning box: it bounces off")
+    check(abs(float(last["wy"])) > 0.1, "spinning box: struck off its centre, it turns about y")
+    check(abs(rot1 - rot0) > 1e-2 * e0, "spinning box: the strike changed the rotation's energy")
+    check(abs(held - e0) < 2e-3 * e0, f"spinning box: energy kept ({(held - e0) / e0:+.2e})")
+# The integrator's error: it falls (second order) with the step, the energy's and the
+# balance's (held minus the booked work: the contact's work on the nodes and on the rotation).
+if len(errors) == 2:
+    (e1, b1), (e2, b2) = errors
+    print(f"spinning box: energy error {e1:.3e} J, then {e2:.3e} J with half the step; balance "
+          f"{b1:.3e} J, then {b2:.3e} J")
+    check(abs(e2) < abs(e1) / 3 and abs(b2) < abs(b1) / 3,
+          "spinning box: the energy error and the balance fall with the step")
 
 # Bad input: exit 1, the file, the line and the key named.
 BAD = [

@@ -122,6 +122,19 @@ class MechanicalSystem final : public SecondOrderSystem {
   double kinetic_energy(const VecX& v) const {
     return squared_norm(v) == 0 ? 0.0 : 0.5 * dot(v, mass_times(v));
   }
+  /// The kinetic energy the loads' own states hold at the last accepted step (a free body's
+  /// rotation), and the work the loads did on those states over that step
+  /// (LoadTerm::kinetic_energy, LoadTerm::state_work).
+  double load_kinetic_energy() const {
+    double e = 0;
+    for (const auto& term : terms_) e += term->kinetic_energy();
+    return e;
+  }
+  double load_state_work() const {
+    double w = 0;
+    for (const auto& term : terms_) w += term->state_work();
+    return w;
+  }
   double strain_energy(double t, const VecX& u) const;
   /// The work done on the model from (t0, U0) to (t1, U1) (full displacements) by sections
   /// that change in time (a reefing line drawn in, a line cut): the trapezoidal rule on their

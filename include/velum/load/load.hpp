@@ -134,6 +134,12 @@ class LoadTerm {
   /// The largest stiffness the load may add at a node over the node's mass (a contact
   /// penalty, active or not), for the stable step of explicit time integration; 0: none.
   virtual double max_stiffness_over_mass(std::span<const double> /*node_mass*/) const { return 0; }
+  /// Motion the load's own state carries, outside the nodes (a free rigid body's rotation):
+  /// its kinetic energy at the state committed last (½ ω·Iω), and the work the load's forces
+  /// did on it over the last accepted step (the contact moment's, by the trapezoidal rule as
+  /// the energy account books the nodes' work). Joules; 0 for a load without such a state.
+  virtual double kinetic_energy() const { return 0; }
+  virtual double state_work() const { return 0; }
 };
 
 /// Names element e of block b for messages (the user's id).
