@@ -1,11 +1,13 @@
 // Node-to-rigid-surface contact (docs/contact.md): every node of the set against the body, the
 // law of contact_law.hpp at each, the 3 x 3 block of its derivative into the node's diagonal
-// block of K; the multipliers and friction anchors move on at accepted steps only.
+// block of K; the multipliers and friction anchors move on at accepted steps only. A free body
+// that rotates has one rotation, shared by the contact entries it takes part in (Spin).
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 
@@ -92,6 +94,18 @@ void Contact::set_up(const Model& model, const ElementNamer&) {
 class ContactTerm final : public LoadTerm {
  public:
   ContactTerm(const Contact& load, const LoadSite& site);
+  // The entries of the same rotating body share the first one's rotation.
+  void connect(std::span<LoadTerm* const> all, int self) override {
+    if (!spin_) return;
+    for (int i = 0; i < self; ++i)
+      if (auto* c = dynamic_cast<ContactTerm*>(all[static_cast<size_t>(i)]);
+          c && c->spin_ && c->owner_ && c->load_.body_node == load_.body_node) {
+        spin_ = c->spin_;
+        ++spin_->entries;
+        owner_ = false;
+        return;
+      }
+  }
 
   void add(const LoadState& s, LoadOutput& out) override {
     const double sf = site_.model.function_value(load_.body.function, s.t);
@@ -133,11 +147,11 @@ class ContactTerm final : public LoadTerm {
   }
   int low_rank_columns() const override { return load_.body_node >= 0 ? 6 : 0; }
   // A rotating free body: the rotation's kinetic energy and the contact moment's work on it.
-  double kinetic_energy() const override { return rot_ ? rot_->kinetic_energy() : 0.0; }
-  double state_work() const override { return rot_ ? rot_->last_work() : 0.0; }
+  double kinetic_energy() const override { return owner_ ? spin_->rot.kinetic_energy() : 0.0; }
+  double state_work() const override { return owner_ ? spin_->rot.last_work() : 0.0; }
 
   void start(const LoadState& s) override {
-    if (rot_) rot_->start(s.t, Vec3::Zero());  // the orientation at s.t is the committed one
+    if (owner_) spin_->rot.start(s.t, Vec3::Zero());  // the orientation at s.t: the committed one
     move_on(s, false, true);
   }
   void commit(const LoadState& s) override { move_on(s, load_.augmented, false); }
@@ -147,10 +161,10 @@ class ContactTerm final : public LoadTerm {
       out.push_back(lambda_[i]);
       out.insert(out.end(), anchor_[i].data(), anchor_[i].data() + 3);
     }
-    if (rot_) rot_->save(out);
+    if (owner_) spin_->rot.save(out);
   }
   size_t restore_state(const std::vector<double>& in, size_t at) override {
-    const size_t rotation = rot_ ? rigid::Rotation::kSaved : 0;
+    const size_t rotation = owner_ ? rigid::Rotation::kSaved : 0;
     if (at >= in.size() || in[at] != static_cast<double>(lambda_.size()) ||
         in.size() < at + 1 + 4 * lambda_.size() + rotation)
       throw std::invalid_argument("the contact's saved state does not fit its nodes");
@@ -159,7 +173,7 @@ class ContactTerm final : public LoadTerm {
       lambda_[i] = in[at];
       anchor_[i] = Vec3(in[at + 1], in[at + 2], in[at + 3]);
     }
-    if (rot_) at = rot_->restore(in, at);
+    if (owner_) at = spin_->rot.restore(in, at);
     return at;
   }
 
@@ -180,21 +194,21 @@ class ContactTerm final : public LoadTerm {
         most = std::max(most, k_[i] * (1 + load_.friction) / m);
     // A rotating body: a node's penalty at the body's reach turns it (k r² over its least
     // principal inertia).
-    if (rot_)
+    if (spin_)
       for (size_t i = 0; i < load_.nodes.size(); ++i) {
         const double r = load_.body.reach + load_.node_thickness[i];
-        most = std::max(most, k_[i] * (1 + load_.friction) * r * r / rot_->least_inertia());
+        most = std::max(most, k_[i] * (1 + load_.friction) * r * r / spin_->rot.least_inertia());
       }
     return most;
   }
   // Contact not kept: past its tolerance a warning; past the contact thickness the sheet is
   // through the body.
   std::string end_check(const std::function<void(std::string)>& warn) const override {
-    if (rotation_step_ratio_ > 1)
+    if (owner_ && spin_->step_ratio > 1)
       warn(fmt::format(
           "contact {}: the rotation of '{}' is advanced explicitly and a step was {:.3g} times "
           "its stable length for the contact's stiffness (take shorter steps)",
-          load_.index, load_.body.name, rotation_step_ratio_));
+          load_.index, load_.body.name, spin_->step_ratio));
     return contact::penetration_check(
         processes::max(penetration_ratio_),
         fmt::format("contact {} with '{}'", load_.index, load_.body.name),
@@ -248,10 +262,10 @@ class ContactTerm final : public LoadTerm {
   Frame frame(double t, const NodePositions& x) const {
     Frame f;
     f.d = translation(x);
-    if (rot_) {
+    if (spin_) {
       const int b = load_.body_node;
       f.turned = true;
-      f.R = rot_->orientation(t);
+      f.R = spin_->rot.orientation(t);
       f.c = x.col(b);
       f.C0 = site_.model.X.col(b);
     }
@@ -281,8 +295,8 @@ class ContactTerm final : public LoadTerm {
   std::vector<contact::Status> status_accepted_;  // and its status there
   double k_min_ = 0, k_max_ = 0;
   double penetration_ratio_ = 0;  // the largest penetration / tolerance at the last accepted step
-  std::optional<rigid::Rotation> rot_;  // a free body that rotates: its rotational state
-  double rotation_step_ratio_ = 0;      // the largest step over the rotation's stable step
+  std::shared_ptr<rigid::Spin> spin_;  // a free body that rotates: its rotation (shared)
+  bool owner_ = false;                 // the first of the body's entries: it saves the rotation
 };
 
 ContactTerm::ContactTerm(const Contact& load, const LoadSite& site) : load_(load), site_(site) {
@@ -318,7 +332,8 @@ ContactTerm::ContactTerm(const Contact& load, const LoadSite& site) : load_(load
   status_accepted_.assign(N, contact::Status::kOpen);
   for (size_t i = 0; i < N; ++i) anchor_[i] = site.model.X.col(load.nodes[i]);
   if (load.body_node >= 0 && load.body.inertia != Mat3::Zero())
-    rot_.emplace(load.body.inertia, load.body.angular_velocity);
+    spin_ = std::make_shared<rigid::Spin>(load.body.inertia, load.body.angular_velocity),
+    owner_ = true;
 }
 
 void ContactTerm::move_on(const LoadState& s, bool update_multipliers, bool starting) {
@@ -350,15 +365,20 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers, bool star
     if (update_multipliers) lambda_[i] = r.p;
     anchor_[i] = load_.body.unmoved(x - r.slip, sf);
   }
-  if (!rot_) return;
+  if (!spin_) return;
+  // The body's other entries at the same state (connect): the last one moves it on.
+  rigid::Spin& sp = *spin_;
+  sp.moment += moment, sp.turning += turning;
+  if (++sp.added < sp.entries) return;
   if (starting) {
-    rot_->start(s.t, moment);
-    return;
+    sp.rot.start(s.t, sp.moment);
+  } else {
+    const double tau = s.t - sp.rot.time();
+    sp.step_ratio =
+        std::max(sp.step_ratio, 0.5 * tau * std::sqrt(sp.turning / sp.rot.least_inertia()));
+    sp.rot.commit(s.t, fr.R, sp.moment);
   }
-  const double tau = s.t - rot_->time();
-  rotation_step_ratio_ =
-      std::max(rotation_step_ratio_, 0.5 * tau * std::sqrt(turning / rot_->least_inertia()));
-  rot_->commit(s.t, fr.R, moment);
+  sp.moment.setZero(), sp.turning = 0, sp.added = 0;
 }
 
 std::optional<double> ContactTerm::quantity_at(std::string_view name, double t,
@@ -392,9 +412,9 @@ std::optional<double> ContactTerm::quantity_at(std::string_view name, double t,
   // free body's at the committed state, a moved body's s(t)·rotation and its rate.
   const bool rotation = key == fmt::format("rigid_rotation:{}", load_.body.name);
   if (rotation || key == fmt::format("rigid_angular_velocity:{}", load_.body.name)) {
-    if (rot_)
-      return pick(rotation ? rigid::rotation_vector(rot_->orientation(t))
-                           : rot_->angular_velocity());
+    if (spin_)
+      return pick(rotation ? rigid::rotation_vector(spin_->rot.orientation(t))
+                           : spin_->rot.angular_velocity());
     if (rotation) return pick(Vec3(sf * load_.body.rotation));
     const double dt = 1e-6 * std::max(1.0, std::abs(t));
     const double rate = (site_.model.function_value(load_.body.function, t + dt) -

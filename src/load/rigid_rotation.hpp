@@ -123,4 +123,17 @@ class Rotation {
   double t_ = 0, work_ = 0;
 };
 
+/// A rotating free body's rotation shared by the contact entries it takes part in: each adds
+/// its contact moment about the centre (and its stiffness against turning, Σ k r²) at the state
+/// being started or accepted, and the last of the `entries` moves the rotation on with the sum
+/// (contact_load.cpp). The first entry saves it and reports its energy.
+struct Spin {
+  Spin(const Mat3& J0, const Vec3& omega0) : rot(J0, omega0) {}
+  Rotation rot;
+  Vec3 moment = Vec3::Zero();
+  double turning = 0;
+  int entries = 1, added = 0;
+  double step_ratio = 0;  ///< the largest step over the rotation's stable step
+};
+
 }  // namespace velum::rigid

@@ -351,13 +351,6 @@ void Reader::parse_contact(const Node& cs) {
       ok = false;
     } else {
       load.body = bit->second;
-      if (load.body.inertia != Mat3::Zero() && contact_bodies_.count(body)) {
-        error(s[1], sp,
-              fmt::format("rigid body '{}' rotates (inertia): it takes part in one contact entry "
-                          "only",
-                          body));
-        ok = false;
-      }
       contact_bodies_.insert(body);
       if (auto f = free_bodies_.find(body); f != free_bodies_.end())
         load.body_node = f->second.node;
