@@ -1,0 +1,277 @@
+// The node-to-rigid-surface contact's load and its term (contact_load.cpp: set-up, forces and
+// state; contact_outputs.cpp: history and frame fields; docs/contact.md). Private to src/load.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+
+#include "contact_law.hpp"
+#include "rigid_rotation.hpp"
+#include "sheet_contact.hpp"
+#include "velum/assembly/assembler.hpp"
+#include "velum/load/contact_load.hpp"
+#include "velum/model/model.hpp"
+#include "velum/parallel/processes.hpp"
+#include "velum/time/second_order_system.hpp"
+
+namespace velum::rigid_contact {
+
+class Contact final : public Load, public ContactLoad {
+ public:
+  explicit Contact(ContactLoad p) : ContactLoad(std::move(p)) {}
+  std::string_view kind() const override { return "contact"; }
+  LoadOrder order() const override { return LoadOrder::kContact; }
+  std::string_view counted_as() const override { return {}; }
+  std::unique_ptr<Load> clone() const override { return std::make_unique<Contact>(*this); }
+  std::unique_ptr<Load> held(double t, const Model& owner, Model&) const override {
+    // A later step goes on with the body where it is at t.
+    auto h = std::make_unique<Contact>(*this);
+    const double s = owner.function_value(body.function, t);
+    h->body.displacement = s * body.displacement;
+    h->body.rotation = s * body.rotation;
+    h->body.function = -1;
+    return h;
+  }
+  void set_up(const Model& model, const ElementNamer&) override;
+  bool keep_piece(const Model&, const std::vector<std::vector<int>>&,
+                  const std::vector<int>& local_of) override {
+    if (body_node >= 0)
+      throw std::invalid_argument(fmt::format(
+          "contact {}: a free rigid body ({}) runs on one process only", index, body.name));
+    std::vector<int> kept;
+    std::vector<double> t, h;
+    for (size_t i = 0; i < nodes.size(); ++i)
+      if (const int l = local_of[static_cast<size_t>(nodes[i])]; l >= 0) {
+        kept.push_back(l);
+        t.push_back(node_thickness[i]);
+        h.push_back(node_size[i]);
+      }
+    nodes = std::move(kept), node_thickness = std::move(t), node_size = std::move(h);
+    parts.clear();  // the areas of the contact pressure come from the whole set only
+    return !nodes.empty();
+  }
+  std::string summary(int) const override {
+    return fmt::format("contact {}: {} nodes against {}{}", index, nodes.size(), body.name,
+                       friction > 0 ? fmt::format(", friction {}", friction) : "");
+  }
+  std::unique_ptr<LoadTerm> bind(const LoadSite& site) const override;
+
+  std::vector<double> node_thickness;  // contact thickness per node
+  std::vector<double> node_size;       // element size about the node (penetration tolerance)
+};
+
+class ContactTerm final : public LoadTerm {
+ public:
+  ContactTerm(const Contact& load, const LoadSite& site);
+  // The entries of the same rotating body share the first one's rotation.
+  void connect(std::span<LoadTerm* const> all, int self) override {
+    if (!spin_) return;
+    for (int i = 0; i < self; ++i)
+      if (auto* c = dynamic_cast<ContactTerm*>(all[static_cast<size_t>(i)]);
+          c && c->spin_ && c->owner_ && c->load_.body_node == load_.body_node) {
+        spin_ = c->spin_;
+        ++spin_->entries;
+        owner_ = false;
+        return;
+      }
+  }
+
+  void add(const LoadState& s, LoadOutput& out) override {
+    const double sf = site_.model.function_value(load_.body.function, s.t);
+    const bool share = site_.assembler.local_share();
+    const int b = load_.body_node;
+    const Frame fr = frame(s.t, s.x);
+    // A free body: its node takes the opposite forces; its coupling with the contact nodes
+    // (outside the mesh's pattern) is the low-rank part U Wᵀ = Σ P_i D_i P_bᵀ + P_b D_i P_iᵀ.
+    MatX* U = b >= 0 && out.K && out.low_rank ? &out.low_rank->U : nullptr;
+    MatX* W = U ? &out.low_rank->W : nullptr;
+    if (U)
+      for (int c = 0; c < 6; ++c)
+        U->col(out.column + c).setZero(), W->col(out.column + c).setZero();
+    for (size_t i = 0; i < load_.nodes.size(); ++i) {
+      const int n = load_.nodes[i];
+      if (share && !site_.assembler.keeps_node(n)) continue;
+      contact::NodeResult r = evaluate(i, to_body(fr, s.x.col(n)), sf, out.K != nullptr);
+      if (r.status == contact::Status::kOpen) continue;
+      if (fr.turned) {  // the law in the body's axes: back to the global ones
+        r.f = fr.R * r.f;
+        r.D = fr.R * r.D * fr.R.transpose();
+      }
+      out.F.col(n) += r.f;
+      if (out.K) add_block(n, r.D, *out.K);
+      if (b < 0) continue;
+      out.F.col(b) -= r.f;
+      if (out.K) add_block(b, r.D, *out.K);  // f_b = −f(x_n − x_b): ∂f_b/∂x_b = D
+      if (U)
+        for (int c = 0; c < 3; ++c) {
+          put(n, r.D.col(c), U->col(out.column + c));
+          put(n, r.D.row(c).transpose(), W->col(out.column + 3 + c));
+        }
+    }
+    if (U)
+      for (int c = 0; c < 3; ++c) {
+        put(b, Vec3::Unit(c), W->col(out.column + c));
+        put(b, Vec3::Unit(c), U->col(out.column + 3 + c));
+      }
+  }
+  int low_rank_columns() const override { return load_.body_node >= 0 ? 6 : 0; }
+  // A rotating free body: the rotation's kinetic energy and the contact moment's work on it.
+  double kinetic_energy() const override { return owner_ ? spin_->rot.kinetic_energy() : 0.0; }
+  double state_work() const override { return owner_ ? spin_->rot.last_work() : 0.0; }
+
+  void start(const LoadState& s) override {
+    if (owner_) spin_->rot.start(s.t, Vec3::Zero());  // the orientation at s.t: the committed one
+    move_on(s, false, true);
+  }
+  void commit(const LoadState& s) override { move_on(s, load_.augmented, false); }
+  void save_state(std::vector<double>& out) const override {
+    out.push_back(static_cast<double>(lambda_.size()));
+    for (size_t i = 0; i < lambda_.size(); ++i) {
+      out.push_back(lambda_[i]);
+      out.insert(out.end(), anchor_[i].data(), anchor_[i].data() + 3);
+    }
+    if (owner_) spin_->rot.save(out);
+  }
+  size_t restore_state(const std::vector<double>& in, size_t at) override {
+    const size_t rotation = owner_ ? rigid::Rotation::kSaved : 0;
+    if (at >= in.size() || in[at] != static_cast<double>(lambda_.size()) ||
+        in.size() < at + 1 + 4 * lambda_.size() + rotation)
+      throw std::invalid_argument("the contact's saved state does not fit its nodes");
+    ++at;
+    for (size_t i = 0; i < lambda_.size(); ++i, at += 4) {
+      lambda_[i] = in[at];
+      anchor_[i] = Vec3(in[at + 1], in[at + 2], in[at + 3]);
+    }
+    if (owner_) at = spin_->rot.restore(in, at);
+    return at;
+  }
+
+  std::optional<double> quantity(std::string_view name) const override {
+    if (name.starts_with("contact_force") || name.starts_with("contact_area") ||
+        name.starts_with("rigid_"))
+      return 0.0;
+    return {};
+  }
+  std::optional<double> quantity_at(std::string_view name, double t,
+                                    const NodePositions& x) const override;
+  bool node_field(std::string_view name, double t, const NodePositions& x,
+                  std::vector<double>& per_node) const override;
+  double max_stiffness_over_mass(std::span<const double> node_mass) const override {
+    double most = 0;
+    for (size_t i = 0; i < load_.nodes.size(); ++i)
+      if (const double m = node_mass[static_cast<size_t>(load_.nodes[i])]; m > 0)
+        most = std::max(most, k_[i] * (1 + load_.friction) / m);
+    // A rotating body: a node's penalty at the body's reach turns it (k r² over its least
+    // principal inertia).
+    if (spin_)
+      for (size_t i = 0; i < load_.nodes.size(); ++i) {
+        const double r = load_.body.reach + load_.node_thickness[i];
+        most = std::max(most, k_[i] * (1 + load_.friction) * r * r / spin_->rot.least_inertia());
+      }
+    return most;
+  }
+  // Contact not kept: past its tolerance a warning; past the contact thickness the sheet is
+  // through the body.
+  std::string end_check(const std::function<void(std::string)>& warn) const override {
+    if (owner_ && spin_->step_ratio > 1)
+      warn(fmt::format(
+          "contact {}: the rotation of '{}' is advanced explicitly and a step was {:.3g} times "
+          "its stable length for the contact's stiffness (take shorter steps)",
+          load_.index, load_.body.name, spin_->step_ratio));
+    return contact::penetration_check(
+        processes::max(penetration_ratio_),
+        fmt::format("contact {} with '{}'", load_.index, load_.body.name),
+        "inside the body, through the contact thickness", warn);
+  }
+  std::string account_json() const override {
+    return fmt::format(
+        "{{\"contact\": {}, \"body\": \"{}\", \"penalty\": [{:.6g}, {:.6g}], "
+        "\"max_penetration_ratio\": {:.6g}, \"kept\": {}}}",
+        load_.index, load_.body.name, k_min_, k_max_, penetration_ratio_,
+        penetration_ratio_ <= 1 ? "true" : "false");
+  }
+
+ private:
+  contact::NodeResult evaluate(size_t i, const Vec3& x, double sf, bool tangent) const {
+    contact::NodeInput in;
+    in.g = load_.body.gap(x, sf, in.n, in.H) - load_.node_thickness[i];
+    in.w = x - load_.body.moved(anchor_[i], sf);
+    in.lambda = lambda_[i];
+    in.k = k_[i];
+    in.mu = load_.friction;
+    return contact::node_force(in, tangent);
+  }
+  // K −= ∂f/∂x in the node's equations (its frame where it has one).
+  void add_block(int n, const Mat3& D, SparseMatrix& K) const {
+    const int f = site_.dofs.frame(n);
+    const Mat3 A =
+        f < 0 ? Mat3(-D) : Mat3(-site_.dofs.rotation(f) * D * site_.dofs.rotation(f).transpose());
+    for (int j = 0; j < 3; ++j) {
+      const int cj = site_.dofs.equation(n, j);
+      if (cj < 0) continue;
+      for (int i = 0; i < 3; ++i)
+        if (const int ri = site_.dofs.equation(n, i); ri >= 0 && A(i, j) != 0)
+          K.coeffRef(ri, cj) += A(i, j);
+    }
+  }
+  void move_on(const LoadState& s, bool update_multipliers, bool starting);
+  // A free body's translation at positions x (0 for a fixed or moved one).
+  Vec3 translation(const NodePositions& x) const {
+    const int b = load_.body_node;
+    return b >= 0 ? Vec3(x.col(b) - site_.model.X.col(b)) : Vec3::Zero();
+  }
+  // Where a free body is at (t, x): its translation d, and when it rotates its orientation R,
+  // its centre c now and C0 at the start. The contact law is evaluated in the body's axes
+  // at t = 0 (to_body), where its surfaces are given.
+  struct Frame {
+    bool turned = false;
+    Vec3 d = Vec3::Zero(), c = Vec3::Zero(), C0 = Vec3::Zero();
+    Mat3 R = Mat3::Identity();
+  };
+  Frame frame(double t, const NodePositions& x) const {
+    Frame f;
+    f.d = translation(x);
+    if (spin_) {
+      const int b = load_.body_node;
+      f.turned = true;
+      f.R = spin_->rot.orientation(t);
+      f.c = x.col(b);
+      f.C0 = site_.model.X.col(b);
+    }
+    return f;
+  }
+  static Vec3 to_body(const Frame& f, const Vec3& x) {
+    return f.turned ? Vec3(f.C0 + f.R.transpose() * (x - f.c)) : Vec3(x - f.d);
+  }
+  // Adds the global vector v at node n into the equation vector `to` (in n's frame).
+  template <class Column>
+  void put(int n, const Vec3& v, Column&& to) const {
+    const Vec3 l = site_.dofs.to_local(n, v);
+    for (int c = 0; c < 3; ++c)
+      if (const int eq = site_.dofs.equation(n, c); eq >= 0) to[eq] += l[c];
+  }
+  // The outputs (history, fields) at the state accepted last: its forces as the residual
+  // had them (before the multipliers moved on).
+  Vec3 accepted_force(size_t i) const { return f_accepted_[i]; }
+  // The area about each node of the set (per model node) at positions x.
+  std::vector<double> node_areas(const NodePositions& x) const;
+
+  const Contact& load_;
+  LoadSite site_;
+  std::vector<double> k_, lambda_;
+  std::vector<Vec3> anchor_;      // friction: the body's point (at s = 0) each node sticks to
+  std::vector<Vec3> f_accepted_;  // the force on each node at the state accepted last
+  std::vector<contact::Status> status_accepted_;  // and its status there
+  double k_min_ = 0, k_max_ = 0;
+  double penetration_ratio_ = 0;  // the largest penetration / tolerance at the last accepted step
+  std::shared_ptr<rigid::Spin> spin_;  // a free body that rotates: its rotation (shared)
+  bool owner_ = false;                 // the first of the body's entries: it saves the rotation
+};
+
+}  // namespace velum::rigid_contact
