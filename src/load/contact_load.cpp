@@ -10,18 +10,25 @@ namespace rigid_contact {
 void Contact::set_up(const Model& model, const ElementNamer&) {
   const int N = model.num_nodes();
   std::vector<double> t(static_cast<size_t>(N), -1.0), h(static_cast<size_t>(N), 0.0);
+  std::set<std::pair<int, int>> sides;  // edges: true, the membranes' element sides
   for (const Part& part : parts) {
     const ElementBlock& b = *model.blocks[static_cast<size_t>(part.block)];
     for (int e : part.elements) {
       if (!b.holds(e)) continue;
       const double half = b.surface() ? 0.5 * b.output(e, model.X).thickness : 0.0;
       const double size = b.surface() ? std::sqrt(b.measure(e)) : b.measure(e);
-      for (int n : b.nodes(e)) {
+      const auto en = b.nodes(e);
+      for (int n : en) {
         t[static_cast<size_t>(n)] = std::max(t[static_cast<size_t>(n)], half);
         h[static_cast<size_t>(n)] = std::max(h[static_cast<size_t>(n)], size);
       }
+      if (edges && b.surface()) {
+        const int corners = en.size() == 3 || en.size() == 6 ? 3 : 4;
+        for (int a = 0; a < corners; ++a) sides.insert(std::minmax(en[a], en[(a + 1) % corners]));
+      }
     }
   }
+  sheet_edges.assign(sides.begin(), sides.end());
   nodes.clear(), node_thickness.clear(), node_size.clear();
   for (int n = 0; n < N; ++n)
     if (t[static_cast<size_t>(n)] >= 0) {
@@ -66,6 +73,7 @@ ContactTerm::ContactTerm(const Contact& load, const LoadSite& site) : load_(load
   if (load.body_node >= 0 && load.body.inertia != Mat3::Zero())
     spin_ = std::make_shared<rigid::Spin>(load.body.inertia, load.body.angular_velocity),
     owner_ = true;
+  if (!load.sheet_edges.empty()) set_up_edges();
 }
 
 void ContactTerm::move_on(const LoadState& s, bool update_multipliers, bool starting) {
@@ -97,6 +105,7 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers, bool star
     if (update_multipliers) lambda_[i] = r.p;
     anchor_[i] = load_.body.unmoved(x - r.slip, sf);
   }
+  if (!load_.sheet_edges.empty()) commit_edges(s, fr, sf, moment, turning);
   if (!spin_) return;
   // The body's other entries at the same state (connect): the last one moves it on.
   rigid::Spin& sp = *spin_;

@@ -9,9 +9,13 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <set>
 #include <stdexcept>
+#include <utility>
 
 #include "contact_law.hpp"
+#include "face_tree.hpp"
+#include "rigid_mesh.hpp"
 #include "rigid_rotation.hpp"
 #include "sheet_contact.hpp"
 #include "velum/assembly/assembler.hpp"
@@ -44,6 +48,10 @@ class Contact final : public Load, public ContactLoad {
     if (body_node >= 0)
       throw std::invalid_argument(fmt::format(
           "contact {}: a free rigid body ({}) runs on one process only", index, body.name));
+    if (edges)
+      throw std::invalid_argument(
+          fmt::format("contact {}: edge contact with a rigid mesh ({}) runs on one process only",
+                      index, body.name));
     std::vector<int> kept;
     std::vector<double> t, h;
     for (size_t i = 0; i < nodes.size(); ++i)
@@ -64,6 +72,7 @@ class Contact final : public Load, public ContactLoad {
 
   std::vector<double> node_thickness;  // contact thickness per node
   std::vector<double> node_size;       // element size about the node (penetration tolerance)
+  std::vector<std::pair<int, int>> sheet_edges;  // edges: true: the membranes' sides (model nodes)
 };
 
 class ContactTerm final : public LoadTerm {
@@ -114,6 +123,7 @@ class ContactTerm final : public LoadTerm {
           put(n, r.D.row(c).transpose(), W->col(out.column + 3 + c));
         }
     }
+    if (!load_.sheet_edges.empty()) add_edges(s, fr, sf, out, U, W);
     if (U)
       for (int c = 0; c < 3; ++c) {
         put(b, Vec3::Unit(c), W->col(out.column + c));
@@ -249,6 +259,25 @@ class ContactTerm final : public LoadTerm {
   static Vec3 to_body(const Frame& f, const Vec3& x) {
     return f.turned ? Vec3(f.C0 + f.R.transpose() * (x - f.c)) : Vec3(x - f.d);
   }
+  // Edge contact with a rigid mesh (contact_edges.cpp). The map from global positions to the
+  // mesh's own at s = 0 (to_body, then the motion undone): affine, Y = o + L x.
+  struct BodyMap {
+    Vec3 o = Vec3::Zero();
+    Mat3 L = Mat3::Identity();
+  };
+  BodyMap body_map(const Frame& fr, double sf) const;
+  // Calls found(ia, ib, X, side, half, s) for every side (nodes load_.nodes[ia], [ib]) of the
+  // set crossing a sharp edge of the mesh within reach, X the four corners in the mesh's frame,
+  // s the closest point's parameter on the side.
+  template <class Found>
+  void scan_edges(const NodePositions& x, const BodyMap& m, Found&& found) const;
+  void add_edges(const LoadState& s, const Frame& fr, double sf, LoadOutput& out, MatX* U,
+                 MatX* W) const;
+  // At an accepted state: the pairs' forces into the accepted ones, their moment on a rotating
+  // body and their stiffness against its turning.
+  void commit_edges(const LoadState& s, const Frame& fr, double sf, Vec3& moment, double& turning);
+  void add_pair_block(int i, int j, const Mat3& D, SparseMatrix& K) const;
+  void set_up_edges();
   // Adds the global vector v at node n into the equation vector `to` (in n's frame).
   template <class Column>
   void put(int n, const Vec3& v, Column&& to) const {
@@ -265,6 +294,10 @@ class ContactTerm final : public LoadTerm {
   const Contact& load_;
   LoadSite site_;
   std::vector<double> k_, lambda_;
+  std::vector<int> slot_of_;     // edges: per model node, its index in load_.nodes (-1: none)
+  contact::FaceTree edge_tree_;  // edges: over the mesh's sharp edges, in its frame at s = 0
+  std::vector<contact::Box> edge_boxes_;  // edges: the tree's boxes (its queries read them)
+  double edge_margin_ = 0;                // edges: how far a pair is followed past contact
   std::vector<Vec3> anchor_;      // friction: the body's point (at s = 0) each node sticks to
   std::vector<Vec3> f_accepted_;  // the force on each node at the state accepted last
   std::vector<contact::Status> status_accepted_;  // and its status there

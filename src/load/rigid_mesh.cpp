@@ -92,6 +92,23 @@ RigidMesh::RigidMesh(std::vector<Vec3> vertices, std::vector<std::array<int, 3>>
       edge_side_[f][static_cast<size_t>(k)] = edge_sum[std::minmax(
           triangles_[f][static_cast<size_t>(k)], triangles_[f][static_cast<size_t>((k + 1) % 3)])];
   tree_.build(boxes_);
+  // The sharp convex edges: two faces, the second's far corner behind the first's plane.
+  std::map<std::pair<int, int>, std::vector<std::pair<size_t, int>>> faces;  // (face, far corner)
+  for (size_t f = 0; f < T; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const auto& t = triangles_[f];
+      faces[std::minmax(t[static_cast<size_t>(k)], t[static_cast<size_t>((k + 1) % 3)])].push_back(
+          {f, t[static_cast<size_t>((k + 2) % 3)]});
+    }
+  for (const auto& [e, fs] : faces) {
+    if (fs.size() != 2) continue;
+    const Vec3& n0 = normal_[fs[0].first];
+    const Vec3& n1 = normal_[fs[1].first];
+    const Vec3 behind =
+        vertices_[static_cast<size_t>(fs[1].second)] - vertices_[static_cast<size_t>(e.first)];
+    if (n0.dot(n1) < 0.99 && behind.dot(n0) < 0)
+      sharp_.push_back({e.first, e.second, (n0 + n1).normalized()});
+  }
 }
 
 double RigidMesh::gap(const Vec3& x, Vec3& n, Mat3& H) const {

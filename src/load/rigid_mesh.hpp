@@ -22,6 +22,14 @@ class RigidMesh {
   /// H is the curvature of the distance there. The side is the angle-weighted pseudonormal's.
   double gap(const Vec3& x, Vec3& n, Mat3& H) const;
   const std::vector<Vec3>& vertices() const { return vertices_; }
+  /// A convex edge between two triangles whose normals differ by more than about 8°: a ridge a
+  /// sheet's element side may cross between its nodes (edge contact). `out`: the mean of the
+  /// two normals, unit.
+  struct SharpEdge {
+    int a = -1, b = -1;
+    Vec3 out = Vec3::Zero();
+  };
+  const std::vector<SharpEdge>& sharp_edges() const { return sharp_; }
   size_t size() const { return triangles_.size(); }
 
  private:
@@ -32,6 +40,7 @@ class RigidMesh {
   std::vector<Vec3> vertex_side_;               ///< per vertex: angle-weighted pseudonormal
   std::vector<contact::Box> boxes_;
   contact::FaceTree tree_;
+  std::vector<SharpEdge> sharp_;
 };
 
 }  // namespace velum

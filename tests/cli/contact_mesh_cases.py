@@ -156,6 +156,24 @@ for kind in ("fixed", "moved"):
     check(len(r1) == len(r2) and worst < 1e-9,
           f"{kind}: the box's top gives the plane's answer (largest difference {worst:.3g})")
 
+# Edge contact with the box (edges: true): the sheet lies on the box's top, which is wider than
+# it, so no side of the sheet crosses a ridge: the same answer as without (the ridges at the
+# box's base, which the sheet's sides pass over far above, push nothing).
+plane = copy.deepcopy(BASE)
+mesh = as_mesh(copy.deepcopy(plane))
+mesh["contact"][0]["edges"] = True
+p1, r1, _ = run("plane_fixed", plane)
+p2, r2, _ = run("mesh_fixed_edges", mesh)
+check(p1.returncode == 0 and p2.returncode == 0,
+      f"edges: both run ({p1.stderr.strip()[-200:]} {p2.stderr.strip()[-200:]})")
+if r1 and r2:
+    # (fx is round-off about zero: measured against fz.)
+    worst = max(abs(float(a[k]) - float(b[k])) /
+                (max(abs(float(r["fz" if k == "fx" else k])) for r in r1) or 1.0)
+                for a, b in zip(r1, r2) for k in ("fz", "fx", "area", "uz", "ux"))
+    check(len(r1) == len(r2) and worst < 1e-9,
+          f"edges: the box's top still gives the plane's answer (largest difference {worst:.3g})")
+
 # A free box of triangles wider than the sheet (5 kg, 1 m/s down, no gravity) bounces off it
 # (and its held edges) as a free plane of the same mass does. (Node to surface: a box
 # narrower than the sheet would cut the coarse sheet between nodes with its edges.)

@@ -79,7 +79,8 @@ struct ContactLoad {
   /// the faces of the other); empty with a rigid body or `self`.
   std::vector<Part> other;
   bool self = false;  ///< the set's nodes against its own faces away from them (folds)
-  /// Sheets: edges against edges too (where they cross between nodes), besides node to face.
+  /// Edges against edges too (where they cross between nodes), besides node to face: the
+  /// sheets' sides against each other's, or against a rigid mesh's sharp edges.
   bool edges = false;
   /// Initial penetrations (sheets): relaxed over this many accepted steps (0: pushed out at once).
   int relax_steps = 0;

@@ -356,9 +356,10 @@ void Reader::parse_contact(const Node& cs) {
         load.body_node = f->second.node;
     }
     if (has(c, "edges")) {
-      if (!sheets) {
+      if (!sheets && load.body.shape != RigidBody::Shape::kMesh) {
         error(c["edges"], sub(p, "edges"),
-              "edges applies to contact between element sets (or self contact)");
+              "edges applies to contact between element sets (or self contact) and with a rigid "
+              "mesh");
         ok = false;
       } else if (auto e = boolean(c, "edges", p)) {
         load.edges = *e;
