@@ -174,9 +174,11 @@ class ContactTerm final : public LoadTerm {
                   std::vector<double>& per_node) const override;
   double max_stiffness_over_mass(std::span<const double> node_mass) const override {
     double most = 0;
+    // With edges a node may also take an edge pair's penalty (at most the node's own).
+    const double pairs = load_.sheet_edges.empty() ? 1.0 : 2.0;
     for (size_t i = 0; i < load_.nodes.size(); ++i)
       if (const double m = node_mass[static_cast<size_t>(load_.nodes[i])]; m > 0)
-        most = std::max(most, k_[i] * (1 + load_.friction) / m);
+        most = std::max(most, pairs * k_[i] * (1 + load_.friction) / m);
     // A rotating body: a node's penalty at the body's reach turns it (k r² over its least
     // principal inertia).
     if (spin_)
