@@ -33,7 +33,8 @@ demo: build
 	@tools/run-demo $(BUILD)/velum out
 
 bench: build
-	@tools/run-bench $(BUILD) out/bench
+	@scripts/install-deps --bench
+	@tools/run-bench $(BUILD) out/bench $(FILTER)
 
 # The main job's CPU per Newton iteration by stage (perf; three runs of the C9 isotropic canopy).
 profile-c9: build
