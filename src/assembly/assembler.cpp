@@ -337,17 +337,6 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
 
 void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix* K,
                          std::span<const double> block_pressure, NodePositions& Fp) const {
-  internal_pass(x, F, K, block_pressure, Fp, false);
-}
-
-void Assembler::explicit_forces(const NodePositions& x, NodePositions& F,
-                                std::span<const double> block_pressure, NodePositions& Fp) const {
-  internal_pass(x, F, nullptr, block_pressure, Fp, true);
-}
-
-void Assembler::internal_pass(const NodePositions& x, NodePositions& F, SparseMatrix* K,
-                              std::span<const double> block_pressure, NodePositions& Fp,
-                              bool explicit_step) const {
   F.setZero(3, model_.num_nodes());
   if (!block_pressure.empty()) Fp.setZero(3, model_.num_nodes());
   if (K) combine_values(*K, 0.0, nullptr, 0.0);
@@ -361,13 +350,50 @@ void Assembler::internal_pass(const NodePositions& x, NodePositions& F, SparseMa
             b.internal(elems, x, r, Ke);
             return false;
           }
-          if (explicit_step)
-            b.surface()->explicit_forces(elems, x, p, r, f);
-          else
-            b.surface()->internal_and_pressure(elems, x, p, r, Ke, f, Kp);
+          b.surface()->internal_and_pressure(elems, x, p, r, Ke, f, Kp);
           return true;
         },
         K != nullptr, F, &Fp, K, 1.0);
+  }
+  reduce(F);
+  if (!block_pressure.empty()) reduce(Fp);
+}
+
+void Assembler::explicit_forces(const NodePositions& x, NodePositions& F,
+                                std::span<const double> block_pressure, NodePositions& Fp) const {
+  F.setZero(3, model_.num_nodes());
+  if (!block_pressure.empty()) Fp.setZero(3, model_.num_nodes());
+  for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
+    const auto& b = *model_.blocks[bi];
+    const double p = bi < block_pressure.size() ? block_pressure[bi] : 0.0;
+    if (const SurfaceBlock* surface = b.surface()) {
+      // Each element's forces straight into F and Fp (no element-vector buffer): the chunks
+      // of a colour share no node, and every node receives its terms in the same order
+      // whatever the thread count.
+      const Colors& colors = colors_[bi];
+      size_t chunks = 0;
+      for (const auto& list : colors) chunks += (list.size() + kChunk - 1) / kChunk;
+      // One parallel region for all the colours (a barrier between them, no fork).
+      parallel_region(chunks >= static_cast<size_t>(kMinParallelChunks) * colors.size(), [&] {
+        for (const auto& list : colors) {
+          const int nchunks = (static_cast<int>(list.size()) + kChunk - 1) / kChunk;
+#pragma omp for schedule(static)
+          for (int c = 0; c < nchunks; ++c) {
+            const int first = c * kChunk;
+            const int count = std::min<int>(kChunk, static_cast<int>(list.size()) - first);
+            surface->explicit_forces(std::span<const int>(list.data() + first, count), x, p, F, Fp);
+          }
+        }
+      });
+    } else {
+      run(
+          static_cast<int>(bi), colors_[bi],
+          [&](std::span<const int> elems, double* r, double* Ke, double*, double*) {
+            b.internal(elems, x, r, Ke);
+            return false;
+          },
+          false, F, nullptr, nullptr, 1.0);
+    }
   }
   reduce(F);
   if (!block_pressure.empty()) reduce(Fp);

@@ -2,11 +2,13 @@
 #include <fmt/format.h>
 #include <Eigen/Cholesky>
 
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 
 #include "velum/element/cable.hpp"
 #include "velum/element/membrane.hpp"
+#include "velum/element/membrane_explicit.hpp"
 #include "velum/model/element_block.hpp"
 
 namespace velum {
@@ -49,6 +51,8 @@ class MembraneBlock final : public SurfaceBlock {
   static constexpr int kN = Shape::kNodes;
   static constexpr bool kHistory = std::is_same_v<Law, HistoryLawPoints>;
   static constexpr bool kPrestressed = std::is_same_v<Law, PrestressedPoints>;
+  // An affine law: the explicit step takes MembraneExplicit's kernel and records.
+  static constexpr bool kAffine = kPrestressed || std::is_same_v<Law, ElasticPoints>;
 
  public:
   MembraneBlock(std::string set, std::vector<int> conn, const NodePositions& X, const SheetLaw& law,
@@ -88,12 +92,6 @@ class MembraneBlock final : public SurfaceBlock {
         report.worst_jacobian = jac;
         report.worst_element = e;
       }
-    }
-    if constexpr (kPrestressed) {
-      prestress_.resize(ne);
-      for (int e = 0; e < ne; ++e)
-        for (int q = 0; q < Shape::kPoints; ++q)
-          prestress_[e][q] = sheet_strain_map(points_[e][q].T).transpose() * policy_.S0;
     }
     if constexpr (kHistory) {
       const size_t n = static_cast<size_t>(policy_.size);
@@ -174,9 +172,45 @@ class MembraneBlock final : public SurfaceBlock {
                              double* r, double* Kout, double* f, double* Kp) const override {
     forces<true>(elements, x, p, r, Kout, f, Kp);
   }
-  void explicit_forces(std::span<const int> elements, const NodePositions& x, double p, double* r,
-                       double* f) const override {
-    forces<true, true>(elements, x, p, r, nullptr, f, nullptr);
+  void explicit_forces(std::span<const int> elements, const NodePositions& x, double p,
+                       NodePositions& F, NodePositions& Fp) const override {
+    using Nodes = typename K::Nodes;
+    Nodes r, f;
+    auto add = [&](std::span<const int> nodes, const Nodes& v, NodePositions& to) {
+      for (int n = 0; n < kN; ++n) to.col(nodes[n]) += v.col(n);
+    };
+    if constexpr (kAffine) {
+      const auto& records = explicit_records();
+      const auto& shapes = ExplicitShapes<Shape>::of(integration_);
+      for (size_t i = 0; i < elements.size(); ++i) {
+        if (i + 1 < elements.size()) prefetch(records[slot(elements[i + 1])]);
+        const auto nodes = this->nodes(elements[i]);
+        const auto& rec = records[slot(elements[i])];
+        if (p != 0) {
+          MembraneExplicit<Shape>::template force<true>(shapes, rec, gather<kN>(x, nodes), p, r, f);
+          add(nodes, f, Fp);
+        } else {
+          MembraneExplicit<Shape>::template force<false>(shapes, rec, gather<kN>(x, nodes), p, r,
+                                                         f);
+        }
+        add(nodes, r, F);
+      }
+    } else {
+      typename K::Vector re, fe;
+      for (size_t i = 0; i < elements.size(); ++i) {
+        if (i + 1 < elements.size()) prefetch(points_[slot(elements[i + 1])]);
+        const int e = elements[i];
+        const auto nodes = this->nodes(e);
+        const auto xe = gather<kN>(x, nodes);
+        if (p != 0) {
+          K::force_and_pressure(points_[slot(e)], policy_at(slot(e)), xe, p, re, fe);
+          add(nodes, Eigen::Map<const Nodes>(fe.data()), Fp);
+        } else {
+          K::force(points_[slot(e)], policy_at(slot(e)), xe, re);
+        }
+        add(nodes, Eigen::Map<const Nodes>(re.data()), F);
+      }
+    }
   }
 
   void pressure(std::span<const int> elements, const NodePositions& x, double p, double* f,
@@ -257,7 +291,10 @@ class MembraneBlock final : public SurfaceBlock {
       history_ = std::move(h);
     }
     points_ = kept(points_, elements);  // the others' storage freed
-    if constexpr (kPrestressed) prestress_ = kept(prestress_, elements);
+    if constexpr (kAffine) {
+      explicit_ = {};  // rebuilt from the kept points on the next explicit step
+      explicit_once_ = std::make_unique<std::once_flag>();
+    }
     Xref_ = kept(Xref_, elements);
     set_kept(elements);
   }
@@ -360,16 +397,15 @@ class MembraneBlock final : public SurfaceBlock {
 
  private:
   // The internal forces (and tangents, when Kout) of `elements`, with the pressure p's forces
-  // (and load stiffnesses) in the same pass when kPressure. kExplicit: the explicit step's
-  // policy (a prestressed law's Aᵀ S0 formed at set-up), forces only.
-  template <bool kPressure, bool kExplicit = false>
+  // (and load stiffnesses) in the same pass when kPressure.
+  template <bool kPressure>
   void forces(std::span<const int> elements, const NodePositions& x, double p, double* r,
               double* Kout, double* f, double* Kp) const {
     typename K::Vector re, fe;
     for (size_t i = 0; i < elements.size(); ++i) {
       if (i + 1 < elements.size()) prefetch(points_[slot(elements[i + 1])]);
       const auto& pts = points_[slot(elements[i])];
-      const auto& law = policy_at<kExplicit>(slot(elements[i]));
+      const auto& law = policy_at(slot(elements[i]));
       const auto xe = gather<kN>(x, nodes(elements[i]));
       using Matrix = typename K::Matrix;
       if (Kout) {
@@ -389,21 +425,13 @@ class MembraneBlock final : public SurfaceBlock {
   }
 
   // The law's policy at the element of slot s: the block's own, or (a law with history) a copy
-  // pointing at that element's points and history; kExplicit and a prestressed law: a copy
-  // pointing at the element's Aᵀ S0 (not used by the implicit passes: the sum D γ + Aᵀ S0 of a
-  // stored product rounds differently from the product formed in place).
-  template <bool kExplicit = false>
+  // pointing at that element's points and history.
   decltype(auto) policy_at(int s) const {
     if constexpr (kHistory) {
       Law p = policy_;
       p.first = &points_[static_cast<size_t>(s)].at[0];
       p.history = history_.data() +
                   static_cast<size_t>(s) * Shape::kPoints * static_cast<size_t>(policy_.size);
-      return p;
-    } else if constexpr (kPrestressed && kExplicit) {
-      Law p = policy_;
-      p.first = &points_[static_cast<size_t>(s)].at[0];
-      p.convected = prestress_[static_cast<size_t>(s)].data();
       return p;
     } else {
       return static_cast<const Law&>(policy_);
@@ -419,9 +447,20 @@ class MembraneBlock final : public SurfaceBlock {
   std::vector<double> history_;     // a law with history: committed, per held element and point
   shape::Integration integration_;  // kept for on_reference (form finding)
   std::vector<typename K::Points> points_;
-  // A prestressed law: Aᵀ S0 at each point, per held element (the term of the stress that
-  // does not change with the strain).
-  std::vector<std::array<Vec3, Shape::kPoints>> prestress_;
+  // An affine law: the explicit step's records per held element (MembraneExplicit), built
+  // from points_ on the first explicit step (an implicit run never holds them; the step's
+  // threads may all ask at once).
+  const std::vector<ExplicitPoints<Shape>>& explicit_records() const {
+    std::call_once(*explicit_once_, [this] {
+      explicit_.resize(points_.size());
+      const Vec3 S0 = kPrestressed ? law_->prestress() : Vec3::Zero();
+      for (size_t k = 0; k < points_.size(); ++k)
+        MembraneExplicit<Shape>::record(points_[k], S0, explicit_[k]);
+    });
+    return explicit_;
+  }
+  mutable std::vector<ExplicitPoints<Shape>> explicit_;
+  mutable std::unique_ptr<std::once_flag> explicit_once_ = std::make_unique<std::once_flag>();
   std::vector<Eigen::Matrix<double, 3, kN>, Eigen::aligned_allocator<Eigen::Matrix<double, 3, kN>>>
       Xref_;  // reference coordinates per element (locate, output_at)
 };

@@ -127,19 +127,33 @@ StepReport CentralDifference::start(SecondOrderSystem& sys, LinearSolver&, doubl
 StepReport CentralDifference::step(SecondOrderSystem& sys, LinearSolver&, double t, double h,
                                    State& s) {
   // v(n+½) = v + h/2 a; u(n+1) = u + h v(n+½); a(n+1) from M a = f_ext − f_int − C v(n+½).
+  // Two passes over the equations, into buffers kept between steps (swapped with the state's
+  // on success: nothing allocated): v(n+½) and u(n+1) in one, a(n+1), v(n+1) and the
+  // finiteness test in the other.
   StepReport rep;
-  const VecX vhalf = s.v + 0.5 * h * s.a;
-  VecX u = s.u + h * vhalf;
+  const Eigen::Index n = s.u.size();
+  const double hh = 0.5 * h;
+  vhalf_.resize(n), u_.resize(n), a_.resize(n), v_.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    vhalf_[i] = s.v[i] + hh * s.a[i];
+    u_[i] = s.u[i] + h * vhalf_[i];
+  }
   if (zero_.size() != sys.size()) zero_.setZero(sys.size());  // read only
-  sys.evaluate(t + h, u, vhalf, zero_, 0, 0, 0, r_, nullptr);
-  VecX a = -r_.cwiseQuotient(sys.lumped_mass());
-  if (!sys.all_finite(a)) {
+  sys.evaluate(t + h, u_, vhalf_, zero_, 0, 0, 0, r_, nullptr);
+  const VecX& m = sys.lumped_mass();
+  bool finite = true;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    a_[i] = -r_[i] / m[i];
+    v_[i] = vhalf_[i] + hh * a_[i];
+    finite = finite && std::isfinite(a_[i]);
+  }
+  if (sys.max_over_processes(finite ? 0.0 : 1.0) != 0.0) {
     rep.reason = "non-finite acceleration (step above the stable limit?)";
     return rep;
   }
-  s.u.swap(u);
-  s.v = vhalf + 0.5 * h * a;
-  s.a.swap(a);
+  s.u.swap(u_);
+  s.v.swap(v_);
+  s.a.swap(a_);
   rep.converged = true;
   return rep;
 }

@@ -197,10 +197,6 @@ class Assembler {
   using Colors = std::vector<std::vector<int>>;
   // Sums a per-node vector at the shared nodes (nothing on one process or for a local share).
   void reduce(NodePositions& F) const;
-  // internal() and explicit_forces(): explicit_step takes the blocks' explicit path.
-  void internal_pass(const NodePositions& x, NodePositions& F, SparseMatrix* K,
-                     std::span<const double> block_pressure, NodePositions& Fp,
-                     bool explicit_step) const;
   bool shared() const { return piece_ && !share_only_; }
   // A point mass is added once, by the first process (its share holds their nodes' blocks).
   bool adds_point_masses() const;

@@ -61,21 +61,12 @@ struct ElasticPoints {
 };
 
 /// The linear elastic sheet with a prestress S0 (2nd PK, sheet axes): S = D γ + Aᵀ S0.
-/// `convected`, when set, holds Aᵀ S0 of each point of the element whose first point is
-/// `first` (the block sets both per element): the same product, formed once at set-up
-/// instead of at every force evaluation.
+/// (The explicit step takes membrane_explicit.hpp's records, Aᵀ S0 formed once there.)
 struct PrestressedPoints {
   Vec3 S0 = Vec3::Zero();
-  const Vec3* convected = nullptr;
-  const void* first = nullptr;
   template <class Point>
   void stress(const Point& p, const Vec3& e, Vec3& S) const {
-    if (convected) {
-      const auto q = &p - static_cast<const Point*>(first);
-      S.noalias() = p.D * e + p.t0dA * convected[q];
-    } else {
-      S.noalias() = p.D * e + p.t0dA * (sheet_strain_map(p.T).transpose() * S0);
-    }
+    S.noalias() = p.D * e + p.t0dA * (sheet_strain_map(p.T).transpose() * S0);
   }
   template <class Point>
   const Mat3& tangent(const Point& p, const Vec3& e, Vec3& S, Mat3&) const {

@@ -213,13 +213,14 @@ class SurfaceBlock : public ElementBlock {
     internal(elements, x, r, K);
     pressure(elements, x, p, f, Kp);
   }
-  /// internal_and_pressure() without tangents for an explicit step: a block may take its own
-  /// fast path here, which may differ from the implicit passes' forces at round-off (the
-  /// implicit results stay those of internal_and_pressure).
+  /// internal_and_pressure() without tangents for an explicit step, each element's forces
+  /// added straight into the node arrays: its internal forces into F, the follower pressure
+  /// p's into Fp (p == 0: none, Fp untouched). No two of `elements` may share a node with an
+  /// element another thread runs at the same time (a colour of the assembly). A block may take
+  /// its own fast path here, which may differ from the implicit passes' forces at round-off
+  /// (the implicit results stay those of internal_and_pressure).
   virtual void explicit_forces(std::span<const int> elements, const NodePositions& x, double p,
-                               double* r, double* f) const {
-    internal_and_pressure(elements, x, p, r, nullptr, f, nullptr);
-  }
+                               NodePositions& F, NodePositions& Fp) const = 0;
   /// Pressure p along the fixed unit direction d, per area projected normal to d
   /// (`projected`) or per current area, and (when K non-null) its load stiffness.
   virtual void directed_pressure(std::span<const int> elements, const NodePositions& x, double p,

@@ -88,6 +88,7 @@ class CentralDifference : public TimeIntegrator {
 
  private:
   VecX r_, zero_;
+  VecX vhalf_, u_, a_, v_;  ///< the step's vectors, kept between steps
 };
 
 /// Static equilibrium f_int(u) = f_ext(t) at each load level t (no mass, no damping).
