@@ -238,7 +238,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
       // SIGINT, SIGTERM (under run_command's InterruptGuard): stop after this step; under
       // mpirun, every process stops after the same step.
       bool go = written && (!opt.on_step || opt.on_step(snap.step)) &&
-                      InterruptGuard::signal_received() == 0;
+                InterruptGuard::signal_received() == 0;
       if (!several) return go;
       if (explicit_steps && !snap.step.output_time &&
           snap.step.step % kExplicitCheckInterval != 0) {
