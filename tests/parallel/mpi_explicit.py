@@ -13,8 +13,9 @@ CASE (all by default):
 Each case runs once on one process (no mpirun) and under `mpirun -np 2`: every history column
 must agree within 1e-9 of the column's largest magnitude, the summary's status and step count
 must be the same, and the frames must be the one-process frames as pieces (frame_errors).
-A free rigid body (a `mass` on the body) is refused on several processes with a message
-naming the body.
+The sheet also stops at a checkpoint half way and goes on with --restart on 2 processes: the
+uninterrupted run's history and energies. A free rigid body (a `mass` on the body) is refused
+on several processes with a message naming the body.
 """
 import json
 import math
@@ -163,6 +164,28 @@ def main():
         fastest = max(abs(r[vz]) for r in ref[1])
         errors += frame_errors(one, two, 2, skip=("contact_pressure",),
                                floor=lambda name, _: fastest if name == "velocity" else 0.0)
+    # The sheet stopped at a checkpoint half way and continued with --restart on 2 processes:
+    # the uninterrupted run's history and energy account (the work booked from the forces'
+    # shares) within the same tolerance.
+    if "sheet" in cases:
+        text = model("sheet").replace("output:\n", "output:\n  checkpoint: {steps: 500}\n", 1)
+        full, half = os.path.join(out, "restart-full.yaml"), os.path.join(out, "restart-half.yaml")
+        with open(full, "w") as f:
+            f.write(text)
+        with open(half, "w") as f:
+            f.write(text.replace("end: 0.1,", "end: 0.05,", 1))
+        cont = os.path.join(out, "sheet-restarted")
+        mpirun = ["mpirun", "-np", "2", "--oversubscribe", "--bind-to", "none", velum, "run"]
+        run(mpirun + [half, "-o", cont, "-q", "--threads", "1"], env)
+        run(mpirun + [full, "--restart", cont, "-q", "--threads", "1"], env)
+        whole = os.path.join(out, "sheet-np2")
+        errors += compare(history(os.path.join(whole, "history.csv")),
+                          history(os.path.join(cont, "history.csv")),
+                          "sheet: restarted vs uninterrupted, 2 processes", TOLERANCE)
+        e1 = json.load(open(os.path.join(whole, "summary.json")))["energy"]
+        e2 = json.load(open(os.path.join(cont, "summary.json")))["energy"]
+        if any(abs(e1[k] - e2[k]) > TOLERANCE * max(abs(v) for v in e1.values()) for k in e1):
+            errors.append(f"sheet: restarted energies {e2}, uninterrupted {e1}")
     # A free rigid body (the node of the body couples with every process's contact nodes) is
     # refused on several processes, naming the body, before anything is run.
     free = model("contact").replace("radius: 0.3}", "radius: 0.3, mass: 2.0}")
