@@ -99,7 +99,7 @@ class EnergyAccount {
       : sys_(sys),
         dynamic_(dynamic),
         prescribed_(!sys.model().prescribed.empty()),
-        reuse_(reuse && sys.external_forces_reusable() && !sys.distributed()) {
+        reuse_(reuse && sys.external_forces_reusable()) {
     U_prev_ = sys.displacements(t0, s.u);
     F_prev_ = sys.external_forces(t0, s.u, s.v);
     if (prescribed_) R_prev_ = sys.reactions(t0, s.u, s.v);
@@ -111,11 +111,19 @@ class EnergyAccount {
   }
   // Books the work (and the damping work) of the step that ended in `cur`.
   void book(const AcceptedStep& st, const State& cur, Energies& E) {
-    double dW = 0;
+    // Several processes: each process books the work of its share of the forces (nonzero
+    // only at nodes it holds) and its share of v·Mv; both summed in one reduction.
+    double sums[2] = {0, 0};  // the work, v·Mv
+    double& dW = sums[0];
+    const double alpha = sys_.model().rayleigh_mass;
+    if (alpha != 0) sums[1] = sys_.mass_product_share(cur.v);
     if (reuse_) {
-      // Free components only: the others do not move (nothing is prescribed).
+      // Free components only: the others do not move (nothing is prescribed). On several
+      // processes the forces are this process's share over its local equations (ghosts
+      // included), the displacements whole there.
       sys_.dofs().gather(sys_.last_external(), f_);
       dW = 0.5 * (f_ + f_prev_).dot(cur.u - u_prev_) + sys_.load_state_work();
+      sys_.sum_over_processes(sums, alpha != 0 ? 2 : 1);
       f_.swap(f_prev_);
       u_prev_ = cur.u;
     } else {
@@ -127,9 +135,7 @@ class EnergyAccount {
         dW += 0.5 * ((R + R_prev_).array() * (U - U_prev_).array()).sum();
         R_prev_ = std::move(R);
       }
-      // Several processes: each process's forces are its share, nonzero only at nodes it
-      // holds.
-      dW = sys_.sum_over_processes(dW);
+      sys_.sum_over_processes(sums, alpha != 0 ? 2 : 1);
       dW += sys_.section_work(st.t - st.h, U_prev_, st.t, U);  // reefing lines, cuts
       U_prev_ = U, F_prev_ = F;
     }
@@ -139,8 +145,8 @@ class EnergyAccount {
     // v·Mv once per step with damping, kept for the next step's damping work and the kinetic
     // energy.
     vmv_now_ = kUnknown;
-    if (const double alpha = sys_.model().rayleigh_mass; alpha != 0) {
-      vmv_now_ = sys_.dot(cur.v, sys_.mass_times(cur.v));
+    if (alpha != 0) {
+      vmv_now_ = sums[1];
       if (std::isnan(vmv_prev_)) vmv_prev_ = sys_.dot(v_prev_, sys_.mass_times(v_prev_));
       E.damping += 0.5 * st.h * alpha * (vmv_now_ + vmv_prev_);
       vmv_prev_ = vmv_now_;

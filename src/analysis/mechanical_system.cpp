@@ -398,11 +398,18 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
   if (J && cu == 0) low_rank_ = {};
 
   dofs_.gather(Fint_ - Fext_, r);
-  complete(r);
+  // An explicit step's forces on several processes: the shares of M a and M v join the
+  // force's share before the one exchange that completes them all (each process decides on
+  // its own vectors: a process whose a is zero adds a zero share), and no force scale (no
+  // Newton reads it). One exchange with the neighbours per step instead of five collective
+  // calls; the sums differ from one process's in their order only (round-off).
+  const bool shares = distributed() && !J && cu == 0 && cv == 0 && ca == 0 && beta == 0;
+  if (!shares) complete(r);
   // M a and, with mass damping, M v: one walk of M for both (each product summed in the
   // same order as Eigen's, so bit for bit the same as two products).
   // Decided on the reduced norms: complete() below is a collective call.
-  const bool inertia = squared_norm(a) != 0, damping = alpha != 0 && squared_norm(v) != 0;
+  const bool inertia = shares ? a.squaredNorm() != 0 : squared_norm(a) != 0,
+             damping = alpha != 0 && (shares ? v.squaredNorm() != 0 : squared_norm(v) != 0);
   mv_.setZero(r.size());
   if (damping) mvv_.setZero(r.size());
   if (inertia || damping) {
@@ -422,13 +429,18 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
       }
     }
     if (inertia) {
-      complete(mv_);
+      if (!shares) complete(mv_);
       r += mv_;
     }
     if (damping) {
-      complete(mvv_);
+      if (!shares) complete(mvv_);
       r += alpha * mvv_;
     }
+  }
+  if (shares) {
+    complete(r);
+    force_scale_ = std::numeric_limits<double>::quiet_NaN();
+    return;
   }
   if (beta != 0) {
     VecX Kv = K_ * v;

@@ -46,25 +46,33 @@ ContactTerm::ContactTerm(const Contact& load, const LoadSite& site) : load_(load
   NodePositions F;
   site.assembler.internal(site.model.X, F, &K);
   const size_t N = load.nodes.size();
-  k_.assign(N, 0.0);
-  double sum = 0;
-  int count = 0;
-  for (size_t i = 0; i < N; ++i) {
+  // On several processes K is this process's share: the diagonal of the set's nodes is
+  // completed at the nodes processes share (a collective call), and the mean taken over the
+  // nodes each process keeps, so that every process has the one-process penalties.
+  NodePositions diagonal = NodePositions::Zero(3, site.model.num_nodes());
+  for (int n : load.nodes)
     for (int c = 0; c < 3; ++c)
-      if (const int eq = site.dofs.equation(load.nodes[i], c); eq >= 0)
-        k_[i] = std::max(k_[i], K.coeff(eq, eq));
-    if (k_[i] > 0) sum += k_[i], ++count;
+      if (const int eq = site.dofs.equation(n, c); eq >= 0) diagonal(c, n) = K.coeff(eq, eq);
+  site.assembler.sum_at_shared_nodes(diagonal);
+  k_.assign(N, 0.0);
+  double sums[3] = {0, 0, static_cast<double>(N)};  // of k > 0, their count, the set's nodes
+  for (size_t i = 0; i < N; ++i) {
+    const int n = load.nodes[i];
+    for (int c = 0; c < 3; ++c)
+      if (site.dofs.equation(n, c) >= 0) k_[i] = std::max(k_[i], diagonal(c, n));
+    if (k_[i] > 0 && site.assembler.keeps_node(n)) sums[0] += k_[i], ++sums[1];
   }
-  const double mean = count ? sum / count : 0.0;
-  if (N && mean <= 0)
+  if (site.model.piece) processes::sum(sums, 3);
+  const double mean = sums[1] > 0 ? sums[0] / sums[1] : 0.0;
+  if (sums[2] > 0 && mean <= 0)
     throw std::invalid_argument(
         fmt::format("contact {}: the set has no stiffness at its reference to scale the penalty on",
                     load.index));
   for (double& k : k_) k = load.penalty_scale * (k > 0 ? k : mean);
-  if (N) {
-    k_min_ = *std::min_element(k_.begin(), k_.end());
-    k_max_ = *std::max_element(k_.begin(), k_.end());
-  }
+  double lo = N ? *std::min_element(k_.begin(), k_.end()) : INFINITY,
+         hi = N ? *std::max_element(k_.begin(), k_.end()) : 0.0;
+  if (site.model.piece) lo = -processes::max(-lo), hi = processes::max(hi);
+  if (sums[2] > 0) k_min_ = lo, k_max_ = hi;
   lambda_.assign(N, 0.0);
   anchor_.resize(N);
   f_accepted_.assign(N, Vec3::Zero());

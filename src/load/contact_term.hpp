@@ -47,7 +47,10 @@ class Contact final : public Load, public ContactLoad {
                   const std::vector<int>& local_of) override {
     if (body_node >= 0)
       throw std::invalid_argument(fmt::format(
-          "contact {}: a free rigid body ({}) runs on one process only", index, body.name));
+          "contact {}: a free rigid body ({}) runs on one process only (its node takes the "
+          "contact forces of the nodes of every process): run the model without mpirun, or "
+          "give the body a motion instead of a mass",
+          index, body.name));
     if (edges)
       throw std::invalid_argument(
           fmt::format("contact {}: edge contact with a rigid mesh ({}) runs on one process only",

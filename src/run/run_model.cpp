@@ -209,6 +209,13 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     summary.process_memory_mb = processes::gather(static_cast<double>(usage.ru_maxrss) / 1024.0);
   };
   summary.dofs = static_cast<int>(system->global_size());
+  // Under mpirun the processes agree after a step whether to go on (a signal, an output
+  // error on the first process): every step of an implicit run; an explicit run's steps are
+  // short, so at its checks (every kExplicitCheckInterval steps) and output times, a process
+  // that would stop in between keeping on until then.
+  const bool explicit_steps =
+      settings.type == AnalysisSettings::Type::kDynamic && settings.scheme == "central-difference";
+  bool stop_at_vote = false;
   try {
     const auto observe = [&](const StepSnapshot& snap) {
       bool written = true;
@@ -230,9 +237,17 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
       progress.update(snap.step);
       // SIGINT, SIGTERM (under run_command's InterruptGuard): stop after this step; under
       // mpirun, every process stops after the same step.
-      const bool go = written && (!opt.on_step || opt.on_step(snap.step)) &&
-                      InterruptGuard::signal_received() == 0;
-      return several ? processes::all(go) : go;
+      bool go = written && (!opt.on_step || opt.on_step(snap.step)) &&
+                InterruptGuard::signal_received() == 0;
+      if (!several) return go;
+      if (explicit_steps && !snap.step.output_time &&
+          snap.step.step % kExplicitCheckInterval != 0) {
+        stop_at_vote = stop_at_vote || !go;
+        return true;
+      }
+      go = processes::all(go && !stop_at_vote);
+      stop_at_vote = false;
+      return go;
     };
     const auto warn = [&](const std::string& w) { progress.warn(w); };
     FormFindingReport found;

@@ -260,7 +260,7 @@ def history(path):
     return rows[0], [[float(v) for v in r] for r in rows[1:]]
 
 
-def compare(ref, got, what):
+def compare(ref, got, what, tolerance=1e-8):
     head_r, rows_r = ref
     head_g, rows_g = got
     if head_r != head_g or len(rows_r) != len(rows_g):
@@ -269,7 +269,7 @@ def compare(ref, got, what):
     for c, name in enumerate(head_r):
         scale = max(abs(r[c]) for r in rows_r)
         worst = max(abs(a[c] - b[c]) for a, b in zip(rows_r, rows_g))
-        if worst > 1e-8 * max(scale, 1e-300):
+        if worst > tolerance * max(scale, 1e-300):
             errors.append(f"{what}: column {name} differs by {worst:.3g} (largest {scale:.3g})")
     return errors
 

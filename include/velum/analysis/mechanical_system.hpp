@@ -72,6 +72,10 @@ class MechanicalSystem final : public SecondOrderSystem {
   /// Reactions: internal minus external force at eliminated components (full, global; zero
   /// at free components). Valid after evaluate() at the same state.
   const NodePositions& last_internal() const { return Fint_; }
+  /// This process's share of vᵀ M v (v over its local equations): its share of the mass
+  /// matrix's product, no exchange; summed over the processes, vᵀ M v (on one process
+  /// v · mass_times(v), the same bits).
+  double mass_product_share(const VecX& v) const { return v.dot(mass_entries() * v); }
   const NodePositions& last_external() const { return Fext_; }
   /// Whether last_external() after an evaluate() at an accepted state is what
   /// external_forces() gives there (to round-off: the follower pressures come fused with the

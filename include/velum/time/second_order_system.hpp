@@ -38,7 +38,8 @@ class SecondOrderSystem {
   /// (a contact penalty not active yet), for the stable step of explicit integration.
   virtual double load_stiffness_over_mass() const { return 0; }
   /// A force scale of the last evaluation (norms of internal and external forces), against
-  /// which residuals are judged.
+  /// which residuals are judged. Not a number after an explicit step's evaluation (no
+  /// Jacobian, no shift) on several processes, where nothing judges a residual.
   virtual double force_scale() const = 0;
   /// The round-off level of the last residual that came with a Jacobian: how much the forces
   /// change when every coordinate moves by one unit in the last place (ε ‖|K|ᵀ |x|‖). No
