@@ -117,27 +117,33 @@ class EnergyAccount {
     double& dW = sums[0];
     const double alpha = sys_.model().rayleigh_mass;
     if (alpha != 0) sums[1] = sys_.mass_product_share(cur.v);
+    NodePositions U;  // the displacements, where the work is booked on the nodes
     if (reuse_) {
       // Free components only: the others do not move (nothing is prescribed). On several
       // processes the forces are this process's share over its local equations (ghosts
       // included), the displacements whole there.
       sys_.dofs().gather(sys_.last_external(), f_);
-      dW = 0.5 * (f_ + f_prev_).dot(cur.u - u_prev_) + sys_.load_state_work();
-      sys_.sum_over_processes(sums, alpha != 0 ? 2 : 1);
+      dW = 0.5 * (f_ + f_prev_).dot(cur.u - u_prev_);
       f_.swap(f_prev_);
       u_prev_ = cur.u;
     } else {
-      const NodePositions U = sys_.displacements(st.t, cur.u);
-      const NodePositions F = sys_.external_forces(st.t, cur.u, cur.v);
-      dW = 0.5 * ((F + F_prev_).array() * (U - U_prev_).array()).sum() + sys_.load_state_work();
+      U = sys_.displacements(st.t, cur.u);
+      NodePositions F = sys_.external_forces(st.t, cur.u, cur.v);
+      dW = 0.5 * ((F + F_prev_).array() * (U - U_prev_).array()).sum();
       if (prescribed_) {
         NodePositions R = sys_.reactions(st.t, cur.u, cur.v);
         dW += 0.5 * ((R + R_prev_).array() * (U - U_prev_).array()).sum();
         R_prev_ = std::move(R);
       }
-      sys_.sum_over_processes(sums, alpha != 0 ? 2 : 1);
-      dW += sys_.section_work(st.t - st.h, U_prev_, st.t, U);  // reefing lines, cuts
-      U_prev_ = U, F_prev_ = F;
+      F_prev_ = std::move(F);
+    }
+    sys_.sum_over_processes(sums, alpha != 0 ? 2 : 1);
+    // Whole on every process: the loads' work on their own states (a free body's rotation)
+    // and that of sections changing in time (reefing lines, cuts).
+    dW += sys_.load_state_work();
+    if (!reuse_) {
+      dW += sys_.section_work(st.t - st.h, U_prev_, st.t, U);
+      U_prev_ = std::move(U);
     }
     E.external_work += dW;
     work_scale_ += std::abs(dW);

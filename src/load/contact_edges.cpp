@@ -83,20 +83,6 @@ void ContactTerm::scan_edges(const NodePositions& x, const BodyMap& m, Found&& f
   }
 }
 
-void ContactTerm::add_pair_block(int i, int j, const Mat3& D, SparseMatrix& K) const {
-  const int fi = site_.dofs.frame(i), fj = site_.dofs.frame(j);
-  Mat3 A = -D;
-  if (fi >= 0) A = site_.dofs.rotation(fi) * A;
-  if (fj >= 0) A = A * site_.dofs.rotation(fj).transpose();
-  for (int b = 0; b < 3; ++b) {
-    const int cj = site_.dofs.equation(j, b);
-    if (cj < 0) continue;
-    for (int a = 0; a < 3; ++a)
-      if (const int ri = site_.dofs.equation(i, a); ri >= 0 && A(a, b) != 0)
-        K.coeffRef(ri, cj) += A(a, b);
-  }
-}
-
 void ContactTerm::add_edges(const LoadState& s, const Frame& fr, double sf, LoadOutput& out,
                             MatX* U, MatX* W) const {
   const BodyMap m = body_map(fr, sf);
@@ -119,7 +105,7 @@ void ContactTerm::add_edges(const LoadState& s, const Frame& fr, double sf, Load
         for (int q = 0; q < 2; ++q)
           for (int w = 0; w < 2; ++w) {
             D[q][w] = Lt * r.D.block<3, 3>(3 * q, 3 * w) * m.L;
-            add_pair_block(n[q], n[w], D[q][w], *out.K);
+            subtract_node_block(site_.dofs, n[q], n[w], D[q][w], *out.K);
           }
         if (b < 0) return;
         // A free body: the forces depend on x − (the body's translation), and it takes their

@@ -15,6 +15,7 @@
 
 #include "contact_law.hpp"
 #include "face_tree.hpp"
+#include "node_blocks.hpp"
 #include "rigid_mesh.hpp"
 #include "rigid_rotation.hpp"
 #include "sheet_contact.hpp"
@@ -224,16 +225,7 @@ class ContactTerm final : public LoadTerm {
   }
   // K −= ∂f/∂x in the node's equations (its frame where it has one).
   void add_block(int n, const Mat3& D, SparseMatrix& K) const {
-    const int f = site_.dofs.frame(n);
-    const Mat3 A =
-        f < 0 ? Mat3(-D) : Mat3(-site_.dofs.rotation(f) * D * site_.dofs.rotation(f).transpose());
-    for (int j = 0; j < 3; ++j) {
-      const int cj = site_.dofs.equation(n, j);
-      if (cj < 0) continue;
-      for (int i = 0; i < 3; ++i)
-        if (const int ri = site_.dofs.equation(n, i); ri >= 0 && A(i, j) != 0)
-          K.coeffRef(ri, cj) += A(i, j);
-    }
+    subtract_node_block(site_.dofs, n, n, D, K);
   }
   void move_on(const LoadState& s, bool update_multipliers, bool starting);
   // A free body's translation at positions x (0 for a fixed or moved one).
@@ -281,7 +273,6 @@ class ContactTerm final : public LoadTerm {
   // At an accepted state: the pairs' forces into the accepted ones, their moment on a rotating
   // body and their stiffness against its turning.
   void commit_edges(const LoadState& s, const Frame& fr, double sf, Vec3& moment, double& turning);
-  void add_pair_block(int i, int j, const Mat3& D, SparseMatrix& K) const;
   void set_up_edges();
   // Adds the global vector v at node n into the equation vector `to` (in n's frame).
   template <class Column>

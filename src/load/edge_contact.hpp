@@ -90,27 +90,8 @@ inline Status edge_friction(const Vec12& X, double side, double thickness, doubl
   const double s0 = st0[0], t0 = st0[1];
   const V w = ((1 - s0) * a + s0 * b) - ((1 - t0) * c + t0 * d);
   const V e = w - w.dot(n) * n;
-  const double en = std::sqrt(e[0].value() * e[0].value() + e[1].value() * e[1].value() +
-                              e[2].value() * e[2].value());
-  V fT;
-  Status status = Status::kStick;
-  keep = 1;
-  if (k * en <= mu * p.value()) {
-    fT = -k * e;
-  } else {
-    status = Status::kSlip;
-    const AD len = sqrt(e.squaredNorm());
-    fT = -(mu * p / len) * e;
-    keep = mu * p.value() / (k * en);
-  }
   const double Ns[4] = {1 - s0, s0, -(1 - t0), -t0};
-  for (int q = 0; q < 4; ++q)
-    for (int i = 0; i < 3; ++i) {
-      const AD v = Ns[q] * fT[i];
-      r.f[3 * q + i] += v.value();
-      if (tangent) r.D.row(3 * q + i) += v.derivatives().transpose();
-    }
-  return status;
+  return coulomb_return(e, p, k, mu, Ns, tangent, r, keep);
 }
 
 }  // namespace velum::contact

@@ -105,6 +105,36 @@ inline bool pair_force(const Vec12& X, double side, double thickness, double k, 
 
 namespace velum::contact {
 
+/// The Coulomb return of a pair's tangential penalty (node–face and edge pairs alike): with e
+/// the tangential part of the anchors' separation and p > 0 the normal pressure, f_T = −k e in
+/// stick (k |e| <= μ p), −μ p e/|e| in slip; f_T is added to r with weights Ns over the pair's
+/// four points, its derivative too with `tangent`. `kept`: the part of e the anchors keep at
+/// an accepted state (μ p / (k |e|) in slip, 1 in stick).
+template <class AD, class V>
+Status coulomb_return(const V& e, const AD& p, double k, double mu, const double (&Ns)[4],
+                      bool tangent, PairResult& r, double& kept) {
+  const double en = std::sqrt(e[0].value() * e[0].value() + e[1].value() * e[1].value() +
+                              e[2].value() * e[2].value());
+  V fT;
+  Status status = Status::kStick;
+  kept = 1;
+  if (k * en <= mu * p.value()) {
+    fT = -k * e;
+  } else {
+    status = Status::kSlip;
+    const AD len = sqrt(e.squaredNorm());
+    fT = -(mu * p / len) * e;
+    kept = mu * p.value() / (k * en);
+  }
+  for (int q = 0; q < 4; ++q)
+    for (int i = 0; i < 3; ++i) {
+      const AD v = Ns[q] * fT[i];
+      r.f[3 * q + i] += v.value();
+      if (tangent) r.D.row(3 * q + i) += v.derivatives().transpose();
+    }
+  return status;
+}
+
 /// Coulomb friction of a node–face pair (docs/contact.md, "Sheets"), added to a pair_force
 /// result r (its p > 0): the tangential penalty k on e, the part in the face's plane of the
 /// node's position minus the anchor (the face's point at barycentric coordinates xi0 of b and
@@ -124,27 +154,11 @@ inline Status pair_friction(const Vec12& X, double side, double thickness, doubl
   const double N0 = 1 - xi0[0] - xi0[1];
   const V w = x - (N0 * a + xi0[0] * b + xi0[1] * c);
   const V e = w - w.dot(n) * n;
-  const double en = std::sqrt(e[0].value() * e[0].value() + e[1].value() * e[1].value() +
-                              e[2].value() * e[2].value());
-  V fT;
-  Status status = Status::kStick;
-  slip.setZero();
-  if (k * en <= mu * p.value()) {
-    fT = -k * e;
-  } else {
-    status = Status::kSlip;
-    const AD len = sqrt(e.squaredNorm());
-    fT = -(mu * p / len) * e;
-    const double s = (en - mu * p.value() / k) / en;  // the anchor follows by this part of e
-    for (int i = 0; i < 3; ++i) slip[i] = s * e[i].value();
-  }
   const double Ns[4] = {1, -N0, -xi0[0], -xi0[1]};
-  for (int q = 0; q < 4; ++q)
-    for (int i = 0; i < 3; ++i) {
-      const AD v = Ns[q] * fT[i];
-      r.f[3 * q + i] += v.value();
-      if (tangent) r.D.row(3 * q + i) += v.derivatives().transpose();
-    }
+  double kept = 1;
+  const Status status = coulomb_return(e, p, k, mu, Ns, tangent, r, kept);
+  // The anchor follows by the part of e it does not keep (0 in stick).
+  for (int i = 0; i < 3; ++i) slip[i] = (1 - kept) * e[i].value();
   return status;
 }
 

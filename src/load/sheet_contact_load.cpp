@@ -290,20 +290,6 @@ void SheetContactTerm::add(const LoadState& s, LoadOutput& out) {
   if (load_.edges) add_edges(s, out);
 }
 
-void SheetContactTerm::add_block(int i, int j, const Mat3& D, SparseMatrix& K) const {
-  const int fi = site_.dofs.frame(i), fj = site_.dofs.frame(j);
-  Mat3 A = -D;
-  if (fi >= 0) A = site_.dofs.rotation(fi) * A;
-  if (fj >= 0) A = A * site_.dofs.rotation(fj).transpose();
-  for (int b = 0; b < 3; ++b) {
-    const int cj = site_.dofs.equation(j, b);
-    if (cj < 0) continue;
-    for (int a = 0; a < 3; ++a)
-      if (const int ri = site_.dofs.equation(i, a); ri >= 0 && A(a, b) != 0)
-        K.coeffRef(ri, cj) += A(a, b);
-  }
-}
-
 void SheetContactTerm::commit(const LoadState& s) {
   penetration_ratio_ = 0;
   active_accepted_ = 0;

@@ -17,6 +17,7 @@
 #include "edge_contact.hpp"
 #include "face_contact.hpp"
 #include "face_tree.hpp"
+#include "node_blocks.hpp"
 #include "sheet_contact.hpp"
 #include "velum/assembly/assembler.hpp"
 #include "velum/model/model.hpp"
@@ -256,7 +257,9 @@ class SheetContactTerm final : public LoadTerm {
     if (offset_[k] <= 0 || load_.relax_steps <= 0) return 0.0;
     return offset_[k] * std::max(0.0, 1.0 - static_cast<double>(steps_ + 1) / load_.relax_steps);
   }
-  void add_block(int i, int j, const Mat3& D, SparseMatrix& K) const;
+  void add_block(int i, int j, const Mat3& D, SparseMatrix& K) const {
+    subtract_node_block(site_.dofs, i, j, D, K);
+  }
   // Friction: slot k's anchor on `face` (barycentric coordinates of its b and c): the anchor's
   // face point carried to a new face, or the node's accepted position for a new pair, both
   // by the faces' accepted positions (so the anchor holds within a step: the tangent stays

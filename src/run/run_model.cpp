@@ -213,8 +213,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   // error on the first process): every step of an implicit run; an explicit run's steps are
   // short, so at its checks (every kExplicitCheckInterval steps) and output times, a process
   // that would stop in between keeping on until then.
-  const bool explicit_steps =
-      settings.type == AnalysisSettings::Type::kDynamic && settings.scheme == "central-difference";
+  const bool explicit_steps = settings.explicit_steps();
   bool stop_at_vote = false;
   try {
     const auto observe = [&](const StepSnapshot& snap) {

@@ -8,10 +8,6 @@
 namespace velum {
 namespace {
 
-// An explicit loop asks whether it was interrupted every this many steps (the run's
-// observer, which hears every step, asks at its own checks).
-constexpr int kExplicitAskInterval = 50;
-
 // The step size: halved on a failed step; after a cut-back it grows back, doubled after
 // kEasySteps easy steps (converged within easy_iterations factorisations), and
 // otherwise tried at double the size after a streak of converged steps, however hard (a step
@@ -129,8 +125,8 @@ TimeLoopResult run_time_loop(SecondOrderSystem& sys, TimeIntegrator& integrator,
   while (!clock.finished()) {
     const double t = clock.t();
     // (A collective vote on several processes: an explicit run's steps are short, so it asks
-    // every kExplicitAskInterval steps.)
-    if ((integrator.implicit() || res.steps % kExplicitAskInterval == 0) &&
+    // every kExplicitCheckInterval steps.)
+    if ((integrator.implicit() || res.steps % kExplicitCheckInterval == 0) &&
         integrator.newton.interrupt_requested()) {
       res.stopped = true;
       res.reason = fmt::format("interrupted at t = {:g}", t);

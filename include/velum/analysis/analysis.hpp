@@ -50,6 +50,9 @@ struct AnalysisSettings {
   std::string run_name() const;
   /// newmark | hht | generalized-alpha | central-difference
   std::string scheme = "generalized-alpha";
+  /// A dynamic run by central differences: short explicit steps, checked every
+  /// kExplicitCheckInterval steps.
+  bool explicit_steps() const { return type == Type::kDynamic && scheme == "central-difference"; }
   double rho_inf = 0.8;     ///< generalized-alpha
   double hht_alpha = 0.05;  ///< hht, in [0, 1/3]
   double newmark_beta = 0.25, newmark_gamma = 0.5;
@@ -124,12 +127,6 @@ struct StepSnapshot {
   /// Makes the checkpoint of this step (load stepping and dynamics; null in path following).
   const std::function<Checkpoint()>* checkpoint = nullptr;
 };
-
-/// Explicit (central difference) runs check every this many steps, at every output time,
-/// checkpoint and the end: an element turned inside out, the energies held and the run's
-/// plausibility (energy created, blow-up), so that a failure shows at most this many steps
-/// late. The work of the loads is booked every step. (docs/performance.md: their cost.)
-inline constexpr int kExplicitCheckInterval = 50;
 
 struct AnalysisResult {
   TimeLoopResult loop;

@@ -10,6 +10,14 @@
 
 namespace velum {
 
+/// Explicit (central difference) runs check every this many steps, at every output time,
+/// checkpoint and the end: an element turned inside out, the energies held and the run's
+/// plausibility (energy created, blow-up), so that a failure shows at most this many steps
+/// late; the loop asks whether it was interrupted as often (a collective vote on several
+/// processes; the steps are short). The work of the loads is booked every step.
+/// (docs/performance.md: their cost.)
+inline constexpr int kExplicitCheckInterval = 50;
+
 struct TimeLoopSettings {
   double t0 = 0, t_end = 1;
   double step = 1e-2;      ///< nominal (and largest) step

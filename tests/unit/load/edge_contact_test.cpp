@@ -12,6 +12,7 @@
 
 #include "crossing_strips.hpp"
 #include "load/edge_contact.hpp"
+#include "term_forces.hpp"
 #include "velum/analysis/mechanical_system.hpp"
 #include "velum/solve/linear_solver.hpp"
 #include "velum/time/integrators.hpp"
@@ -94,30 +95,6 @@ TEST(EdgeContact, PairTangentMatchesCentralDifferences) {
   }
 }
 
-// The term's forces over the equations at u, and with J its matrix K − ∂f/∂u with the
-// low-rank part (as the system hands it to the solver).
-VecX term_forces(MechanicalSystem& sys, const VecX& u, MatX* J) {
-  const Model& m = sys.model();
-  NodePositions U = NodePositions::Zero(3, m.num_nodes());
-  sys.dofs().scatter(u, U);
-  const NodePositions x = m.X + U, V = NodePositions::Zero(3, m.num_nodes());
-  NodePositions F = NodePositions::Zero(3, m.num_nodes());
-  SparseMatrix K;
-  LowRankJacobian L;
-  const int cols = sys.loads().back()->low_rank_columns();
-  if (J) {
-    sys.assembler().make_matrix(K);
-    L.U.setConstant(sys.size(), cols, 7.0);  // the term zeroes its own columns
-    L.W.setConstant(sys.size(), cols, 7.0);
-  }
-  LoadOutput out{.F = F, .K = J ? &K : nullptr, .low_rank = &L, .column = 0};
-  sys.loads().back()->add(LoadState{.t = 0, .x = x, .V = V}, out);
-  if (J) *J = MatX(K) + L.U * L.W.transpose();
-  VecX f;
-  sys.dofs().gather(F, f);
-  return f;
-}
-
 // The crossing strips held at their ends, the upper one 0.7 mm over the lower (0.3 mm into
 // the contact distance): the term started (anchored) at u = 0, its matrix checked at u0 =
 // 1 µm at random, plus `shift` along x at the upper strip's free nodes; then accepted there,
@@ -139,16 +116,9 @@ void check_term_matrix(double mu, double shift, contact::Status status, const ch
   sys.dofs().gather(U, s);
   u0 += s;
   MatX J;
-  const VecX f = term_forces(sys, u0, &J);
+  const VecX f = term_forces(sys, kLastTerm, u0, &J);
   ASSERT_GT(f.norm(), 0);
-  MatX fd(n, n);
-  const double h = 1e-9;
-  for (int k = 0; k < n; ++k) {
-    VecX e = VecX::Zero(n);
-    e[k] = h;
-    fd.col(k) = (term_forces(sys, u0 + e, nullptr) - term_forces(sys, u0 - e, nullptr)) / (2 * h);
-  }
-  const double err = (J + fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
+  const double err = term_matrix_error(sys, kLastTerm, u0, J, 1e-9);
   std::cout << "crossing strips, " << what << ": term matrix against central differences " << err
             << " (" << n << " equations)\n";
   EXPECT_LT(err, 1e-6) << what;

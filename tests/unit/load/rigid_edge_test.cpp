@@ -11,6 +11,7 @@
 
 #include "../../verification/model_builders.hpp"
 #include "load/rigid_mesh.hpp"
+#include "term_forces.hpp"
 #include "velum/analysis/mechanical_system.hpp"
 #include "velum/load/contact_load.hpp"
 #include "velum/solve/linear_solver.hpp"
@@ -88,28 +89,6 @@ TEST(RigidEdge, WedgeHasOneRidgeAcrossTheStrip) {
   EXPECT_EQ(b.mesh->sharp_edges().size(), 9u);
 }
 
-VecX term_forces(MechanicalSystem& sys, const VecX& u, MatX* J) {
-  const Model& m = sys.model();
-  NodePositions U = NodePositions::Zero(3, m.num_nodes());
-  sys.dofs().scatter(u, U);
-  const NodePositions x = m.X + U, V = NodePositions::Zero(3, m.num_nodes());
-  NodePositions F = NodePositions::Zero(3, m.num_nodes());
-  SparseMatrix K;
-  LowRankJacobian L;
-  const int cols = sys.loads()[0]->low_rank_columns();
-  if (J) {
-    sys.assembler().make_matrix(K);
-    L.U.setConstant(sys.size(), cols, 7.0);  // the term zeroes its own columns
-    L.W.setConstant(sys.size(), cols, 7.0);
-  }
-  LoadOutput out{.F = F, .K = J ? &K : nullptr, .low_rank = &L, .column = 0};
-  sys.loads()[0]->add(LoadState{.t = 0, .x = x, .V = V}, out);
-  if (J) *J = MatX(K) + L.U * L.W.transpose();
-  VecX f;
-  sys.dofs().gather(F, f);
-  return f;
-}
-
 TEST(RigidEdge, TermMatrixMatchesFiniteDifferences) {
   for (const bool free : {false, true}) {
     auto m = strip(true);
@@ -131,16 +110,9 @@ TEST(RigidEdge, TermMatrixMatchesFiniteDifferences) {
     const VecX u = 1e-5 * VecX::Random(n);
     sys.start_loads(0, u, VecX::Zero(n));
     MatX J;
-    const VecX f = term_forces(sys, u, &J);
+    const VecX f = term_forces(sys, 0, u, &J);
     ASSERT_GT(f.norm(), 0);
-    MatX fd(n, n);
-    const double h = 1e-9;
-    for (int k = 0; k < n; ++k) {
-      VecX e = VecX::Zero(n);
-      e[k] = h;
-      fd.col(k) = (term_forces(sys, u + e, nullptr) - term_forces(sys, u - e, nullptr)) / (2 * h);
-    }
-    const double err = (J + fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
+    const double err = term_matrix_error(sys, 0, u, J, 1e-9);
     std::cout << "wedge ridge " << (free ? "(free body)" : "(moved, turned)")
               << ": term matrix against central differences " << err << " (" << n
               << " equations)\n";

@@ -12,6 +12,7 @@
 #include "../../verification/model_builders.hpp"
 #include "load/face_contact.hpp"
 #include "load/face_tree.hpp"
+#include "term_forces.hpp"
 #include "velum/analysis/mechanical_system.hpp"
 #include "velum/load/contact_load.hpp"
 #include "velum/solve/linear_solver.hpp"
@@ -204,28 +205,6 @@ TwoSheets two_sheets(double overlap, int relax_steps) {
   return ts;
 }
 
-VecX term_forces(MechanicalSystem& sys, const VecX& u, MatX* J) {
-  const Model& m = sys.model();
-  NodePositions U = NodePositions::Zero(3, m.num_nodes());
-  sys.dofs().scatter(u, U);
-  const NodePositions x = m.X + U, V = NodePositions::Zero(3, m.num_nodes());
-  NodePositions F = NodePositions::Zero(3, m.num_nodes());
-  SparseMatrix K;
-  LowRankJacobian L;
-  const int cols = sys.loads().back()->low_rank_columns();
-  if (J) {
-    sys.assembler().make_matrix(K);
-    L.U.setConstant(sys.size(), cols, 7.0);  // the term zeroes its own columns
-    L.W.setConstant(sys.size(), cols, 7.0);
-  }
-  LoadOutput out{.F = F, .K = J ? &K : nullptr, .low_rank = &L, .column = 0};
-  sys.loads().back()->add(LoadState{.t = 0, .x = x, .V = V}, out);
-  if (J) *J = MatX(K) + L.U * L.W.transpose();
-  VecX f;
-  sys.dofs().gather(F, f);
-  return f;
-}
-
 TEST(SheetContact, TwoSheetsPressedTogetherBalanceAndStayApart) {
   TwoSheets ts = two_sheets(0.0, 0);
   MechanicalSystem sys(*ts.m);
@@ -270,16 +249,9 @@ void check_term_matrix(Model& m, double scale, const char* what) {
   const VecX u0 = scale * VecX::Random(n);
   sys.start_loads(0, u0, VecX::Zero(n));
   MatX J;
-  const VecX f = term_forces(sys, u0, &J);
+  const VecX f = term_forces(sys, kLastTerm, u0, &J);
   ASSERT_GT(f.norm(), 0);
-  MatX fd(n, n);
-  const double h = 1e-9;
-  for (int k = 0; k < n; ++k) {
-    VecX e = VecX::Zero(n);
-    e[k] = h;
-    fd.col(k) = (term_forces(sys, u0 + e, nullptr) - term_forces(sys, u0 - e, nullptr)) / (2 * h);
-  }
-  const double err = (J + fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
+  const double err = term_matrix_error(sys, kLastTerm, u0, J, 1e-9);
   std::cout << what << ": relative error " << err << "\n";
   EXPECT_LT(err, 1e-5) << what;
 }
