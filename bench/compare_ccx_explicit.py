@@ -12,6 +12,7 @@ centre's height at the end (CalculiX prints the centre at every increment: that 
 increments are counted), and the CPU ratio for the same simulated time.
 """
 import csv
+import json
 import math
 import os
 
@@ -80,7 +81,6 @@ def run(args, square_mesh, write_msh, timed):
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
     rc, wall, cpu, rss, out = timed([args.velum, "run", "model.yaml", "-o", "out", "--quiet",
                                      "--threads", "1"], d, env)
-    import json
     try:
         s = json.load(open(os.path.join(d, "out", "summary.json")))
         steps = s.get("steps", float("nan"))
@@ -112,7 +112,8 @@ def run(args, square_mesh, write_msh, timed):
     print("| code | exit | steps | CPU s | µs per element-step | centre z at the end [m] |")
     print("|---|---:|---:|---:|---:|---:|")
     for r in rows:
-        per = 1e6 * r["cpu"] / (elements * r["steps"]) if r["steps"] == r["steps"] and r["steps"] else float("nan")
+        steps = r["steps"]
+        per = 1e6 * r["cpu"] / (elements * steps) if math.isfinite(steps) and steps > 0 else float("nan")
         print(f"| {r['code']} | {r['rc']} | {r['steps']} | {r['cpu']:.3f} | {per:.3f} | {r['zc']:.6g} |")
     z0 = m["nodes"][m["centre"]][2]
     print(f"free flight (no membrane force) would reach {z0 + 0.5 * m['p'] / (1000.0 * m['t']) * end ** 2:.6g} m; "
