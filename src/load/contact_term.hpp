@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -14,6 +15,7 @@
 #include <utility>
 
 #include "contact_law.hpp"
+#include "face_contact.hpp"
 #include "face_tree.hpp"
 #include "node_blocks.hpp"
 #include "rigid_mesh.hpp"
@@ -151,6 +153,7 @@ class ContactTerm final : public LoadTerm {
       out.insert(out.end(), anchor_[i].data(), anchor_[i].data() + 3);
     }
     if (owner_) spin_->rot.save(out);
+    if (edge_friction()) save_edges(out);
   }
   size_t restore_state(const std::vector<double>& in, size_t at) override {
     const size_t rotation = owner_ ? rigid::Rotation::kSaved : 0;
@@ -163,6 +166,7 @@ class ContactTerm final : public LoadTerm {
       anchor_[i] = Vec3(in[at + 1], in[at + 2], in[at + 3]);
     }
     if (owner_) at = spin_->rot.restore(in, at);
+    if (edge_friction()) at = restore_edges(in, at);
     return at;
   }
 
@@ -263,17 +267,27 @@ class ContactTerm final : public LoadTerm {
     Mat3 L = Mat3::Identity();
   };
   BodyMap body_map(const Frame& fr, double sf) const;
-  // Calls found(ia, ib, X, side, half, s) for every side (nodes load_.nodes[ia], [ib]) of the
-  // set crossing a sharp edge of the mesh within reach, X the four corners in the mesh's frame,
-  // s the closest point's parameter on the side.
+  // Calls found(e, j, ia, ib, X, side, half) for every side e (load_.sheet_edges[e], nodes
+  // load_.nodes[ia], [ib]) of the set crossing a sharp edge j of the mesh within reach, X the
+  // four corners in the mesh's frame.
   template <class Found>
   void scan_edges(const NodePositions& x, const BodyMap& m, Found&& found) const;
+  // The pair of side e and ridge j at X (the mesh's frame): its normal force and, with
+  // friction, the Coulomb return on the anchors of the last accepted state (a new pair: the
+  // closest points there); `anchor` the anchors used, `keep` the part of the slip they keep.
+  contact::Status edge_force(size_t e, int j, int ia, int ib, const contact::Vec12& X, double side,
+                             double half, bool tangent, contact::PairResult& r, Vec2& anchor,
+                             double& keep) const;
   void add_edges(const LoadState& s, const Frame& fr, double sf, LoadOutput& out, MatX* U,
                  MatX* W) const;
-  // At an accepted state: the pairs' forces into the accepted ones, their moment on a rotating
-  // body and their stiffness against its turning.
-  void commit_edges(const LoadState& s, const Frame& fr, double sf, Vec3& moment, double& turning);
+  // At an accepted state: the pairs' forces into the accepted ones, their anchors moved on,
+  // their moment on a rotating body and their stiffness against its turning.
+  void commit_edges(const LoadState& s, const Frame& fr, double sf, bool starting, Vec3& moment,
+                    double& turning);
   void set_up_edges();
+  bool edge_friction() const { return !load_.sheet_edges.empty() && load_.friction > 0; }
+  void save_edges(std::vector<double>& out) const;
+  size_t restore_edges(const std::vector<double>& in, size_t at);
   // Adds the global vector v at node n into the equation vector `to` (in n's frame).
   template <class Column>
   void put(int n, const Vec3& v, Column&& to) const {
@@ -294,6 +308,11 @@ class ContactTerm final : public LoadTerm {
   contact::FaceTree edge_tree_;  // edges: over the mesh's sharp edges, in its frame at s = 0
   std::vector<contact::Box> edge_boxes_;  // edges: the tree's boxes (its queries read them)
   double edge_margin_ = 0;                // edges: how far a pair is followed past contact
+  // Edges with friction: per pair (side, ridge) in contact at the last accepted state its
+  // anchors (s0 on the side, t0 on the ridge), and per node its position in the mesh's frame
+  // there (where a new pair anchors).
+  std::map<std::pair<size_t, int>, Vec2> edge_anchor_;
+  std::vector<Vec3> y_accepted_;
   std::vector<Vec3> anchor_;      // friction: the body's point (at s = 0) each node sticks to
   std::vector<Vec3> f_accepted_;  // the force on each node at the state accepted last
   std::vector<contact::Status> status_accepted_;  // and its status there

@@ -174,6 +174,28 @@ if r1 and r2:
     check(len(r1) == len(r2) and worst < 1e-9,
           f"edges: the box's top still gives the plane's answer (largest difference {worst:.3g})")
 
+# The same with friction (edges: true and friction 0.3): no side crosses a ridge, so the
+# plane's answer with the same friction; a friction below 0 with edges is refused.
+plane = copy.deepcopy(BASE)
+plane["contact"][0]["friction"] = 0.3
+mesh = as_mesh(copy.deepcopy(plane))
+mesh["contact"][0]["edges"] = True
+p1, r1, _ = run("plane_fixed_friction", plane)
+p2, r2, _ = run("mesh_fixed_edges_friction", mesh)
+check(p1.returncode == 0 and p2.returncode == 0,
+      f"edges with friction: both run ({p1.stderr.strip()[-200:]} {p2.stderr.strip()[-200:]})")
+if r1 and r2:
+    worst = max(abs(float(a[k]) - float(b[k])) /
+                (max(abs(float(r["fz" if k == "fx" else k])) for r in r1) or 1.0)
+                for a, b in zip(r1, r2) for k in ("fz", "fx", "area", "uz", "ux"))
+    check(len(r1) == len(r2) and worst < 1e-9,
+          f"edges with friction: the plane's answer (largest difference {worst:.3g})")
+mesh["contact"][0]["friction"] = -0.1
+p, _, path = run("edges_negative_friction", mesh)
+check(p.returncode == 1 and "contact[0].friction" in p.stderr
+      and re.search(re.escape(os.path.basename(path)) + r":\d+: ", p.stderr) is not None,
+      f"bad input edges_negative_friction: {p.stderr.strip()[:200]}")
+
 # A free box of triangles wider than the sheet (5 kg, 1 m/s down, no gravity) bounces off it
 # (and its held edges) as a free plane of the same mass does. (Node to surface: a box
 # narrower than the sheet would cut the coarse sheet between nodes with its edges.)

@@ -9,61 +9,20 @@
 #include <cmath>
 #include <iostream>
 
-#include "../../verification/model_builders.hpp"
-#include "load/rigid_mesh.hpp"
 #include "term_forces.hpp"
 #include "velum/analysis/mechanical_system.hpp"
 #include "velum/load/contact_load.hpp"
 #include "velum/solve/linear_solver.hpp"
 #include "velum/time/integrators.hpp"
 #include "velum/time/time_loop.hpp"
+#include "wedge_strip.hpp"
 
 namespace velum {
 namespace {
 
-constexpr double kT = 1e-3;  // the strip's thickness: contact distance 0.5 mm
-
-// A wedge (a triangular prism, its faces' normals out of it): its ridge along y at x = 0,
-// z = top, from y = −0.1 to 0.1, its slopes down to z = top − 0.05 at x = ±0.05.
-RigidBody wedge(double top) {
-  std::vector<Vec3> v = {{0, -0.1, top},
-                         {0, 0.1, top},
-                         {-0.05, -0.1, top - 0.05},
-                         {-0.05, 0.1, top - 0.05},
-                         {0.05, -0.1, top - 0.05},
-                         {0.05, 0.1, top - 0.05}};
-  std::vector<std::array<int, 3>> t = {{0, 1, 3}, {0, 3, 2}, {0, 4, 5}, {0, 5, 1},
-                                       {2, 3, 5}, {2, 5, 4}, {0, 2, 4}, {1, 5, 3}};
-  RigidBody b;
-  b.name = "wedge";
-  b.shape = RigidBody::Shape::kMesh;
-  b.point = Vec3(0, 0, top - 0.02);
-  b.mesh = make_rigid_mesh(std::move(v), std::move(t));
-  return b;
-}
-
-// A prestressed anisotropic strip 0.6 m x 5 cm along x, three elements long, its ends held; its
-// inner nodes free in z only (or in all directions: `free_inner`).
-std::unique_ptr<Model> strip(bool free_inner) {
-  auto m = std::make_unique<Model>();
-  test::NodeCache nodes(*m, 1e-9);
-  std::vector<int> conn;
-  test::mesh_patch(
-      nodes, [](double u, double v) { return Vec3(-0.3 + 0.6 * u, -0.025 + 0.05 * v, 0.0); }, 3, 1,
-      "quad4", conn);
-  AnisotropicConstants c;
-  c.E1 = 1e9, c.E2 = 6e8, c.nu12 = 0.3, c.G12 = 3e8, c.eta1 = 0.2, c.eta2 = -0.1;
-  const double S = 1000.0 / kT;
-  test::add_membrane(*m, "quad4", std::move(conn),
-                     SheetLaw(PlaneStressLaw::anisotropic("aniso", c)).with_prestress({S, S, 0}),
-                     1000.0, kT);
-  m->fixed.push_back(
-      {test::nodes_where(*m, [](const Vec3& X) { return std::abs(X.x()) > 0.2; }), {1, 1, 1}});
-  if (!free_inner)
-    m->fixed.push_back(
-        {test::nodes_where(*m, [](const Vec3& X) { return std::abs(X.x()) < 0.2; }), {1, 1, 0}});
-  return m;
-}
+using test::kT;
+using test::strip;
+using test::wedge;
 
 void add_contact(Model& m, const RigidBody& body, bool edges, int body_node = -1) {
   ContactLoad cl;

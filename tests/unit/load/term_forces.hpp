@@ -12,9 +12,9 @@ namespace velum {
 inline constexpr size_t kLastTerm = std::numeric_limits<size_t>::max();
 
 // The term's forces over the equations at u, and with J its matrix K − ∂f/∂u with the
-// low-rank part (as the system hands it to the solver). The low-rank columns start filled
-// with 7: the term must zero its own.
-inline VecX term_forces(MechanicalSystem& sys, size_t i, const VecX& u, MatX* J) {
+// low-rank part (as the system hands it to the solver), at time t. The low-rank columns start
+// filled with 7: the term must zero its own.
+inline VecX term_forces(MechanicalSystem& sys, size_t i, const VecX& u, MatX* J, double t = 0) {
   const Model& m = sys.model();
   LoadTerm& term = *sys.loads()[i == kLastTerm ? sys.loads().size() - 1 : i];
   NodePositions U = NodePositions::Zero(3, m.num_nodes());
@@ -30,7 +30,7 @@ inline VecX term_forces(MechanicalSystem& sys, size_t i, const VecX& u, MatX* J)
     L.W.setConstant(sys.size(), cols, 7.0);
   }
   LoadOutput out{.F = F, .K = J ? &K : nullptr, .low_rank = &L, .column = 0};
-  term.add(LoadState{.t = 0, .x = x, .V = V}, out);
+  term.add(LoadState{.t = t, .x = x, .V = V}, out);
   if (J) *J = MatX(K) + L.U * L.W.transpose();
   VecX f;
   sys.dofs().gather(F, f);
@@ -38,16 +38,16 @@ inline VecX term_forces(MechanicalSystem& sys, size_t i, const VecX& u, MatX* J)
 }
 
 // max |J + ∂f/∂u| / max |∂f/∂u| for term i at u, J its matrix there (term_forces), by central
-// differences of step h.
+// differences of step h (at time t).
 inline double term_matrix_error(MechanicalSystem& sys, size_t i, const VecX& u, const MatX& J,
-                                double h) {
+                                double h, double t = 0) {
   const Eigen::Index n = u.size();
   MatX fd(n, n);
   for (Eigen::Index k = 0; k < n; ++k) {
     VecX e = VecX::Zero(n);
     e[k] = h;
     fd.col(k) =
-        (term_forces(sys, i, u + e, nullptr) - term_forces(sys, i, u - e, nullptr)) / (2 * h);
+        (term_forces(sys, i, u + e, nullptr, t) - term_forces(sys, i, u - e, nullptr, t)) / (2 * h);
   }
   return (J + fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
 }
