@@ -213,25 +213,63 @@ NodePositions Assembler::piece_of(const NodePositions& whole) const {
 
 void Assembler::sum_at_shared_nodes(std::span<const std::pair<double*, int>> arrays) const {
   if (!piece_) return;
-  const std::vector<int>& shared_list = piece_->shared;
-  size_t per_node = 0;
-  for (const auto& a : arrays) per_node += static_cast<size_t>(a.second);
-  // The list is the same on every process; a node this process does not hold adds zeros.
-  std::vector<double> packed(per_node * shared_list.size(), 0.0);
-  double* to = packed.data();
-  for (const auto& [data, m] : arrays)
-    for (int n : shared_list) {
-      if (n >= 0)
-        std::copy(data + static_cast<size_t>(n) * m, data + static_cast<size_t>(n + 1) * m, to);
-      to += m;
+  const ModelPiece& piece = *piece_;
+  const std::vector<int>& shared = piece.shared;
+  size_t m = 0;  // values per node, over the arrays
+  for (const auto& a : arrays) m += static_cast<size_t>(a.second);
+  // This process's values, node by node (each node's arrays' values together).
+  shared_own_.resize(m * shared.size());
+  for (size_t s = 0; s < shared.size(); ++s) {
+    double* to = shared_own_.data() + s * m;
+    const auto n = static_cast<size_t>(shared[s]);
+    for (const auto& [data, k] : arrays) {
+      const auto per = static_cast<size_t>(k);
+      to = std::copy(data + n * per, data + (n + 1) * per, to);
     }
-  processes::sum(packed.data(), static_cast<long>(packed.size()));
-  const double* from = packed.data();
-  for (const auto& [data, m] : arrays)
-    for (int n : shared_list) {
-      if (n >= 0) std::copy(from, from + m, data + static_cast<size_t>(n) * m);
+  }
+  // One message each way per neighbour: the nodes both hold, in global order on both.
+  shared_channels_.clear();
+  size_t total = 0;
+  for (size_t q = 0; q < piece.neighbours.size(); ++q) {
+    const size_t count = piece.shared_with[q].size() * m;
+    shared_channels_.push_back(
+        {piece.neighbours[q], static_cast<int>(total), static_cast<int>(count)});
+    total += count;
+  }
+  shared_out_.resize(total);
+  shared_in_.resize(total);
+  double* out = shared_out_.data();
+  for (const auto& with : piece.shared_with)
+    for (int s : with) out = std::copy_n(shared_own_.data() + static_cast<size_t>(s) * m, m, out);
+  processes::exchange(shared_out_.data(), shared_channels_, shared_in_.data(), shared_channels_);
+  // Sums in rank order of the processes holding each node, from zero: every holder adds the
+  // same values in the same order, so all hold the same bits.
+  const int rank = processes::rank();
+  std::vector<double>& sum = shared_out_;  // sent: reused for the sums
+  sum.assign(m * shared.size(), 0.0);
+  auto add_own = [&] {
+    for (size_t i = 0; i < m * shared.size(); ++i) sum[i] += shared_own_[i];
+  };
+  bool own_added = false;
+  for (size_t q = 0; q < piece.neighbours.size(); ++q) {
+    if (!own_added && piece.neighbours[q] > rank) add_own(), own_added = true;
+    const double* from = shared_in_.data() + shared_channels_[q].at;
+    for (int s : piece.shared_with[q]) {
+      double* to = sum.data() + static_cast<size_t>(s) * m;
+      for (size_t i = 0; i < m; ++i) to[i] += from[i];
       from += m;
     }
+  }
+  if (!own_added) add_own();
+  for (size_t s = 0; s < shared.size(); ++s) {
+    const double* from = sum.data() + s * m;
+    const auto n = static_cast<size_t>(shared[s]);
+    for (const auto& [data, k] : arrays) {
+      const auto per = static_cast<size_t>(k);
+      std::copy(from, from + per, data + n * per);
+      from += per;
+    }
+  }
 }
 
 void combine_values(SparseMatrix& A, double a, const SparseMatrix* B, double b) {

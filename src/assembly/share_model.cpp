@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 #include "velum/assembly/dof_map.hpp"
 #include "velum/parallel/processes.hpp"
@@ -33,6 +34,32 @@ void element_graph(const Model& model, std::vector<long>& offsets, std::vector<l
       near.erase(std::unique(near.begin(), near.end()), near.end());
       adjacency.insert(adjacency.end(), near.begin(), near.end());
       offsets.push_back(static_cast<long>(adjacency.size()));
+    }
+}
+
+// The piece's shared nodes and, per neighbouring process, those it holds too, from the
+// (node, process) pairs of every node more than one process holds.
+void share_nodes(ModelPiece& piece, std::vector<std::pair<int, int>>& also,
+                 const std::vector<int>& local_of, int rank) {
+  std::sort(also.begin(), also.end());
+  also.erase(std::unique(also.begin(), also.end()), also.end());
+  std::vector<int> at(piece.global_node.size(), -1);  // a local node's position in `shared`
+  for (const auto& [n, p] : also)
+    if (const int l = local_of[static_cast<size_t>(n)]; l >= 0 && at[static_cast<size_t>(l)] < 0) {
+      at[static_cast<size_t>(l)] = static_cast<int>(piece.shared.size());
+      piece.shared.push_back(l);
+    }
+  for (const auto& [n, p] : also)
+    if (p != rank && local_of[static_cast<size_t>(n)] >= 0) piece.neighbours.push_back(p);
+  std::sort(piece.neighbours.begin(), piece.neighbours.end());
+  piece.neighbours.erase(std::unique(piece.neighbours.begin(), piece.neighbours.end()),
+                         piece.neighbours.end());
+  piece.shared_with.assign(piece.neighbours.size(), {});
+  for (const auto& [n, p] : also)  // ascending node: each list in global order
+    if (const int l = local_of[static_cast<size_t>(n)]; p != rank && l >= 0) {
+      const auto q = std::lower_bound(piece.neighbours.begin(), piece.neighbours.end(), p) -
+                     piece.neighbours.begin();
+      piece.shared_with[static_cast<size_t>(q)].push_back(at[static_cast<size_t>(l)]);
     }
 }
 
@@ -108,9 +135,18 @@ std::vector<int> share(Model& model, ElementPartition partition, MeshSharing* pl
   // first for nodes in no element and point masses' nodes); whether this process does.
   std::vector<int> element_holder(nn, -1), lowest(nn, 0), holder(nn, -1);
   std::vector<char> here(nn, 0);
+  // (node, process) for every holder of a node more than one process holds (repeats sorted
+  // out below): the shared nodes' neighbours.
+  std::vector<std::pair<int, int>> also;
   auto hold = [&](size_t n, int p) {
     int& h = holder[n];
-    h = (h == -1 || h == p) ? p : -2;
+    if (h != -1 && h != p) {
+      if (h >= 0) also.emplace_back(static_cast<int>(n), h);
+      also.emplace_back(static_cast<int>(n), p);
+      h = -2;
+    } else {
+      h = p;
+    }
     if (p == rank) here[n] = 1;
   };
   size_t cell = 0;  // the element's index through the blocks
@@ -161,10 +197,9 @@ std::vector<int> share(Model& model, ElementPartition partition, MeshSharing* pl
         piece->equation.push_back(whole.global_equation(static_cast<int>(n), c));
       piece->kept.push_back(element_holder[n] == -1 ? rank == 0 : lowest[n] == rank);
     }
-  for (size_t n = 0; n < nn; ++n) {
-    if (holder[n] == -2) piece->shared.push_back(local_of[n]);
+  for (size_t n = 0; n < nn; ++n)
     if (element_holder[n] == -2) ++piece->element_cut;
-  }
+  share_nodes(*piece, also, local_of, rank);
   // The first process also holds the diagonal blocks of the point masses' nodes (their mass
   // and the payload's drag Jacobian are added there once) and of nodes in no element, so
   // that the shares' patterns together are the one-process pattern.

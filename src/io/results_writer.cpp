@@ -512,9 +512,10 @@ void ResultsWriter::write_summary(const RunSummary& r) {
     };
     s += fmt::format(
         "  \"processes\": {{\"count\": {}, \"partition\": \"{}\", \"elements\": {}, "
-        "\"shared_nodes\": {}, \"cpu_seconds\": {}, \"peak_memory_mb\": {}}},\n",
+        "\"shared_nodes\": {}, \"neighbours\": {}, \"cpu_seconds\": {}, \"peak_memory_mb\": "
+        "{}}},\n",
         r.process_elements.size(), r.partition, list(r.process_elements), r.shared_nodes,
-        list(r.process_cpu_seconds), list(r.process_memory_mb));
+        list(r.process_neighbours), list(r.process_cpu_seconds), list(r.process_memory_mb));
   }
   auto extreme = [](const char* key, const Extreme& x, const char* where) {
     if (!x.found) return fmt::format("    \"{}\": null", key);

@@ -20,24 +20,23 @@ EquationLayout::EquationLayout(std::vector<long> row_start, std::vector<long> gh
   // equations to send (in the order asked: ascending). Ghosts are ascending and the owners'
   // ranges in rank order: the ghosts come grouped by owner, in rank order.
   std::vector<std::vector<long>> ask(p);
-  receive_count_.assign(p, 0);
+  std::vector<int> receive_count(p, 0);
   for (size_t k = 0; k < ghosts_.size(); ++k) {
     const auto q = static_cast<size_t>(owner(ghosts_[k]));
     ask[q].push_back(ghosts_[k]);
     receive_.push_back(owned_ + static_cast<int>(k));
-    ++receive_count_[q];
+    ++receive_count[q];
   }
-  const auto asked = processes::exchange(ask);
-  send_count_.assign(p, 0);
+  const auto asked = processes::exchange(ask);  // once, at set-up: who reads what of whom
+  int sent = 0, received = 0;
   for (size_t q = 0; q < p; ++q) {
     for (long g : asked[q]) send_.push_back(static_cast<int>(g - first_));
-    send_count_[q] = static_cast<int>(asked[q].size());
-  }
-  send_at_.assign(p, 0);
-  receive_at_.assign(p, 0);
-  for (size_t q = 1; q < p; ++q) {
-    send_at_[q] = send_at_[q - 1] + send_count_[q - 1];
-    receive_at_[q] = receive_at_[q - 1] + receive_count_[q - 1];
+    const int n_send = static_cast<int>(asked[q].size());
+    if (n_send > 0) to_readers_.push_back({static_cast<int>(q), sent, n_send});
+    if (receive_count[q] > 0)
+      from_owners_.push_back({static_cast<int>(q), received, receive_count[q]});
+    sent += n_send;
+    received += receive_count[q];
   }
   out_.resize(std::max(send_.size(), receive_.size()));
   in_.resize(out_.size());
@@ -69,14 +68,14 @@ double EquationLayout::norm(const VecX& a) const {
 void EquationLayout::update_ghosts(VecX& x) const {
   if (!distributed_) return;
   for (size_t k = 0; k < send_.size(); ++k) out_[k] = x[send_[k]];
-  processes::exchange(out_.data(), send_count_, send_at_, in_.data(), receive_count_, receive_at_);
+  processes::exchange(out_.data(), to_readers_, in_.data(), from_owners_);
   for (size_t k = 0; k < receive_.size(); ++k) x[receive_[k]] = in_[k];
 }
 
 void EquationLayout::sum_to_owners(VecX& x) const {
   if (!distributed_) return;
   for (size_t k = 0; k < receive_.size(); ++k) out_[k] = x[receive_[k]];
-  processes::exchange(out_.data(), receive_count_, receive_at_, in_.data(), send_count_, send_at_);
+  processes::exchange(out_.data(), from_owners_, in_.data(), to_readers_);
   // In rank order of the senders, after the owner's own part: the same bits on any run.
   for (size_t k = 0; k < send_.size(); ++k) x[send_[k]] += in_[k];
   update_ghosts(x);

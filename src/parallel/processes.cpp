@@ -253,14 +253,22 @@ std::vector<std::vector<long>> exchange(const std::vector<std::vector<long>>& se
   return exchange_of(send);
 }
 
-void exchange(const double* out, const std::vector<int>& out_count, const std::vector<int>& out_at,
-              double* in, const std::vector<int>& in_count, const std::vector<int>& in_at) {
+void exchange(const double* out, const std::vector<Channel>& to, double* in,
+              const std::vector<Channel>& from) {
 #ifdef VELUM_HAVE_PETSC
-  if (my_count > 1)
-    MPI_Alltoallv(out, out_count.data(), out_at.data(), MPI_DOUBLE, in, in_count.data(),
-                  in_at.data(), MPI_DOUBLE, PETSC_COMM_WORLD);
+  if (my_count <= 1 || (to.empty() && from.empty())) return;
+  constexpr int kTag = 4601;  // one message each way per pair and call; calls do not overlap
+  thread_local std::vector<MPI_Request> requests;
+  requests.assign(from.size() + to.size(), MPI_REQUEST_NULL);
+  size_t r = 0;
+  // Receives posted first, so that a send finds its receive waiting.
+  for (const Channel& f : from)
+    MPI_Irecv(in + f.at, f.count, MPI_DOUBLE, f.rank, kTag, PETSC_COMM_WORLD, &requests[r++]);
+  for (const Channel& t : to)
+    MPI_Isend(out + t.at, t.count, MPI_DOUBLE, t.rank, kTag, PETSC_COMM_WORLD, &requests[r++]);
+  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
 #else
-  (void)out, (void)out_count, (void)out_at, (void)in, (void)in_count, (void)in_at;
+  (void)out, (void)to, (void)in, (void)from;
 #endif
 }
 

@@ -205,6 +205,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     summary.partition =
         system->assembler().partition() == ElementPartition::kScotch ? "scotch" : "rows";
     summary.shared_nodes = system->assembler().shared_nodes();
+    summary.process_neighbours =
+        processes::gather(static_cast<double>(system->assembler().neighbours()));
     summary.process_cpu_seconds = processes::gather(cpu_seconds() - cpu_at_start);
     summary.process_memory_mb = processes::gather(static_cast<double>(usage.ru_maxrss) / 1024.0);
   };

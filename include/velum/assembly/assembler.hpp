@@ -23,6 +23,7 @@
 #include "velum/math/sparse.hpp"
 #include "velum/parallel/element_partition.hpp"
 #include "velum/parallel/model_piece.hpp"
+#include "velum/parallel/processes.hpp"
 
 namespace velum {
 
@@ -106,6 +107,8 @@ class Assembler {
   long own_elements() const;
   /// Nodes held by elements of more than one process (the partition's cut; 0 on one process).
   long shared_nodes() const { return piece_ ? piece_->element_cut : 0; }
+  /// The processes this one exchanges shared nodes with (0 on one process).
+  long neighbours() const { return piece_ ? static_cast<long>(piece_->neighbours.size()) : 0; }
   /// The partition used (kRows when PT-Scotch was asked for but is not available; see
   /// partition_note()).
   ElementPartition partition() const {
@@ -147,9 +150,10 @@ class Assembler {
   /// Completes per-node partial sums at the shared nodes (those more than one process holds):
   /// each array holds `per_node` consecutive values per node of the piece (a 3 x nodes
   /// NodePositions: 3), this process's share; on return the shared nodes' entries hold the
-  /// sum over the processes (the same bits on every process), the other entries are
-  /// untouched. One reduction of the shared nodes' values only. A collective call; nothing on
-  /// one process.
+  /// sum over the processes holding the node, added in rank order (the same bits on every
+  /// process), the other entries are untouched. Point to point with the neighbouring
+  /// processes only: one message each way per neighbour, of the nodes both hold. Called on
+  /// every process alike; nothing on one process.
   void sum_at_shared_nodes(std::span<const std::pair<double*, int>> arrays) const;
   /// The same for one per-node array.
   void sum_at_shared_nodes(NodePositions& P) const {
@@ -219,6 +223,10 @@ class Assembler {
                                          // make_matrix (later ones build it again)
   int max_dofs_ = 0;
   mutable std::vector<ElementBuffers> buffers_;  // one per thread, reused across calls
+  // sum_at_shared_nodes: this process's values at its shared nodes, what goes to and comes
+  // from each neighbour, the sums; reused across calls.
+  mutable std::vector<double> shared_own_, shared_out_, shared_in_;
+  mutable std::vector<processes::Channel> shared_channels_;
 };
 
 }  // namespace velum

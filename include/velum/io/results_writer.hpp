@@ -51,6 +51,8 @@ struct RunSummary {
   /// Under mpirun (more than one entry): per process, in rank order, the elements it
   /// computed, its CPU seconds and its peak memory (MB).
   std::vector<double> process_elements, process_cpu_seconds, process_memory_mb;
+  /// Under mpirun: per process, the processes it exchanges shared nodes with.
+  std::vector<double> process_neighbours;
   std::string partition;     ///< under mpirun: rows | scotch (the one used)
   long shared_nodes = 0;     ///< under mpirun: nodes held by elements of several processes
   int form_updates = -1;     ///< form finding: reference updates (-1: not form finding)

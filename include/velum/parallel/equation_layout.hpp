@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "velum/math/types.hpp"
+#include "velum/parallel/processes.hpp"
 
 namespace velum {
 
@@ -61,10 +62,12 @@ class EquationLayout {
   std::vector<long> row_start_{0, 0};
   std::vector<long> ghosts_;
   // The forward exchange (owners to ghosts), built once: the owned entries sent to each
-  // process, concatenated in rank order, and the ghosts received from each, likewise; counts
-  // and offsets per process. The reverse exchange is the same pattern the other way.
+  // neighbouring process (one that reads a ghost of this one's equations), concatenated in
+  // rank order, and the ghosts received from each owner, likewise; one channel per neighbour
+  // and direction (processes::exchange, point to point). The reverse exchange is the same
+  // pattern the other way.
   std::vector<int> send_, receive_;
-  std::vector<int> send_count_, send_at_, receive_count_, receive_at_;
+  std::vector<processes::Channel> to_readers_, from_owners_;
   mutable std::vector<double> out_, in_;  // buffers, reused
 };
 

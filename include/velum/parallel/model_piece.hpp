@@ -39,9 +39,14 @@ struct ModelPiece {
   std::vector<int> lone;
   /// Local nodes no element holds (the first process only: the frames' points of them).
   std::vector<int> bare;
-  /// The nodes held by more than one process, in global order (the same list on every
-  /// process): each one's local index here, or -1 where this process does not hold it.
+  /// This process's nodes that another process holds too (ascending local index, so global
+  /// order).
   std::vector<int> shared;
+  /// The processes holding one of them (ascending rank), and per neighbour the positions in
+  /// `shared` of the nodes it holds too (ascending): both processes list the same nodes in the
+  /// same order, so a shared-node sum is one message each way per neighbour.
+  std::vector<int> neighbours;
+  std::vector<std::vector<int>> shared_with;
   /// Nodes held by elements of more than one process (the partition's cut, as reported).
   long element_cut = 0;
 };

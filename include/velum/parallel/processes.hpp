@@ -56,10 +56,20 @@ double max(double value);
 /// here (its send[rank()]). A collective call; on one process, send itself.
 std::vector<std::vector<double>> exchange(const std::vector<std::vector<double>>& send);
 std::vector<std::vector<long>> exchange(const std::vector<std::vector<long>>& send);
-/// The same with a fixed pattern (MPI_Alltoallv): out[out_at[p] .. + out_count[p]) goes to
-/// process p, what p sends lands at in[in_at[p] ..). A collective call; nothing on one.
-void exchange(const double* out, const std::vector<int>& out_count, const std::vector<int>& out_at,
-              double* in, const std::vector<int>& in_count, const std::vector<int>& in_at);
+/// One message of a neighbour exchange: `count` doubles at `at` in the buffer, to or from
+/// process `rank`.
+struct Channel {
+  int rank = 0;
+  int at = 0;
+  int count = 0;
+};
+/// Point to point with the listed processes only (MPI_Isend / MPI_Irecv per channel, then
+/// MPI_Waitall): out[c.at .. + c.count) goes to c.rank for each c of `to`, and what f.rank
+/// sends lands at in[f.at ..) for each f of `from`. Each process listed must list this one
+/// the other way with the same count. No process outside the lists is involved; a process
+/// with no channel returns at once. Nothing on one process.
+void exchange(const double* out, const std::vector<Channel>& to, double* in,
+              const std::vector<Channel>& from);
 /// The process that owns item k of `total` split into count() contiguous, even ranges (as
 /// PETSc splits rows).
 int owner(long k, long total);
