@@ -8,7 +8,8 @@
 // assembly (`assembly_with_s`, `assembly_without_s`: residual and tangent) and the
 // factorisation with its solve (`factor_with_s`, `factor_without_s`), and the Jacobian's
 // entries with the contact's node couplings over those without (`entries_ratio`). Faces: the
-// lower sheet's 2 n² triangles.
+// lower sheet's 2 n² triangles. Second argument: 0 the lower sheet held (as measured before
+// 2026-12-05's couplings), 1 free inside its edges.
 #include <benchmark/benchmark.h>
 
 #include <sys/resource.h>
@@ -35,8 +36,10 @@ double cpu() {
 
 // Two sheets 1 m square, 1 mm thick, prestressed (so each has a stiffness across its plane
 // without the other): the upper one a contact thickness above the lower one
-// less 1 µm, so every upper node presses; edges held, the upper sheet's inner nodes free.
-std::unique_ptr<Model> two_sheets(int n, bool contact) {
+// less 1 µm, so every upper node presses; edges held, the upper sheet's inner nodes free, and
+// with `lower_free` the lower sheet's too (the node–face couplings then join free equations:
+// the Jacobian's pattern grows and the two sheets are factorised together).
+std::unique_ptr<Model> two_sheets(int n, bool contact, bool lower_free) {
   auto m = std::make_unique<Model>();
   const double t = 1e-3;
   std::vector<int> edge;
@@ -46,7 +49,7 @@ std::unique_ptr<Model> two_sheets(int n, bool contact) {
       for (int i = 0; i <= n; ++i) {
         m->add_node(first + j * (n + 1) + i + 1,
                     Vec3(double(i) / n, double(j) / n, layer * (t - 1e-6)));
-        if (layer == 0 || i == 0 || j == 0 || i == n || j == n)
+        if ((layer == 0 && !lower_free) || i == 0 || j == 0 || i == n || j == n)
           edge.push_back(first + j * (n + 1) + i);
       }
     std::vector<int> conn;
@@ -104,7 +107,8 @@ Iteration iterate(MechanicalSystem& sys, int reps) {
 
 void BM_ContactShareOfNewtonIteration(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
-  const auto with = two_sheets(n, true), without = two_sheets(n, false);
+  const bool lower_free = state.range(1) != 0;
+  const auto with = two_sheets(n, true, lower_free), without = two_sheets(n, false, lower_free);
   MechanicalSystem sys_with(*with), sys_without(*without);
   Iteration a, b;
   double term = 0;
@@ -125,6 +129,7 @@ void BM_ContactShareOfNewtonIteration(benchmark::State& state) {
     LoadTerm& contact = *sys_with.loads().back();
     const double t0 = cpu();
     const bool changed = contact.update_couplings(with->X);
+    state.counters["search_s"] = cpu() - t0;
     contact.add(LoadState{.t = 0, .x = with->X, .V = V}, out);
     term = (cpu() - t0);
     if (changed) state.SkipWithError("the couplings changed at the state already evaluated");
@@ -144,9 +149,11 @@ void BM_ContactShareOfNewtonIteration(benchmark::State& state) {
 }
 
 BENCHMARK(BM_ContactShareOfNewtonIteration)
-    ->Arg(71)   // 10k faces
-    ->Arg(224)  // 100k
-    ->Arg(707)  // 1M (left out of make bench: tools/run-bench, heavy)
+    ->Args({71, 0})   // 10k faces, the lower sheet held
+    ->Args({224, 0})  // 100k
+    ->Args({707, 0})  // 1M (left out of make bench: tools/run-bench, heavy)
+    ->Args({71, 1})   // 10k, both sheets free inside their edges
+    ->Args({224, 1})  // 100k
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
 

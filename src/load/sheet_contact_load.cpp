@@ -166,12 +166,28 @@ void SheetContactTerm::refit(const NodePositions& x) {
   for (size_t w = 0; w < 2; ++w) {
     const auto& fs = load_.faces[w];
     for (size_t f = 0; f < fs.size(); ++f) {
-      contact::Box b(x.col(fs[f].n[0]));
-      b.extend(Vec3(x.col(fs[f].n[1])));
-      b.extend(Vec3(x.col(fs[f].n[2])));
-      const double grow = fs[f].half + reach_ + margin_ + 2 * kInside * b.sizes().maxCoeff();
-      b.min().array() -= grow;
-      b.max().array() += grow;
+      // A node the search keeps is within reach of the face's plane (|g| < r) and projects
+      // inside the face up to the barycentric slack: inside the face's prism ±r along its
+      // normal, grown by the slack. Its box: the box of the face moved by ±r n (the reach
+      // along the normal only: a flat sheet's faces then overlap their neighbours' boxes by
+      // the slack, not by an element, and a query meets a few faces instead of tens).
+      const Vec3 a = x.col(fs[f].n[0]), bb = x.col(fs[f].n[1]), c = x.col(fs[f].n[2]);
+      contact::Box b(a);
+      b.extend(bb);
+      b.extend(c);
+      const double r = fs[f].half + reach_ + margin_, slack = 2 * kInside * b.sizes().maxCoeff();
+      const Vec3 m = (bb - a).cross(c - a);
+      const double area2 = m.norm();
+      if (area2 > 0) {
+        const Vec3 d = (r / area2) * m.cwiseAbs();
+        b.min() -= d;
+        b.max() += d;
+        b.min().array() -= slack;
+        b.max().array() += slack;
+      } else {  // degenerate: every direction
+        b.min().array() -= r + slack;
+        b.max().array() += r + slack;
+      }
       boxes_[w][f] = b;
     }
     if (!tree_[w].empty()) tree_[w].refit(boxes_[w]);
