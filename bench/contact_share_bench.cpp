@@ -3,9 +3,13 @@
 // contact), one Newton iteration = assembling the residual and tangent, factorising, one
 // solve, with the contact term and without it (the same sheets apart). Counters, seconds per
 // iteration (CPU, all threads): `with_s`, `without_s`, and of the iteration with contact
-// `contact_share`; the contact term alone (`term_s`: search, pairs and their matrix blocks) and the
-// low-rank columns it adds to the factorisation (`columns`). Faces: the lower sheet's 2 n²
-// triangles.
+// `contact_share`; the contact term alone (`term_s`: search, the couplings' check, pairs and
+// their matrix blocks) and its share of the iteration with contact (`term_share`); the
+// assembly (`assembly_with_s`, `assembly_without_s`: residual and tangent) and the
+// factorisation with its solve (`factor_with_s`, `factor_without_s`), and the Jacobian's
+// entries with the contact's node couplings over those without (`entries_ratio`). Faces: the
+// lower sheet's 2 n² triangles. Second argument: 0 the lower sheet held (as measured before
+// 2026-12-05's couplings), 1 free inside its edges.
 #include <benchmark/benchmark.h>
 
 #include <sys/resource.h>
@@ -32,8 +36,10 @@ double cpu() {
 
 // Two sheets 1 m square, 1 mm thick, prestressed (so each has a stiffness across its plane
 // without the other): the upper one a contact thickness above the lower one
-// less 1 µm, so every upper node presses; edges held, the upper sheet's inner nodes free.
-std::unique_ptr<Model> two_sheets(int n, bool contact) {
+// less 1 µm, so every upper node presses; edges held, the upper sheet's inner nodes free, and
+// with `lower_free` the lower sheet's too (the node–face couplings then join free equations:
+// the Jacobian's pattern grows and the two sheets are factorised together).
+std::unique_ptr<Model> two_sheets(int n, bool contact, bool lower_free) {
   auto m = std::make_unique<Model>();
   const double t = 1e-3;
   std::vector<int> edge;
@@ -43,7 +49,7 @@ std::unique_ptr<Model> two_sheets(int n, bool contact) {
       for (int i = 0; i <= n; ++i) {
         m->add_node(first + j * (n + 1) + i + 1,
                     Vec3(double(i) / n, double(j) / n, layer * (t - 1e-6)));
-        if (layer == 0 || i == 0 || j == 0 || i == n || j == n)
+        if ((layer == 0 && !lower_free) || i == 0 || j == 0 || i == n || j == n)
           edge.push_back(first + j * (n + 1) + i);
       }
     std::vector<int> conn;
@@ -71,7 +77,7 @@ std::unique_ptr<Model> two_sheets(int n, bool contact) {
 }
 
 struct Iteration {
-  double total = 0, columns = 0;
+  double total = 0, assembly = 0, factor = 0, entries = 0;
 };
 
 // One Newton iteration's parts, the symbolic analysis done before.
@@ -82,57 +88,72 @@ Iteration iterate(MechanicalSystem& sys, int reps) {
   VecX r, du;
   SparseMatrix J;
   sys.evaluate(0, zero, zero, zero, 1, 0, 0, r, &J);
-  solver.refactorize(J);
+  solver.refactorize(J, sys.pattern_revision());
   Iteration it;
   for (int k = 0; k < reps; ++k) {
     const double t0 = cpu();
     sys.evaluate(0, zero, zero, zero, 1, 0, 0, r, &J);
-    solver.refactorize(J);
+    const double t1 = cpu();
+    solver.refactorize(J, sys.pattern_revision());
     solver.solve(-r, du);
-    it.total += (cpu() - t0) / reps;
+    const double t2 = cpu();
+    it.total += (t2 - t0) / reps;
+    it.assembly += (t1 - t0) / reps;
+    it.factor += (t2 - t1) / reps;
   }
-  it.columns = static_cast<double>(sys.jacobian_low_rank().U.cols());
+  it.entries = static_cast<double>(J.nonZeros());
   return it;
 }
 
 void BM_ContactShareOfNewtonIteration(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
-  const auto with = two_sheets(n, true), without = two_sheets(n, false);
+  const bool lower_free = state.range(1) != 0;
+  const auto with = two_sheets(n, true, lower_free), without = two_sheets(n, false, lower_free);
   MechanicalSystem sys_with(*with), sys_without(*without);
   Iteration a, b;
   double term = 0;
-  // The contact term alone: its forces and matrix blocks at the pressed state, into outputs
-  // allocated (and their pages touched) before the timer, as the system's are between
-  // iterations.
+  // The contact term alone: its couplings' check (the search) and its forces and matrix
+  // blocks at the pressed state, as the system calls them, into outputs allocated (and their
+  // pages touched) before the timer, as the system's are between iterations; the matrix on
+  // the pattern with the couplings (made once the system has evaluated a Jacobian).
   NodePositions F = NodePositions::Zero(3, with->num_nodes());
   SparseMatrix K;
-  sys_with.assembler().make_matrix(K);
   LowRankJacobian L;
-  const int cols = sys_with.loads().back()->low_rank_columns();
-  L.U.setZero(sys_with.size(), cols);
-  L.W.setZero(sys_with.size(), cols);
   const NodePositions V = NodePositions::Zero(3, with->num_nodes());
   for (auto _ : state) {
     a = iterate(sys_with, 2);
     b = iterate(sys_without, 2);
+    sys_with.assembler().make_matrix(K);
     F.setZero();
     LoadOutput out{.F = F, .K = &K, .low_rank = &L, .column = 0};
+    LoadTerm& contact = *sys_with.loads().back();
     const double t0 = cpu();
-    sys_with.loads().back()->add(LoadState{.t = 0, .x = with->X, .V = V}, out);
+    const bool changed = contact.update_couplings(with->X);
+    state.counters["search_s"] = cpu() - t0;
+    contact.add(LoadState{.t = 0, .x = with->X, .V = V}, out);
     term = (cpu() - t0);
+    if (changed) state.SkipWithError("the couplings changed at the state already evaluated");
   }
   state.counters["faces"] = 2.0 * n * n;
   state.counters["with_s"] = a.total;
   state.counters["without_s"] = b.total;
   state.counters["term_s"] = term;
   state.counters["contact_share"] = (a.total - b.total) / a.total;
-  state.counters["columns"] = a.columns;
+  state.counters["term_share"] = term / a.total;
+  state.counters["assembly_with_s"] = a.assembly;
+  state.counters["assembly_without_s"] = b.assembly;
+  state.counters["factor_with_s"] = a.factor;
+  state.counters["factor_without_s"] = b.factor;
+  state.counters["entries_ratio"] = a.entries / b.entries;
   state.SetComplexityN(2L * n * n);
 }
 
 BENCHMARK(BM_ContactShareOfNewtonIteration)
-    ->Arg(71)   // 10k faces
-    ->Arg(224)  // 100k
+    ->Args({71, 0})   // 10k faces, the lower sheet held
+    ->Args({224, 0})  // 100k
+    ->Args({707, 0})  // 1M (left out of make bench: tools/run-bench, heavy)
+    ->Args({71, 1})   // 10k, both sheets free inside their edges
+    ->Args({224, 1})  // 100k
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
 

@@ -359,6 +359,23 @@ void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* 
   if (!surface_done) Fext_ += Fp_;
 }
 
+void MechanicalSystem::update_couplings() {
+  bool changed = false;
+  for (const auto& term : terms_) changed = term->update_couplings(x_) || changed;
+  if (!changed) return;
+  couplings_.clear();
+  for (const auto& term : terms_) term->couplings(couplings_);
+  const long was = assembler_.pattern_revision();
+  assembler_.set_couplings(couplings_);
+  if (assembler_.pattern_revision() == was) return;
+  // The matrices on the old pattern: made again when next needed.
+  K_ = SparseMatrix();
+  T_ = SparseMatrix();
+  M_ = SparseMatrix();
+  M_entries_ = SparseMatrix();
+  have_mass_ = false;
+}
+
 void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu,
                                 double cv, double ca, VecX& r, SparseMatrix* J) {
   // Several processes: every force is this process's share (its elements, the nodal terms of
@@ -370,10 +387,14 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
   // J = (cu + β cv) K + (α cv + ca) M − cu Kp + cv ∂(drag)/∂v, built in place as
   // cu (ck/cu K − Kp) + cm M: the load stiffness is added straight into J with unit weight.
   const double ck = cu + beta * cv, cm = alpha * cv + ca;
-  if (J && (J->rows() != size() || J->nonZeros() != assembler_.nonzeros()))
+  const long pattern = assembler_.pattern_revision();
+  if (J && cu != 0) update_couplings();
+  if (J && (J->rows() != size() || J->nonZeros() != assembler_.nonzeros() ||
+            pattern != assembler_.pattern_revision()))
     assembler_.make_matrix(*J);
   if (beta != 0) {  // K v enters the residual: K is kept apart
-    if (K_.nonZeros() == 0) assembler_.make_matrix(K_);
+    if (K_.nonZeros() != assembler_.nonzeros() || pattern != assembler_.pattern_revision())
+      assembler_.make_matrix(K_);
     assembler_.internal(x_, Fint_, &K_);
     if (J) combine_values(*J, 0.0, &K_, cu != 0 ? ck / cu : ck);
     assemble_external(t, v, J && cu != 0 ? J : nullptr);

@@ -3,6 +3,8 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <numeric>
 
 #include "element_colors.hpp"
@@ -46,8 +48,13 @@ void to_local_frames(const DofMap& dofs, std::span<const int> nodes, double* r, 
 // elements (`own`, per block), the self-coupling of their nodes and of `lone_nodes` (on the
 // first process: the point masses' nodes, where masses and payload drag are added, and the
 // nodes of no element).
+//
+// `couplings`: node pairs coupled beyond the elements (a contact's node and its face's nodes,
+// Assembler::set_couplings), both ways; pairs with a node this process does not hold are left
+// out.
 void build_pattern(const Model& model, const DofMap& dofs, const std::vector<std::vector<int>>& own,
-                   const std::vector<int>& lone_nodes, SparseMatrix& A) {
+                   const std::vector<int>& lone_nodes,
+                   const std::vector<std::array<int, 2>>& couplings, SparseMatrix& A) {
   const int nn = model.num_nodes(), neq = dofs.num_equations();
   std::vector<char> touched(nn, 0);
   for (size_t bi = 0; bi < model.blocks.size(); ++bi)
@@ -64,6 +71,9 @@ void build_pattern(const Model& model, const DofMap& dofs, const std::vector<std
         for (int a : model.blocks[bi]->nodes(e))
           for (int c : model.blocks[bi]->nodes(e))
             if (a != c) link(a, c);
+    for (const auto& [a, c] : couplings)
+      if (a != c && a >= 0 && c >= 0 && a < nn && c < nn && touched[a] && touched[c])
+        link(a, c), link(c, a);
   };
   visit([&](int a, int) { ++start[a + 1]; });
   for (int n = 0; n < nn; ++n) start[n + 1] += start[n];
@@ -138,18 +148,35 @@ Assembler::Assembler(const Model& model, const DofMap& dofs) : model_(model), do
     auto& local = local_.emplace_back(model.blocks[b]->size(), -1);
     for (size_t i = 0; i < own_[b].size(); ++i) local[own_[b][i]] = static_cast<int>(i);
   }
-  build_pattern(model, dofs, own_, lone_nodes_, first_matrix_);
+  for (size_t bi = 0; bi < model.blocks.size(); ++bi)
+    colors_.push_back(color_element_groups(*model.blocks[bi], own_[bi], model.num_nodes(), kChunk));
+  build_positions();
+  for (const auto& b : model.blocks) max_dofs_ = std::max(max_dofs_, b->dofs_per_element());
+}
+
+void Assembler::build_positions() {
+  build_pattern(model_, dofs_, own_, lone_nodes_, couplings_, first_matrix_);
   nonzeros_ = first_matrix_.nonZeros();
   diagonal_at_.assign(static_cast<size_t>(first_matrix_.outerSize()), -1);
   for (int j = 0; j < first_matrix_.outerSize(); ++j)
     for (int k = first_matrix_.outerIndexPtr()[j]; k < first_matrix_.outerIndexPtr()[j + 1]; ++k)
       if (first_matrix_.innerIndexPtr()[k] == j) diagonal_at_[static_cast<size_t>(j)] = k;
-  for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
-    const auto& b = *model.blocks[bi];
-    colors_.push_back(color_element_groups(b, own_[bi], model.num_nodes(), kChunk));
-    scatter_.emplace_back(b, own_[bi], dofs, first_matrix_);
-  }
-  for (const auto& b : model.blocks) max_dofs_ = std::max(max_dofs_, b->dofs_per_element());
+  scatter_.clear();
+  for (size_t bi = 0; bi < model_.blocks.size(); ++bi)
+    scatter_.emplace_back(*model_.blocks[bi], own_[bi], dofs_, first_matrix_);
+}
+
+void Assembler::set_couplings(std::vector<std::array<int, 2>> pairs) {
+  for (auto& p : pairs)
+    if (p[0] > p[1]) std::swap(p[0], p[1]);
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  if (pairs == couplings_) return;
+  couplings_ = std::move(pairs);
+  build_positions();
+  // A number no other pattern of any assembler had: a solver keyed on it analyses anew.
+  static std::atomic<long> revisions{0};
+  revision_ = ++revisions;
 }
 
 long Assembler::own_elements() const {
@@ -299,7 +326,7 @@ void Assembler::make_matrix(SparseMatrix& A) const {
     A.swap(first_matrix_);
     first_matrix_ = SparseMatrix();  // A's old storage, if any
   } else {
-    build_pattern(model_, dofs_, own_, lone_nodes_, A);
+    build_pattern(model_, dofs_, own_, lone_nodes_, couplings_, A);
   }
   double* values = A.valuePtr();
   const Eigen::Index n = nonzeros();

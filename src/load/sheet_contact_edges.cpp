@@ -1,8 +1,8 @@
 // Sheet contact, edge to edge (`edges: true`): element sides against the other set's (or, in
 // self contact, their own away from two rings), where nodes alone would let a fold or a
 // crossing strip pass between them (docs/contact.md), with Coulomb friction as node to face.
-// The blocks within each edge go into K (in the mesh's pattern); those between the two edges
-// into the Jacobian's low-rank part, twelve columns a pair up to a budget.
+// The pair's matrix goes into K as node blocks: within each edge (the mesh's pattern) and
+// between the two edges (the couplings the term declares, update_couplings).
 #include "sheet_contact_term.hpp"
 
 namespace velum::sheet_contact {
@@ -83,52 +83,30 @@ contact::Status SheetContactTerm::edge_force(int i, int j, const contact::Vec12&
                                 keep);
 }
 
-void SheetContactTerm::add_edges(const LoadState& s, LoadOutput& out) {
+void SheetContactTerm::search_edges(const NodePositions& x) {
+  edge_hits_.clear();
+  scan_edges(x, [&](int i, int j, const contact::Vec12& X, const EdgePair& pair, double thickness) {
+    edge_hits_.push_back({i, j, X, pair, thickness});
+  });
+}
+
+void SheetContactTerm::add_edges(LoadOutput& out) {
   const auto& A = load_.edge_lists[0];
   const auto& B = load_.edge_lists[load_.self ? 0 : 1];
-  MatX* U = out.K && out.low_rank && edge_budget_ > 0 ? &out.low_rank->U : nullptr;
-  MatX* W = U ? &out.low_rank->W : nullptr;
-  const int first = out.column + 6 * budget_;  // after the node–face pairs' columns
-  if (U)
-    for (int c = first; c < first + 12 * edge_budget_; ++c)
-      U->col(c).setZero(), W->col(c).setZero();
-  int used = 0;
   contact::PairResult r;
-  scan_edges(s.x,
-             [&](int i, int j, const contact::Vec12& X, const EdgePair& pair, double thickness) {
-               Vec2 anchor;
-               double keep = 1;
-               if (edge_force(i, j, X, pair, thickness, out.K != nullptr, r, anchor, keep) ==
-                   contact::Status::kOpen)
-                 return;
-               const Edge& e = A[static_cast<size_t>(i)];
-               const Edge& f = B[static_cast<size_t>(j)];
-               const std::array<int, 4> nodes = {e.a, e.b, f.a, f.b};
-               for (int q = 0; q < 4; ++q)
-                 out.F.col(nodes[static_cast<size_t>(q)]) += r.f.segment<3>(3 * q);
-               if (!out.K) return;
-               // K −= ∂f/∂X: the blocks within each edge (in the pattern).
-               for (int q0 : {0, 2})
-                 for (int q = q0; q < q0 + 2; ++q)
-                   for (int w = q0; w < q0 + 2; ++w)
-                     add_block(nodes[static_cast<size_t>(q)], nodes[static_cast<size_t>(w)],
-                               r.D.block<3, 3>(3 * q, 3 * w), *out.K);
-               if (!U || used >= edge_budget_)
-                 return;  // past the budget: Newton slows, the answer holds
-               // Those between the edges as U Wᵀ (stiffness −D): the first edge's rows times the
-               // second's columns, and the second's rows times the first's columns.
-               const int col = first + 12 * used++;
-               for (int c = 0; c < 6; ++c) {
-                 const int n = nodes[static_cast<size_t>(c / 3)];
-                 put(n, Vec3::Unit(c % 3), U->col(col + c));
-                 put(n, Vec3::Unit(c % 3), W->col(col + 6 + c));
-                 for (int w = 2; w < 4; ++w) {
-                   const int m = nodes[static_cast<size_t>(w)];
-                   put(m, Vec3(-r.D.block<1, 3>(c, 3 * w).transpose()), W->col(col + c));
-                   put(m, Vec3(-r.D.block<3, 1>(3 * w, c)), U->col(col + 6 + c));
-                 }
-               }
-             });
+  for (const EdgeHit& h : edge_hits_) {
+    Vec2 anchor;
+    double keep = 1;
+    if (edge_force(h.i, h.j, h.X, h.pair, h.thickness, out.K != nullptr, r, anchor, keep) ==
+        contact::Status::kOpen)
+      continue;
+    const Edge& e = A[static_cast<size_t>(h.i)];
+    const Edge& f = B[static_cast<size_t>(h.j)];
+    const std::array<int, 4> nodes = {e.a, e.b, f.a, f.b};
+    for (int q = 0; q < 4; ++q) out.F.col(nodes[static_cast<size_t>(q)]) += r.f.segment<3>(3 * q);
+    // K −= ∂f/∂X: the blocks within each edge and between the edges.
+    if (out.K) add_blocks(nodes, r.D, *out.K);
+  }
 }
 
 void SheetContactTerm::commit_edges(const NodePositions& x) {

@@ -1,9 +1,9 @@
 // Sheet–sheet and self contact (sheet_contact.hpp, docs/contact.md "Sheets"): every node of a
 // set against the triangles (quads split in two) of the other set, or of its own set outside
 // its two rings of elements, found through a box tree refitted at every evaluation; the pair's
-// penalty force of face_contact.hpp. The node's own 3 x 3 block and the face's 9 x 9 block
-// go into K (they are in the mesh's pattern); the node–face coupling (outside it) into the
-// Jacobian's low-rank part, six columns per pair up to a budget.
+// penalty force of face_contact.hpp. Its 12 x 12 matrix goes into K as node blocks: the
+// node's and the face's are in the mesh's pattern, the node–face coupling in the couplings
+// the term declares (update_couplings), which the system adds to the pattern.
 #include "sheet_contact_term.hpp"
 
 namespace velum {
@@ -147,11 +147,7 @@ SheetContactTerm::SheetContactTerm(const SheetContact& load, const LoadSite& sit
   for (size_t p = 0; p < load.passes.size(); ++p)
     for (size_t i = 0; i < load.passes[p].nodes.size(); ++i)
       last_x_[slot(p, i)] = site.model.X.col(load.passes[p].nodes[i]);
-  // The node–face coupling's columns: six a pair, for as many pairs as keep U and W within
-  // about 32 MB (the pairs past it lose that coupling: Newton slows, the answer holds).
-  const double per_column = 2.0 * 8.0 * std::max(1, site.dofs.num_equations());
-  budget_ = static_cast<int>(std::min<double>(static_cast<double>(slots), 32e6 / per_column / 6));
-  budget_ = std::max(budget_, std::min(static_cast<int>(slots), 8));
+  coupled_.resize(static_cast<size_t>(site.model.num_nodes()));
   for (int w = 0; w < 2; ++w) boxes_[static_cast<size_t>(w)].resize(load.faces[w].size());
   if (load.edges) {
     const auto& B = load.edge_lists[load.self ? 0 : 1];
@@ -161,10 +157,6 @@ SheetContactTerm::SheetContactTerm(const SheetContact& load, const LoadSite& sit
     for (const Edge& e : load.edge_lists[0])
       edge_grow_ =
           std::max(edge_grow_, 0.5 * (site.model.X.col(e.b) - site.model.X.col(e.a)).norm());
-    // The edge pairs' coupling: twelve columns a pair, within about 16 MB (none past about
-    // 80,000 equations: the pairs then converge linearly).
-    const int edges = static_cast<int>(load.edge_lists[0].size());
-    edge_budget_ = static_cast<int>(std::min<double>(edges, 16e6 / per_column / 12));
   }
   refit(site.model.X);
   for (int w = 0; w < 2; ++w) tree_[static_cast<size_t>(w)].build(boxes_[static_cast<size_t>(w)]);
@@ -174,20 +166,36 @@ void SheetContactTerm::refit(const NodePositions& x) {
   for (size_t w = 0; w < 2; ++w) {
     const auto& fs = load_.faces[w];
     for (size_t f = 0; f < fs.size(); ++f) {
-      contact::Box b(x.col(fs[f].n[0]));
-      b.extend(Vec3(x.col(fs[f].n[1])));
-      b.extend(Vec3(x.col(fs[f].n[2])));
-      const double grow = fs[f].half + reach_ + margin_ + 2 * kInside * b.sizes().maxCoeff();
-      b.min().array() -= grow;
-      b.max().array() += grow;
+      // A node the search keeps is within reach of the face's plane (|g| < r) and projects
+      // inside the face up to the barycentric slack: inside the face's prism ±r along its
+      // normal, grown by the slack. Its box: the box of the face moved by ±r n (the reach
+      // along the normal only: a flat sheet's faces then overlap their neighbours' boxes by
+      // the slack, not by an element, and a query meets a few faces instead of tens).
+      const Vec3 a = x.col(fs[f].n[0]), bb = x.col(fs[f].n[1]), c = x.col(fs[f].n[2]);
+      contact::Box b(a);
+      b.extend(bb);
+      b.extend(c);
+      const double r = fs[f].half + reach_ + margin_, slack = 2 * kInside * b.sizes().maxCoeff();
+      const Vec3 m = (bb - a).cross(c - a);
+      const double area2 = m.norm();
+      if (area2 > 0) {
+        const Vec3 d = (r / area2) * m.cwiseAbs();
+        b.min() -= d;
+        b.max() += d;
+        b.min().array() -= slack;
+        b.max().array() += slack;
+      } else {  // degenerate: every direction
+        b.min().array() -= r + slack;
+        b.max().array() += r + slack;
+      }
       boxes_[w][f] = b;
     }
     if (!tree_[w].empty()) tree_[w].refit(boxes_[w]);
   }
 }
 
-template <class Found>
-void SheetContactTerm::scan(const NodePositions& x, Found&& found) {
+void SheetContactTerm::search(const NodePositions& x) {
+  searched_at_ = nullptr;  // hits_ now from x
   refit(x);
   hits_.resize(pairs_.size());
   for (size_t p = 0; p < load_.passes.size(); ++p) {
@@ -234,6 +242,14 @@ void SheetContactTerm::scan(const NodePositions& x, Found&& found) {
       });
       hits_[k] = {best, best_side, best_g};
     }
+  }
+}
+
+template <class Found>
+void SheetContactTerm::visit(Found&& found) {
+  for (size_t p = 0; p < load_.passes.size(); ++p) {
+    const Pass& pass = load_.passes[p];
+    const auto& fs = load_.faces[static_cast<size_t>(pass.faces)];
     for (size_t i = 0; i < pass.nodes.size(); ++i) {
       const Hit& h = hits_[slot(p, i)];
       if (h.face < 0) continue;
@@ -243,15 +259,39 @@ void SheetContactTerm::scan(const NodePositions& x, Found&& found) {
   }
 }
 
+bool SheetContactTerm::update_couplings(const NodePositions& x) {
+  search(x);
+  if (load_.edges) search_edges(x);
+  searched_at_ = x.data();  // after search(), which forgets it
+  bool changed = false;
+  if (prune_) {  // far more couplings than pairs within reach: only these
+    for (auto& list : coupled_) list.clear();
+    coupled_count_ = 0;
+    prune_ = false;
+    changed = true;
+  }
+  visit([&](size_t p, size_t i, const Pair& pair, double) {
+    const Pass& pass = load_.passes[p];
+    const Face& face = load_.faces[static_cast<size_t>(pass.faces)][static_cast<size_t>(pair.face)];
+    for (int q : face.n) changed = couple(pass.nodes[i], q) || changed;
+  });
+  for (const EdgeHit& h : edge_hits_) {
+    const Edge& e = load_.edge_lists[0][static_cast<size_t>(h.i)];
+    const Edge& f = load_.edge_lists[load_.self ? 0 : 1][static_cast<size_t>(h.j)];
+    for (int a : {e.a, e.b})
+      for (int b : {f.a, f.b}) changed = couple(a, b) || changed;
+  }
+  if (changed) ++pattern_changes_;
+  return changed;
+}
+
 void SheetContactTerm::add(const LoadState& s, LoadOutput& out) {
-  MatX* U = out.K && out.low_rank && budget_ > 0 ? &out.low_rank->U : nullptr;
-  MatX* W = U ? &out.low_rank->W : nullptr;
-  if (U)
-    for (int c = 0; c < 6 * budget_; ++c)
-      U->col(out.column + c).setZero(), W->col(out.column + c).setZero();
-  int used = 0;
+  // The search update_couplings made at these positions, or a new one.
+  const bool searched = searched_at_ == s.x.data();
+  searched_at_ = nullptr;
+  if (!searched) search(s.x);
   contact::PairResult r;
-  scan(s.x, [&](size_t p, size_t i, const Pair& pair, double) {
+  visit([&](size_t p, size_t i, const Pair& pair, double) {
     const Pass& pass = load_.passes[p];
     const size_t k = slot(p, i);
     const Face& face = load_.faces[static_cast<size_t>(pass.faces)][static_cast<size_t>(pair.face)];
@@ -266,28 +306,14 @@ void SheetContactTerm::add(const LoadState& s, LoadOutput& out) {
     }
     const std::array<int, 4> nodes = {node, face.n[0], face.n[1], face.n[2]};
     for (int a = 0; a < 4; ++a) out.F.col(nodes[static_cast<size_t>(a)]) += r.f.segment<3>(3 * a);
-    if (!out.K) return;
-    // K −= ∂f/∂X: the node's block and the face's blocks in the pattern.
-    add_block(node, node, r.D.block<3, 3>(0, 0), *out.K);
-    for (int a = 1; a < 4; ++a)
-      for (int b = 1; b < 4; ++b)
-        add_block(nodes[static_cast<size_t>(a)], nodes[static_cast<size_t>(b)],
-                  r.D.block<3, 3>(3 * a, 3 * b), *out.K);
-    if (!U || used >= budget_) return;
-    // The node–face coupling as U Wᵀ (stiffness −D): the rows of the node times the face's
-    // columns, and the face's rows times the node's columns.
-    const int col = out.column + 6 * used++;
-    for (int c = 0; c < 3; ++c) {
-      put(node, Vec3::Unit(c), U->col(col + c));
-      put(node, Vec3::Unit(c), W->col(col + 3 + c));
-      for (int a = 1; a < 4; ++a) {
-        const int fa = nodes[static_cast<size_t>(a)];
-        put(fa, Vec3(-r.D.block<1, 3>(c, 3 * a).transpose()), W->col(col + c));
-        put(fa, Vec3(-r.D.block<3, 1>(3 * a, c)), U->col(col + 3 + c));
-      }
-    }
+    // K −= ∂f/∂X: the node's and the face's blocks (the mesh's pattern) and those between
+    // them (the couplings).
+    if (out.K) add_blocks(nodes, r.D, *out.K);
   });
-  if (load_.edges) add_edges(s, out);
+  if (load_.edges) {
+    if (!searched) search_edges(s.x);
+    add_edges(out);
+  }
 }
 
 void SheetContactTerm::commit(const LoadState& s) {
@@ -354,6 +380,13 @@ void SheetContactTerm::commit(const LoadState& s) {
   commit_edges(s.x);
   if (load_.friction > 0 || load_.edges) x_accepted_ = s.x;
   ++steps_;
+  // The couplings kept while pairs come and go, dropped (at the next Jacobian: a new
+  // pattern) once they are four times those of the pairs within reach now and more than a
+  // few hundred: the pattern changes rarely and stays within a small multiple of the need.
+  long within = 0;
+  for (const Hit& h : hits_) within += h.face >= 0 ? 3 : 0;
+  within += 4 * static_cast<long>(edge_pairs_.size());
+  prune_ = coupled_count_ > 4 * within + 600;
 }
 
 std::unique_ptr<LoadTerm> SheetContact::bind(const LoadSite& site) const {

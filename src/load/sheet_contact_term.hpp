@@ -12,6 +12,7 @@
 #include <map>
 #include <span>
 #include <stdexcept>
+#include <vector>
 
 #include "contact_law.hpp"
 #include "edge_contact.hpp"
@@ -100,8 +101,15 @@ class SheetContactTerm final : public LoadTerm {
   SheetContactTerm(const SheetContact& load, const LoadSite& site);
 
   void add(const LoadState& s, LoadOutput& out) override;
-  // Six columns a node–face pair, then twelve an edge pair (sheet_contact_edges.cpp).
-  int low_rank_columns() const override { return 6 * budget_ + 12 * edge_budget_; }
+  // The node–face pairs' couplings (a node with its face's nodes) and the edge pairs' (an
+  // edge's nodes with the other's), of every pair within reach (not only those that touch):
+  // kept while the pairs come and go, dropped when far more than the pairs within reach
+  // (commit). The search made here is the one add() uses next.
+  bool update_couplings(const NodePositions& x) override;
+  void couplings(std::vector<std::array<int, 2>>& pairs) const override {
+    for (size_t n = 0; n < coupled_.size(); ++n)
+      for (int m : coupled_[n]) pairs.push_back({static_cast<int>(n), m});
+  }
   void start(const LoadState& s) override;
   void commit(const LoadState& s) override;
   // The pairs, the steps taken and the initial penetrations with their relaxation offsets
@@ -182,10 +190,11 @@ class SheetContactTerm final : public LoadTerm {
     return fmt::format(
         "{{\"contact\": {}, \"sheets\": true, \"self\": {}, \"penalty\": [{:.6g}, {:.6g}], "
         "\"max_penetration_ratio\": {:.6g}, \"kept\": {}, \"initial_penetrations\": {}, "
-        "\"initial_max_depth\": {:.6g}, \"active_pairs\": {}, \"pair_budget\": {}{}}}",
+        "\"initial_max_depth\": {:.6g}, \"active_pairs\": {}, \"coupled_node_pairs\": {}, "
+        "\"pattern_changes\": {}{}}}",
         load_.index, load_.self ? "true" : "false", k_min_, k_max_, penetration_ratio_,
         penetration_ratio_ <= 1 ? "true" : "false", initial_count_, initial_depth_,
-        active_accepted_, budget_,
+        active_accepted_, coupled_count_, pattern_changes_,
         load_.edges ? fmt::format(", \"active_edge_pairs\": {}", edge_active_) : std::string());
   }
 
@@ -244,15 +253,35 @@ class SheetContactTerm final : public LoadTerm {
       }
     return false;
   }
-  void add_edges(const LoadState& s, LoadOutput& out);
+  // The edge pairs of edge_hits_: their forces and matrix blocks.
+  void add_edges(LoadOutput& out);
   void commit_edges(const NodePositions& x);
   // A node's area: a third of its triangles' current areas (the faces of set `which`, or of
   // both sets: -1).
   std::vector<double> node_areas(const NodePositions& x, int which) const;
   double contact_area(const NodePositions& x) const;
-  // Calls found(pass, node index, pair, gap) for every node that has a face within reach.
+  // Calls found(pass, node index, pair, gap) for every node that has a face within reach:
+  // search (the faces, into hits_), then visit (the hits in node order).
   template <class Found>
-  void scan(const NodePositions& x, Found&& found);
+  void scan(const NodePositions& x, Found&& found) {
+    search(x);
+    visit(found);
+  }
+  void search(const NodePositions& x);
+  template <class Found>
+  void visit(Found&& found);
+  // The edge pairs within reach at x (scan_edges) into edge_hits_.
+  void search_edges(const NodePositions& x);
+  // Couples nodes n and m in the Jacobian's pattern (update_couplings); true when new.
+  bool couple(int n, int m) {
+    if (n == m) return false;
+    if (n > m) std::swap(n, m);
+    auto& list = coupled_[static_cast<size_t>(n)];
+    if (std::find(list.begin(), list.end(), m) != list.end()) return false;
+    list.push_back(m);
+    ++coupled_count_;
+    return true;
+  }
   double relaxed(size_t k) const {
     if (offset_[k] <= 0 || load_.relax_steps <= 0) return 0.0;
     return offset_[k] * std::max(0.0, 1.0 - static_cast<double>(steps_ + 1) / load_.relax_steps);
@@ -276,11 +305,12 @@ class SheetContactTerm final : public LoadTerm {
     }
     return contact::plane_coordinates(y, x.col(face.n[0]), x.col(face.n[1]), x.col(face.n[2]));
   }
-  template <class Column>
-  void put(int n, const Vec3& v, Column&& to) const {
-    const Vec3 l = site_.dofs.to_local(n, v);
-    for (int c = 0; c < 3; ++c)
-      if (const int eq = site_.dofs.equation(n, c); eq >= 0) to[eq] += l[c];
+  // K −= D (a pair's 12 x 12 matrix ∂f/∂X over its four nodes) as sixteen node blocks.
+  void add_blocks(const std::array<int, 4>& nodes, const contact::Mat12& D, SparseMatrix& K) const {
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        add_block(nodes[static_cast<size_t>(a)], nodes[static_cast<size_t>(b)],
+                  D.block<3, 3>(3 * a, 3 * b), K);
   }
 
   const SheetContact& load_;
@@ -307,13 +337,27 @@ class SheetContactTerm final : public LoadTerm {
   std::map<std::pair<int, int>, EdgePair> edge_pairs_;
   double edge_grow_ = 0;
   int edge_active_ = 0;
-  int edge_budget_ = 0;              ///< edge pairs whose coupling goes into the low-rank part
+  // An edge pair within reach (search_edges): its edges, coordinates, state and thickness.
+  struct EdgeHit {
+    int i = 0, j = 0;
+    contact::Vec12 X;
+    EdgePair pair;
+    double thickness = 0;
+  };
+  std::vector<EdgeHit> edge_hits_;
+  // The couplings in the Jacobian's pattern: per model node n, the nodes m > n coupled with
+  // it (update_couplings); their number; whether commit found them far more than needed.
+  std::vector<std::vector<int>> coupled_;
+  long coupled_count_ = 0;
+  int pattern_changes_ = 0;
+  bool prune_ = false;
+  // update_couplings searched at these positions (their data): add() at the same reuses it.
+  const double* searched_at_ = nullptr;
   std::vector<double> node_status_;  ///< per model node: 0 open, 1 stick, 2 slip (accepted)
   std::array<contact::FaceTree, 2> tree_;
   std::array<std::vector<contact::Box>, 2> boxes_;
   double reach_ = 0;   ///< the largest node contact thickness
   double margin_ = 0;  ///< how far a node is followed past its contact distance (an element)
-  int budget_ = 0;
   int steps_ = 0, initial_count_ = 0, active_accepted_ = 0;
   bool started_ = false;
   double initial_depth_ = 0, penetration_ratio_ = 0, k_min_ = 0, k_max_ = 0;

@@ -205,7 +205,8 @@ void StaticNewton::record_inertia(SecondOrderSystem& sys, LinearSolver& solver, 
   if (rep.factorizations > 0 && !changed) return;
   sys.evaluate(t, u, zero_, zero_, 1.0, 0.0, 0.0, work_.r, &work_.J);
   ++rep.factorizations;
-  rep.negative_pivots = solver.refactorize(work_.J) ? solver.negative_pivots() : -1;
+  rep.negative_pivots =
+      solver.refactorize(work_.J, sys.pattern_revision()) ? solver.negative_pivots() : -1;
 }
 
 void StaticNewton::remember(const SecondOrderSystem& sys, double t, double h, const VecX& u_start,

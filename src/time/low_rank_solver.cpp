@@ -6,7 +6,7 @@ namespace velum {
 
 bool LowRankCorrectedSolver::factorize(const SparseMatrix& A) {
   singular_capacitance_ = false;
-  if (!sparse_.refactorize(A)) return false;
+  if (!sparse_.refactorize(A, sys_.pattern_revision())) return false;
   const LowRankJacobian& L = sys_.jacobian_low_rank();
   // Only the columns in use (a contact's columns are zero where it has no pair): a zero
   // column adds nothing to U Wᵀ, and leaving it out saves its solve and its capacitance row.

@@ -116,7 +116,7 @@ double line_search(const SecondOrderSystem& sys, VecX& u, VecX& r, const VecX& d
 
 bool newton_correction(SecondOrderSystem& sys, LinearSolver& solver, const SparseMatrix& J,
                        const VecX& r, VecX& x, std::string& why, double enough) {
-  if (!solver.refactorize(J)) {
+  if (!solver.refactorize(J, sys.pattern_revision())) {
     const std::string status = solver.status();
     why = fmt::format("the {} factorisation failed{}: {}", solver.name(),
                       status.empty() ? "" : " (" + status + ")", explain_singular(sys, J));

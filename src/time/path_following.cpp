@@ -110,7 +110,7 @@ void PathTracer::load_rate(const VecX& u, double t, VecX& q) {
 
 bool PathTracer::factorise(const SparseMatrix& J, StepReport& rep) {
   ++rep.factorizations;
-  if (solver_.refactorize(J)) return true;
+  if (solver_.refactorize(J, sys_.pattern_revision())) return true;
   rep.reason = fmt::format("the {} factorisation failed{}", solver_.name(),
                            solver_.status().empty() ? "" : ": " + solver_.status());
   return false;

@@ -26,6 +26,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   void evaluate(double t, const VecX& u, const VecX& v, const VecX& a, double cu, double cv,
                 double ca, VecX& r, SparseMatrix* J) override;
   const LowRankJacobian& jacobian_low_rank() const override { return low_rank_; }
+  long pattern_revision() const override { return assembler_.pattern_revision(); }
   const VecX& lumped_mass() const override { return lumped_eq_; }
   double load_stiffness_over_mass() const override;
   double force_scale() const override { return force_scale_; }
@@ -149,6 +150,9 @@ class MechanicalSystem final : public SecondOrderSystem {
  private:
   void apply_prescribed(double t, NodePositions& U) const;
   void set_positions(double t, const VecX& u);
+  // The loads' couplings beyond the elements at x_ (LoadTerm::update_couplings): when they
+  // changed, the assembler's pattern anew and the matrices on it made again.
+  void update_couplings();
   // Loads at t; their load stiffness is subtracted from *Kload. With `fused`, the pressures
   // that cover a whole block were computed in the internal pass (their forces are in Fp_).
   // `at_supports`: LoadState::at_supports (the reactions' forces).
@@ -178,6 +182,8 @@ class MechanicalSystem final : public SecondOrderSystem {
   bool external_reusable_ = false;                ///< external_forces_reusable()
   NodePositions U_, V_, x_, Fint_, Fext_, Fp_;
   LowRankJacobian low_rank_;
+  /// The loads' couplings (update_couplings).
+  std::vector<std::array<int, 2>> couplings_;
   std::vector<double> block_pressure_;      ///< whole-block pressures at the evaluated time
   VecX fred_, mv_, mvv_, x_eq_, noise_eq_;  ///< mv_ = M a, mvv_ = M v (evaluate)
   double force_scale_ = 0, residual_noise_ = 0;

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <functional>
 #include <memory>
 #include <span>
@@ -49,6 +50,16 @@ class Assembler {
   void make_matrix(SparseMatrix& A) const;
   /// Stored entries of that pattern.
   Eigen::Index nonzeros() const { return nonzeros_; }
+  /// Node pairs coupled beyond the elements (loads' couplings: a contact's node and the
+  /// nodes of its face, LoadTerm::couplings), each pair once, either order: the pattern
+  /// becomes the elements' couplings and these (3 x 3 node blocks both ways). Rebuilds the
+  /// pattern and the scatter positions when the set differs from the one in place (matrices
+  /// made before then no longer fit: make them again); nothing otherwise.
+  void set_couplings(std::vector<std::array<int, 2>> pairs);
+  /// Changes whenever set_couplings changes the pattern (0: the elements' alone, never
+  /// changed); different for every pattern made, over all assemblers. Keys a solver's
+  /// symbolic analysis (LinearSolver::refactorize).
+  long pattern_revision() const { return revision_; }
   /// Per equation, where its diagonal entry sits in the values of the matrices make_matrix()
   /// makes (−1: none).
   const std::vector<int>& diagonal_positions() const { return diagonal_at_; }
@@ -199,6 +210,9 @@ class Assembler {
   };
 
   using Colors = std::vector<std::vector<int>>;
+  // The pattern (elements and couplings_), its diagonal positions and the blocks' scatter
+  // positions.
+  void build_positions();
   // Sums a per-node vector at the shared nodes (nothing on one process or for a local share).
   void reduce(NodePositions& F) const;
   bool shared() const { return piece_ && !share_only_; }
@@ -221,6 +235,9 @@ class Assembler {
   std::vector<ElementScatter> scatter_;  // per block: its own elements' positions
   mutable SparseMatrix first_matrix_;    // the pattern built for scatter_, given to the first
                                          // make_matrix (later ones build it again)
+  // set_couplings, sorted (i < j), and pattern_revision().
+  std::vector<std::array<int, 2>> couplings_;
+  long revision_ = 0;
   int max_dofs_ = 0;
   mutable std::vector<ElementBuffers> buffers_;  // one per thread, reused across calls
   // sum_at_shared_nodes: this process's values at its shared nodes, what goes to and comes

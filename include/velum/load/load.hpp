@@ -4,6 +4,7 @@
 // part at a state. Units the model's; forces in the global frame, per node (3 x nodes).
 #pragma once
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -71,6 +72,14 @@ class LoadTerm {
   virtual void add(const LoadState& s, LoadOutput& out) = 0;
   /// Columns of the Jacobian's low-rank part this load writes (the gas: one, a chamber).
   virtual int low_rank_columns() const { return 0; }
+  /// Couplings beyond the mesh's elements (a contact's node with the nodes of the face it
+  /// touches), which add() writes into K as 3 x 3 node blocks: the system asks before it
+  /// assembles a Jacobian, at the positions add() is then called with (once, right before),
+  /// and rebuilds the Jacobian's pattern (Assembler::set_couplings) when a load says they
+  /// changed. Returns true when the node pairs couplings() lists changed since the last call.
+  virtual bool update_couplings(const NodePositions& /*x*/) { return false; }
+  /// Those node pairs (model nodes, each pair once, either order), appended to `pairs`.
+  virtual void couplings(std::vector<std::array<int, 2>>& /*pairs*/) const {}
   /// A follower pressure on every element of a block: its block and its pressure at t, to go
   /// through the block's internal pass (one scatter of K − Kp); false otherwise.
   virtual bool whole_block_pressure(double /*t*/, int& /*block*/, double& /*p*/) const {

@@ -56,13 +56,16 @@ class LinearSolver {
   /// or -1 when this factorisation does not tell (LU).
   virtual int negative_pivots() const { return -1; }
 
-  /// Factorises A, analysing its pattern first only when the pattern changed (size or number
-  /// of non-zeros) since the last analysis.
-  bool refactorize(const SparseMatrix& A) {
-    if (A.rows() != rows_ || A.nonZeros() != nnz_) {
+  /// Factorises A, analysing its pattern first only when the pattern changed since the last
+  /// analysis: its size, its number of non-zeros or `pattern`, the revision of the pattern the
+  /// caller knows (Assembler::pattern_revision, through SecondOrderSystem::pattern_revision:
+  /// a contact's couplings change the pattern, maybe not its number of entries).
+  bool refactorize(const SparseMatrix& A, long pattern = 0) {
+    if (A.rows() != rows_ || A.nonZeros() != nnz_ || pattern != pattern_) {
       if (!analyze(A)) return false;
       rows_ = A.rows();
       nnz_ = A.nonZeros();
+      pattern_ = pattern;
       ++analyses_;
     }
     ++factorizations_;
@@ -73,6 +76,7 @@ class LinearSolver {
 
  private:
   Eigen::Index rows_ = -1, nnz_ = -1;
+  long pattern_ = 0;
   long analyses_ = 0, factorizations_ = 0;
 };
 

@@ -32,6 +32,10 @@ class SecondOrderSystem {
     static const LowRankJacobian kNone;
     return kNone;
   }
+  /// The revision of the last Jacobian's sparsity pattern (0: the pattern never changes; a
+  /// contact's couplings change it): a solver analyses anew when it changes
+  /// (LinearSolver::refactorize).
+  virtual long pattern_revision() const { return 0; }
   /// Lumped (diagonal) mass per equation, for explicit integration.
   virtual const VecX& lumped_mass() const = 0;
   /// The largest stiffness over mass that loads may add at a node beyond the last Jacobian's
