@@ -387,6 +387,7 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
                        !integrator->implicit());
   PlausibilityCheck plausible(sys.model());
   plausible.share_nodes(sys.assembler());
+  plausible.set_kinetic_start(E.kinetic);  // the start's (or the checkpoint's, on a restart)
   std::string implausible;
 
   const bool dynamic = settings.type == AnalysisSettings::Type::kDynamic;
