@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -18,6 +19,15 @@ std::vector<long> node_ids_of(const Model& m, const ElementBlock& b, int e) {
   std::vector<long> ids;
   for (int n : b.nodes(e)) ids.push_back(m.node_ids[n]);
   return ids;
+}
+
+// Whether some entry is not zero (or not a number), in one pass shared between the threads.
+bool any_nonzero(const VecX& x) {
+  return parallel_sum(x.size(), [&](long first, long last) {
+           for (long i = first; i < last; ++i)
+             if (x[i] != 0) return 1.0;
+           return 0.0;
+         }) != 0;
 }
 
 }  // namespace
@@ -155,14 +165,38 @@ NodePositions MechanicalSystem::velocities(const VecX& v) const {
 }
 
 void MechanicalSystem::set_positions(double t, const VecX& u) {
-  if (model_.U0.size())
-    U_ = model_.U0;
-  else
-    U_.setZero(3, model_.num_nodes());
-  apply_prescribed(t, U_);
-  dofs_.scatter(u, U_);
-  x_ = model_.X + U_;
+  explicit_at_ = {};
   for (const auto& b : model_.blocks) b->set_time(t);  // sections that change in time
+  if (dofs_.has_frames()) {
+    if (model_.U0.size())
+      U_ = model_.U0;
+    else
+      U_.setZero(3, model_.num_nodes());
+    apply_prescribed(t, U_);
+    dofs_.scatter(u, U_);
+    x_ = model_.X + U_;
+    return;
+  }
+  // x = X + U in one pass shared between the threads, U from u where a component has an
+  // equation, else the start displacement (U0, or none), then the prescribed motions at
+  // their eliminated components: the same bits as building U first.
+  const long n = 3L * model_.num_nodes();
+  x_.resize(3, model_.num_nodes());
+  const double* X = model_.X.data();
+  const double* U0 = model_.U0.size() ? model_.U0.data() : nullptr;
+  const int* eq = dofs_.equations();
+  double* x = x_.data();
+  parallel_ranges(n, [&](long first, long last) {
+    for (long k = first; k < last; ++k) x[k] = X[k] + (eq[k] >= 0 ? u[eq[k]] : U0 ? U0[k] : 0.0);
+  });
+  for (const auto& p : model_.prescribed) {
+    const Vec3 d = p.displacement * model_.function_value(p.function, t);
+    for (int node : p.nodes) {
+      const Vec3 U = model_.start_displacement(node) + d;
+      for (int c = 0; c < 3; ++c)
+        if (eq[3 * node + c] < 0) x_(c, node) = model_.X(c, node) + U[c];
+    }
+  }
 }
 
 void MechanicalSystem::start_loads(double t, const VecX& u, const VecX& v) {
@@ -174,10 +208,14 @@ void MechanicalSystem::start_loads(double t, const VecX& u, const VecX& v) {
   for (const auto& term : terms_) term->start(s);
 }
 
-void MechanicalSystem::accept(double t, const VecX& u, const VecX& v) {
+void MechanicalSystem::accept(double t, const VecX& u, const VecX& v, bool at_last_evaluation) {
   std::optional<Assembler::LocalShare> share;
   if (distributed()) share.emplace(assembler_);
-  set_positions(t, u);
+  if (at_last_evaluation && explicit_at_.u == u.data() && explicit_at_.size == u.size() &&
+      (explicit_at_.t == t || model_.prescribed.empty()))
+    for (const auto& b : model_.blocks) b->set_time(t);  // x_ is that of (t, u) already
+  else
+    set_positions(t, u);
   if (velocity_) V_ = velocities(v);
   const LoadState s{.t = t, .x = x_, .V = V_};
   for (const auto& term : terms_) term->commit(s);
@@ -337,7 +375,18 @@ double MechanicalSystem::load_stiffness_over_mass() const {
 
 void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* Kload, bool fused,
                                          bool at_supports) {
-  Fext_.setZero(3, model_.num_nodes());
+  // The nodal passes (zero, + Fp) shared between the threads: an explicit step's vector work.
+  Fext_.resize(3, model_.num_nodes());
+  const long entries = Fext_.size();
+  parallel_ranges(entries, [&](long first, long last) {
+    std::fill(Fext_.data() + first, Fext_.data() + last, 0.0);
+  });
+  auto add_pressures = [&] {
+    if (Fp_.size() != entries) return;  // no block: no block pressure
+    parallel_ranges(entries, [&](long first, long last) {
+      for (long k = first; k < last; ++k) Fext_.data()[k] += Fp_.data()[k];
+    });
+  };
   if (Kload) {
     low_rank_.U.resize(size(), low_rank_columns_);
     low_rank_.W.resize(size(), low_rank_columns_);
@@ -350,13 +399,13 @@ void MechanicalSystem::assemble_external(double t, const VecX& v, SparseMatrix* 
   bool surface_done = !fused;
   for (size_t i = 0; i < terms_.size(); ++i) {
     if (!surface_done && model_.loads[i].order() > LoadOrder::kSurface) {
-      Fext_ += Fp_;
+      add_pressures();
       surface_done = true;
     }
     terms_[i]->add(s, out);
     out.column += terms_[i]->low_rank_columns();
   }
-  if (!surface_done) Fext_ += Fp_;
+  if (!surface_done) add_pressures();
 }
 
 void MechanicalSystem::update_couplings() {
@@ -384,6 +433,8 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
   if (distributed()) share.emplace(assembler_);
   set_positions(t, u);
   const double beta = model_.rayleigh_stiffness, alpha = model_.rayleigh_mass;
+  // No Jacobian and no shift: the forces of an explicit step.
+  const bool explicit_step = !J && cu == 0 && cv == 0 && ca == 0;
   // J = (cu + β cv) K + (α cv + ca) M − cu Kp + cv ∂(drag)/∂v, built in place as
   // cu (ck/cu K − Kp) + cm M: the load stiffness is added straight into J with unit weight.
   const double ck = cu + beta * cv, cm = alpha * cv + ca;
@@ -406,32 +457,37 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     double p = 0;
     for (const auto& term : terms_)
       if (term->whole_block_pressure(t, block, p)) block_pressure_[block] += p;
-    // No Jacobian and no shift (cu = cv = ca = 0): the forces of an explicit step, which
-    // take the blocks' explicit path (equal to round-off; implicit results untouched).
-    if (!J && cu == 0 && cv == 0 && ca == 0)
+    // An explicit step's forces take the blocks' explicit path (equal to round-off;
+    // implicit results untouched).
+    if (explicit_step) {
+      explicit_at_ = {.u = u.data(), .size = u.size(), .t = t};
       assembler_.explicit_forces(x_, Fint_, block_pressure_, Fp_);
-    else
+    } else {
       assembler_.internal(x_, Fint_, J && cu != 0 ? J : nullptr, block_pressure_, Fp_);
+    }
     if (J && cu == 0) combine_values(*J, 0.0, nullptr, 0.0);
     assemble_external(t, v, J && cu != 0 ? J : nullptr, true);
   }
   if (J && cu != 0 && cu != 1) low_rank_.U *= cu;
   if (J && cu == 0) low_rank_ = {};
 
-  dofs_.gather(Fint_ - Fext_, r);
+  dofs_.gather_difference(Fint_, Fext_, r);
   // An explicit step's forces on several processes: the shares of M a and M v join the
   // force's share before the one exchange that completes them all (each process decides on
   // its own vectors: a process whose a is zero adds a zero share), and no force scale (no
   // Newton reads it). One exchange with the neighbours per step instead of five collective
   // calls; the sums differ from one process's in their order only (round-off).
-  const bool shares = distributed() && !J && cu == 0 && cv == 0 && ca == 0 && beta == 0;
+  const bool shares = distributed() && explicit_step && beta == 0;
   if (!shares) complete(r);
   // M a and, with mass damping, M v: one walk of M for both (each product summed in the
   // same order as Eigen's, so bit for bit the same as two products).
-  // Decided on the reduced norms: complete() below is a collective call.
-  const bool inertia = shares ? a.squaredNorm() != 0 : squared_norm(a) != 0,
-             damping = alpha != 0 && (shares ? v.squaredNorm() != 0 : squared_norm(v) != 0);
-  mv_.setZero(r.size());
+  // Decided on the reduced norms: complete() below is a collective call. An explicit step
+  // (on one process, or sharing) decides on its own vectors, and needs no force scale (no
+  // Newton reads it): M a only when a is not zero (a central-difference step's a is).
+  const bool local = explicit_step && (shares || !distributed());
+  auto nonzero = [&](const VecX& x) { return local ? any_nonzero(x) : squared_norm(x) != 0; };
+  const bool inertia = nonzero(a), damping = alpha != 0 && nonzero(v);
+  if (!explicit_step || inertia) mv_.setZero(r.size());
   if (damping) mvv_.setZero(r.size());
   if (inertia || damping) {
     const SparseMatrix& M = mass_entries();
@@ -467,6 +523,10 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     VecX Kv = K_ * v;
     complete(Kv);
     r += beta * Kv;
+  }
+  if (local) {
+    force_scale_ = std::numeric_limits<double>::quiet_NaN();
+    return;
   }
   force_scale_ = distributed() ? distributed_force_scale()
                                : std::max({Fint_.norm(), Fext_.norm(), mv_.norm()});

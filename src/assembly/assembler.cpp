@@ -426,11 +426,26 @@ void Assembler::internal(const NodePositions& x, NodePositions& F, SparseMatrix*
 
 void Assembler::explicit_forces(const NodePositions& x, NodePositions& F,
                                 std::span<const double> block_pressure, NodePositions& Fp) const {
-  F.setZero(3, model_.num_nodes());
-  if (!block_pressure.empty()) Fp.setZero(3, model_.num_nodes());
+  // F and Fp zeroed in the first block's parallel region (each thread its share of the
+  // nodes, before the barrier that ends the zeroing loop), or on the calling thread.
+  const bool pressures = !block_pressure.empty();
+  F.resize(3, model_.num_nodes());
+  if (pressures) Fp.resize(3, model_.num_nodes());
+  bool zeroed = false;
+  const long entries = 3L * model_.num_nodes();
+  const long zero_blocks = (entries + kVectorBlock - 1) / kVectorBlock;
+  auto zero = [&](long z) {
+    const long first = z * kVectorBlock, count = std::min(entries, first + kVectorBlock) - first;
+    std::fill_n(F.data() + first, count, 0.0);
+    if (pressures) std::fill_n(Fp.data() + first, count, 0.0);
+  };
   for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
     const auto& b = *model_.blocks[bi];
     const double p = bi < block_pressure.size() ? block_pressure[bi] : 0.0;
+    if (!zeroed && !b.surface()) {
+      for (long z = 0; z < zero_blocks; ++z) zero(z);
+      zeroed = true;
+    }
     if (const SurfaceBlock* surface = b.surface()) {
       // Each element's forces straight into F and Fp (no element-vector buffer): the chunks
       // of a colour share no node, and every node receives its terms in the same order
@@ -440,6 +455,10 @@ void Assembler::explicit_forces(const NodePositions& x, NodePositions& F,
       for (const auto& list : colors) chunks += (list.size() + kChunk - 1) / kChunk;
       // One parallel region for all the colours (a barrier between them, no fork).
       parallel_region(chunks >= static_cast<size_t>(kMinParallelChunks) * colors.size(), [&] {
+        if (!zeroed) {
+#pragma omp for schedule(static)
+          for (long z = 0; z < zero_blocks; ++z) zero(z);
+        }
         for (const auto& list : colors) {
           const int nchunks = (static_cast<int>(list.size()) + kChunk - 1) / kChunk;
 #pragma omp for schedule(static)
@@ -450,6 +469,7 @@ void Assembler::explicit_forces(const NodePositions& x, NodePositions& F,
           }
         }
       });
+      zeroed = true;
     } else {
       run(
           static_cast<int>(bi), colors_[bi],
@@ -460,8 +480,10 @@ void Assembler::explicit_forces(const NodePositions& x, NodePositions& F,
           false, F, nullptr, nullptr, 1.0);
     }
   }
+  if (!zeroed)  // no block
+    for (long z = 0; z < zero_blocks; ++z) zero(z);
   reduce(F);
-  if (!block_pressure.empty()) reduce(Fp);
+  if (pressures) reduce(Fp);
 }
 
 void Assembler::pressure(int i, double p, const NodePositions& x, NodePositions& Fext,

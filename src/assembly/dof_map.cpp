@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "velum/math/threads.hpp"
 #include "velum/parallel/model_piece.hpp"
 #include "velum/parallel/processes.hpp"
 
@@ -144,6 +145,22 @@ void DofMap::gather(const NodePositions& full, VecX& reduced) const {
     for (int c = 0; c < 3; ++c)
       if (eq[3 * n + c] >= 0) reduced[eq[3 * n + c]] = local[c];
   }
+}
+
+void DofMap::gather_difference(const NodePositions& a, const NodePositions& b,
+                               VecX& reduced) const {
+  if (!frames_.empty()) {
+    gather(a - b, reduced);
+    return;
+  }
+  reduced.resize(num_equations());
+  const double* pa = a.data();
+  const double* pb = b.data();
+  const int* e = equations();
+  parallel_ranges(3L * num_nodes(), [&](long first, long last) {
+    for (long k = first; k < last; ++k)
+      if (e[k] >= 0) reduced[e[k]] = pa[k] - pb[k];
+  });
 }
 
 }  // namespace velum

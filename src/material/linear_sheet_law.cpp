@@ -70,6 +70,19 @@ void LinearSheetLaw::evaluate(const Vec3& E, SheetResponse& out) const {
   out.C = tf.C + kappa_ * Q;
 }
 
+void LinearSheetLaw::stress(const Vec3& E, SheetResponse& out) const {
+  if (!wrinkling_ || !elastic_.families().empty()) {
+    evaluate(E, out);
+    return;
+  }
+  const Mat3& Q = elastic_.Q();
+  const Vec3 St = Q * E + S0_;
+  const TensionField tf = tension_field(Q, St, false);
+  out.state = tf.state;
+  out.angle = tf.angle;
+  out.S = tf.state == WrinkleState::kTaut ? St : tf.S;
+}
+
 void LinearSheetLaw::fiber_tension_field(const Vec3& E, SheetResponse& out) const {
   // A sheet of fibre families has no stiffness across its fibres, so its tension field is
   // each family going slack on its own (a fibre carries no compression); the residual

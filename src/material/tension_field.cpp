@@ -174,7 +174,7 @@ Angle isotropic_root(const AngleEquation& H, const Vec3& St, double half_differe
 
 }  // namespace
 
-TensionField tension_field(const Mat3& Q, const Vec3& St) {
+TensionField tension_field(const Mat3& Q, const Vec3& St, bool tangent) {
   TensionField out;
   // Taut: the trial stress has no negative principal value.
   const double mean = 0.5 * (St[0] + St[1]);
@@ -184,7 +184,7 @@ TensionField tension_field(const Mat3& Q, const Vec3& St) {
   const double radius = std::sqrt(half_difference * half_difference + St[2] * St[2]);
   if (mean - radius >= 0) {
     out.S = St;
-    out.C = Q;
+    if (tangent) out.C = Q;
     out.state = WrinkleState::kTaut;
     return out;
   }
@@ -242,9 +242,14 @@ TensionField tension_field(const Mat3& Q, const Vec3& St) {
   // J = [[−v_tᵀQv_t, 2β v_tᵀQv_nt], [−v_ntᵀQv_t, −s + 2β v_ntᵀQv_nt]]
   // (using S_nt = 0, S_tt = 0 at the root; s = n·S·n).
   const WrinkleFrame f(best_c, best_s);
-  const Vec3 Qvt = Q * f.vt, Qvnt = Q * f.vnt;
+  const Vec3 Qvt = Q * f.vt;
   const double beta = best_beta;
   out.S = St - beta * Qvt;
+  out.state = WrinkleState::kWrinkled;
+  out.angle = best_theta;
+  out.beta = beta;
+  if (!tangent) return out;
+  const Vec3 Qvnt = Q * f.vnt;
   const double s = f.vn.dot(out.S);
   Mat2 J;
   J << -f.vt.dot(Qvt), 2 * beta * f.vt.dot(Qvnt), -f.vnt.dot(Qvt), -s + 2 * beta * f.vnt.dot(Qvnt);
@@ -256,9 +261,6 @@ TensionField tension_field(const Mat3& Q, const Vec3& St) {
   dSdx.col(0) = -Qvt;
   dSdx.col(1) = 2 * beta * Qvnt;  // −β Q v_t' with v_t' = −2 v_nt
   out.C = Q + dSdx * dx;
-  out.state = WrinkleState::kWrinkled;
-  out.angle = best_theta;
-  out.beta = beta;
   return out;
 }
 

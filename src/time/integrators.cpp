@@ -7,6 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "velum/math/threads.hpp"
 #include "velum/time/low_rank_solver.hpp"
 #include "velum/time/newton.hpp"
 #include "velum/time/secant_updates.hpp"
@@ -129,24 +130,31 @@ StepReport CentralDifference::step(SecondOrderSystem& sys, LinearSolver&, double
   // v(n+½) = v + h/2 a; u(n+1) = u + h v(n+½); a(n+1) from M a = f_ext − f_int − C v(n+½).
   // Two passes over the equations, into buffers kept between steps (swapped with the state's
   // on success: nothing allocated): v(n+½) and u(n+1) in one, a(n+1), v(n+1) and the
-  // finiteness test in the other.
+  // finiteness test in the other; each shared between the threads (entry by entry: the same
+  // bits whatever their number).
   StepReport rep;
   const Eigen::Index n = s.u.size();
   const double hh = 0.5 * h;
   vhalf_.resize(n), u_.resize(n), a_.resize(n), v_.resize(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    vhalf_[i] = s.v[i] + hh * s.a[i];
-    u_[i] = s.u[i] + h * vhalf_[i];
-  }
+  parallel_ranges(n, [&](long first, long last) {
+    for (long i = first; i < last; ++i) {
+      vhalf_[i] = s.v[i] + hh * s.a[i];
+      u_[i] = s.u[i] + h * vhalf_[i];
+    }
+  });
   if (zero_.size() != sys.size()) zero_.setZero(sys.size());  // read only
   sys.evaluate(t + h, u_, vhalf_, zero_, 0, 0, 0, r_, nullptr);
   const VecX& m = sys.lumped_mass();
-  bool finite = true;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    a_[i] = -r_[i] / m[i];
-    v_[i] = vhalf_[i] + hh * a_[i];
-    finite = finite && std::isfinite(a_[i]);
-  }
+  const double non_finite = parallel_sum(n, [&](long first, long last) {
+    bool finite = true;
+    for (long i = first; i < last; ++i) {
+      a_[i] = -r_[i] / m[i];
+      v_[i] = vhalf_[i] + hh * a_[i];
+      finite = finite && std::isfinite(a_[i]);
+    }
+    return finite ? 0.0 : 1.0;
+  });
+  const bool finite = non_finite == 0;
   if (sys.max_over_processes(finite ? 0.0 : 1.0) != 0.0) {
     rep.reason = "non-finite acceleration (step above the stable limit?)";
     return rep;

@@ -95,7 +95,12 @@ class MechanicalSystem final : public SecondOrderSystem {
   /// Loads with a state integrated in time (LoadTerm::start, commit): their state at the start
   /// (t, u), and a step ending at (t, u, v) accepted. The same bits on every process.
   void start_loads(double t, const VecX& u, const VecX& v);
-  void accept(double t, const VecX& u, const VecX& v);
+  /// `at_last_evaluation`: the caller's word that the last evaluate() was at this state (an
+  /// explicit step ends on one evaluation, and its state is that evaluation's vector u, not
+  /// changed since): the positions it set are kept instead of set again when it was an
+  /// explicit step's (no Jacobian, no shift) at the same u storage and at t (or at a time
+  /// that differs in its last bits, where no prescribed motion reads the time).
+  void accept(double t, const VecX& u, const VecX& v, bool at_last_evaluation = false);
   /// Their committed state as numbers (checkpoints, staged runs), followed by the history of
   /// the laws that keep one per point (ElementBlock::history_size; nothing when none does),
   /// and back (throws std::invalid_argument when it does not fit these loads and blocks).
@@ -187,6 +192,11 @@ class MechanicalSystem final : public SecondOrderSystem {
   std::vector<double> block_pressure_;      ///< whole-block pressures at the evaluated time
   VecX fred_, mv_, mvv_, x_eq_, noise_eq_;  ///< mv_ = M a, mvv_ = M v (evaluate)
   double force_scale_ = 0, residual_noise_ = 0;
+  struct {  ///< where the last explicit-step evaluation set x_ (u's storage and size, t)
+    const double* u = nullptr;
+    Eigen::Index size = 0;
+    double t = 0;
+  } explicit_at_;
   double reference_position_norm_ = 0;
 };
 

@@ -60,6 +60,10 @@ class PlausibilityCheck {
   std::string final_balance(double t, const EnergyBalance& b,
                             const std::function<void(std::string)>& warn) const;
   double model_size() const { return size_; }
+  /// The kinetic energy at the run's start (an initial velocity; alike on every process): with
+  /// no load doing work, the energy the solution moves between kinetic and strain, with the
+  /// integrator's own error. The energy-created limits scale with it beside the work.
+  void set_kinetic_start(double kinetic) { kinetic_start_ = std::abs(kinetic); }
   /// Several processes: each holds the displacements of its own nodes only; the checks
   /// count each node on the process keeping it (Assembler::keeps_node) and reduce.
   void share_nodes(const Assembler& a) { assembler_ = &a; }
@@ -67,6 +71,8 @@ class PlausibilityCheck {
  private:
   PlausibilityLimits limits_;
   double size_ = 0;
+  double stored_ = 0;
+  double kinetic_start_ = 0;  ///< the prestress's energy per unit strain (the energy floor's)
   const Assembler* assembler_ = nullptr;
 };
 

@@ -29,6 +29,8 @@ class DofMap {
   /// Equation of node n, local component c, in this process's local numbering; -1 when
   /// eliminated.
   int equation(int n, int c) const { return local_.empty() ? eq_[3 * n + c] : local_[3 * n + c]; }
+  /// equation(n, c) for every node and component (3 n + c), as one array.
+  const int* equations() const { return local_.empty() ? eq_.data() : local_.data(); }
   /// The same in the global numbering.
   int global_equation(int n, int c) const { return eq_[3 * n + c]; }
   /// Where the global equations start on each process when owned in whole nodes where
@@ -47,6 +49,9 @@ class DofMap {
   void scatter(const VecX& reduced, NodePositions& full) const;
   /// Reduced vector from full global components.
   void gather(const NodePositions& full, VecX& reduced) const;
+  /// gather(a − b, reduced) without the full difference (no temporary; a pass shared
+  /// between the threads where no node has a frame of its own).
+  void gather_difference(const NodePositions& a, const NodePositions& b, VecX& reduced) const;
   /// Zeroes the components that have equations (in each node's frame), keeping the
   /// eliminated ones: a reaction from internal minus external forces.
   void keep_eliminated(NodePositions& full) const;

@@ -29,7 +29,8 @@ struct TensionField {
 /// slack (S = 0, C = 0) when no admissible root exists. A `fibers` law (no stiffness across
 /// its fibres) is treated by LinearSheetLaw fibre by fibre instead: each family goes slack
 /// alone.
-TensionField tension_field(const Mat3& Q, const Vec3& S_trial);
+/// Without `tangent`, C is left zero (the stress alone: the same S, state, angle and β).
+TensionField tension_field(const Mat3& Q, const Vec3& S_trial, bool tangent = true);
 
 class LinearSheetLaw final : public SheetLawBase {
  public:
@@ -51,6 +52,8 @@ class LinearSheetLaw final : public SheetLawBase {
 
   /// Stress and tangent at the Green-Lagrange strain E (sheet axes).
   void evaluate(const Vec3& E, SheetResponse& out) const;
+  /// The stress alone (SheetLawBase::stress): the tension field without its tangent.
+  void stress(const Vec3& E, SheetResponse& out) const;
   /// Strain energy density per unit reference volume, W with dW/dE = S. The prestress counts
   /// as S0 · E (it is zero in the reference state).
   double energy(const Vec3& E) const;
@@ -59,6 +62,9 @@ class LinearSheetLaw final : public SheetLawBase {
   const std::string& name() const override { return elastic_.name(); }
   void evaluate(const Vec3& E, std::span<const double>, SheetResponse& out) const override {
     evaluate(E, out);
+  }
+  void stress(const Vec3& E, std::span<const double>, SheetResponse& out) const override {
+    stress(E, out);
   }
   double energy(const Vec3& E, std::span<const double>) const override { return energy(E); }
   bool affine() const override { return !wrinkling_; }

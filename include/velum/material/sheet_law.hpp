@@ -45,6 +45,11 @@ class SheetLaw {
   const std::string& name() const { return law_->name(); }
   void evaluate(const Vec3& E, SheetResponse& out) const { law_->evaluate(E, {}, out); }
   double energy(const Vec3& E) const { return law_->energy(E, {}); }
+  /// SheetLawBase::stress: the stress without its tangent.
+  void stress(const Vec3& E, SheetResponse& out) const { law_->stress(E, {}, out); }
+  void stress(const Vec3& E, std::span<const double> h, SheetResponse& out) const {
+    law_->stress(E, h, out);
+  }
   void evaluate(const Vec3& E, std::span<const double> h, SheetResponse& out) const {
     law_->evaluate(E, h, out);
   }

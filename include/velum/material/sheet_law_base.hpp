@@ -38,6 +38,12 @@ class SheetLawBase {
   /// Stress and tangent at the strain E (sheet axes), from the history h committed at the end
   /// of the last accepted step (state_size() values; empty for a law without history).
   virtual void evaluate(const Vec3& E, std::span<const double> h, SheetResponse& out) const = 0;
+  /// The stress alone (out.S, out.state, out.angle; out.C is left unspecified): what an
+  /// explicit step or a residual without a Jacobian needs. The same S as evaluate(); a law
+  /// whose tangent costs much beside its stress (the tension field) skips it here.
+  virtual void stress(const Vec3& E, std::span<const double> h, SheetResponse& out) const {
+    evaluate(E, h, out);
+  }
   /// Energy density W per unit reference volume with dW/dE = S (a free energy for a law with
   /// history); zero in the reference state but for the prestress's work.
   virtual double energy(const Vec3& E, std::span<const double> h) const = 0;
