@@ -495,9 +495,11 @@ void MechanicalSystem::evaluate(double t, const VecX& u, const VecX& v, const Ve
     const int* inner = M.innerIndexPtr();
     const double* mv = M.valuePtr();
     for (int j = 0; j < M.outerSize(); ++j) {
-      const double aj = a[j], vj = damping ? v[j] : 0.0;
+      const double aj = inertia ? a[j] : 0.0, vj = damping ? v[j] : 0.0;
       if (!damping) {
         for (int k = outer[j]; k < outer[j + 1]; ++k) mv_[inner[k]] += mv[k] * aj;
+      } else if (!inertia) {  // an explicit step's M v alone (mv_ is not sized then)
+        for (int k = outer[j]; k < outer[j + 1]; ++k) mvv_[inner[k]] += mv[k] * vj;
       } else {
         for (int k = outer[j]; k < outer[j + 1]; ++k) {
           mv_[inner[k]] += mv[k] * aj;
