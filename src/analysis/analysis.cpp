@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "velum/parallel/processes.hpp"
+#include "velum/time/stable_step.hpp"
 
 namespace velum {
 
@@ -340,14 +341,33 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     sys.start_loads(settings.time.t0, s.u, s.v);
 
   TimeLoopSettings loop = settings.time;
+  // Central difference: the step is safety x the stable step (capped by time.step), estimated
+  // at the start and, from the current state, at every trust check (below).
+  const bool explicit_run = !integrator->implicit();
+  StableStepEstimate stable;
+  const double safety = settings.explicit_step.safety;
+  auto set_step = [&](double estimate) {
+    const double h = std::min(settings.time.step, safety * estimate);
+    result.stable_step_last = estimate;
+    ++result.step_estimates;
+    result.smallest_step = result.smallest_step > 0 ? std::min(result.smallest_step, h) : h;
+    result.largest_step = std::max(result.largest_step, h);
+    return h;
+  };
   if (resume) {
     loop.step = resume->loop.step;
-    if (!integrator->implicit()) loop.adaptive = false;
-  } else if (!integrator->implicit()) {
-    // Central difference: cap the step at 0.9 of the stable estimate at the start.
-    result.stable_step = stable_time_step(sys, loop.t0, s);
-    loop.step = std::min(loop.step, 0.9 * result.stable_step);
+    // The estimate's vector afresh from the resumed state; the step as the run had it.
+    if (explicit_run && settings.explicit_step.from_current_state)
+      result.stable_step = stable.start(sys, resume->loop.t, s);
+  } else if (explicit_run) {
+    result.stable_step = stable.start(sys, loop.t0, s);
+    loop.step = set_step(result.stable_step);
+  }
+  if (explicit_run) {
     loop.adaptive = false;
+    // min_step plays no part without step control, but stretches a step that would stop
+    // short of an output time by up to it: kept far below any step the run may set.
+    loop.min_step = std::min(loop.min_step, 1e-6 * loop.step);
   }
 
   Energies& E = result.energy;
@@ -393,6 +413,8 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
               .factorizations = st.total_factorizations,
               .cutbacks = st.cutbacks,
               .control = st.control ? *st.control : StepControlState{}};
+    // Central difference: the step the run goes on with (set at this step's check).
+    if (explicit_run) c.loop.control.h = loop.step;
     c.state = *current_state;
     if (unchecked != 0) energy.settle(st.t, *current_state, E);  // what the checkpoint saves
     if (sys.distributed()) {  // whole, in the global numbering, on the first process
@@ -430,6 +452,10 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     implausible = plausible.check(st.t, U, cur, energy.balanced(), energy.held(E), E.external_work,
                                   energy.work_scale(), energy.held_start());
     if (!implausible.empty()) return false;
+    if (explicit_run && settings.explicit_step.from_current_state && st.next_step) {
+      loop.step = set_step(stable.update(sys, st.t, st.h, cur));
+      *st.next_step = loop.step;
+    }
     return !observer ||
            observer(StepSnapshot{st, sys, cur, E, st.control ? &make_checkpoint : nullptr});
   };

@@ -33,6 +33,16 @@ struct FormFindingSettings {
   double max_seconds = 0;
 };
 
+/// Central difference's step (analysis.integrator; docs/theory.md, explicit dynamics).
+struct ExplicitStepSettings {
+  /// The run's step is safety x the stable step estimated (capped by time.step), in (0, 1]:
+  /// the estimate is a power iteration, which approaches ω_max from below.
+  double safety = 0.9;
+  /// Re-estimate the stable step from the current state at every trust check
+  /// (kExplicitCheckInterval steps, output times); false: at the start only.
+  bool from_current_state = true;
+};
+
 struct AnalysisSettings {
   /// static: load stepping with Newton; relaxation: each load level by dynamic relaxation,
   /// finished by Newton (relaxation.hpp); dynamic: a time integrator.
@@ -56,6 +66,7 @@ struct AnalysisSettings {
   double rho_inf = 0.8;     ///< generalized-alpha
   double hht_alpha = 0.05;  ///< hht, in [0, 1/3]
   double newmark_beta = 0.25, newmark_gamma = 0.5;
+  ExplicitStepSettings explicit_step;  ///< central-difference
   /// Static steps: start Newton from the last state extrapolated along the last increments
   /// (kExtrapolate), or from the last state itself (kNone).
   enum class Predictor { kExtrapolate, kNone };
@@ -134,7 +145,10 @@ struct AnalysisResult {
   std::string integrator, solver;
   int dofs = 0;
   long factorizations = 0, analyses = 0;
-  double stable_step = 0;  ///< central difference: the estimate used
+  /// Central difference: the stable step estimated at the start, the last estimate, and the
+  /// smallest and largest steps the run set from them (safety x estimate, capped by time.step).
+  double stable_step = 0, stable_step_last = 0, smallest_step = 0, largest_step = 0;
+  int step_estimates = 0;  ///< estimates of the stable step in the run (the start's included)
   /// What a user must know about a run that ended normally (an unstable equilibrium ...);
   /// each also went to `on_warning` as it happened.
   std::vector<std::string> warnings;
