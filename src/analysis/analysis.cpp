@@ -9,8 +9,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "explicit_step.hpp"
 #include "velum/parallel/processes.hpp"
-#include "velum/time/stable_step.hpp"
 
 namespace velum {
 
@@ -342,26 +342,14 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
 
   TimeLoopSettings loop = settings.time;
   // Central difference: the step is safety x the stable step (capped by time.step), estimated
-  // at the start and, from the current state, at every trust check (below).
+  // at the start (after mass scaling) and, from the current state, at every trust check.
   const bool explicit_run = !integrator->implicit();
-  StableStepEstimate stable;
-  const double safety = settings.explicit_step.safety;
-  auto set_step = [&](double estimate) {
-    const double h = std::min(settings.time.step, safety * estimate);
-    result.stable_step_last = estimate;
-    ++result.step_estimates;
-    result.smallest_step = result.smallest_step > 0 ? std::min(result.smallest_step, h) : h;
-    result.largest_step = std::max(result.largest_step, h);
-    return h;
-  };
+  ExplicitStepControl explicit_step(sys, settings, result.explicit_step, warn);
   if (resume) {
     loop.step = resume->loop.step;
-    // The estimate's vector afresh from the resumed state; the step as the run had it.
-    if (explicit_run && settings.explicit_step.from_current_state)
-      result.stable_step = stable.start(sys, resume->loop.t, s);
   } else if (explicit_run) {
-    result.stable_step = stable.start(sys, loop.t0, s);
-    loop.step = set_step(result.stable_step);
+    loop.step = explicit_step.start(loop.t0, s);
+    result.stable_step = result.explicit_step.first;
   }
   if (explicit_run) {
     loop.adaptive = false;
@@ -396,7 +384,8 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     stability.restore(static_cast<int>(m[0]));
     warned_fold = m[1] != 0;
     t_last = m[2];
-    energy.restore(m, 3);
+    const size_t at = energy.restore(m, 3);
+    if (explicit_run) explicit_step.restore(m, at);
   } else {
     AcceptedStep first{.t = loop.t0, .output_time = true};
     if (observer && !observer(StepSnapshot{first, sys, s, E})) return result;
@@ -426,6 +415,7 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     c.integrator = integrator->save(sys);
     c.analysis = {static_cast<double>(stability.last()), warned_fold ? 1.0 : 0.0, t_last};
     energy.save(c.analysis);
+    if (explicit_run) explicit_step.save(c.analysis);
     c.loads = sys.save_load_state();
     c.warnings = result.warnings;
     return c;
@@ -452,8 +442,8 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     implausible = plausible.check(st.t, U, cur, energy.balanced(), energy.held(E), E.external_work,
                                   energy.work_scale(), energy.held_start());
     if (!implausible.empty()) return false;
-    if (explicit_run && settings.explicit_step.from_current_state && st.next_step) {
-      loop.step = set_step(stable.update(sys, st.t, st.h, cur));
+    if (explicit_run && st.next_step) {
+      loop.step = explicit_step.update(st.t, st.h, cur, loop.step);
       *st.next_step = loop.step;
     }
     return !observer ||

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace velum {
 
@@ -12,14 +13,20 @@ double StableStepEstimate::step(const SecondOrderSystem& sys) const {
 }
 
 double StableStepEstimate::start(SecondOrderSystem& sys, double t, const State& s) {
-  evaluations_ = 0;
-  lambda_ = 0;
   zero_ = VecX::Zero(sys.size());
   if (sys.global_size() == 0) {
     x_.resize(0);
+    lambda_ = 0;
     return INFINITY;
   }
   sys.evaluate(t, s.u, s.v, zero_, 1.0, 0.0, 0.0, r_, &K_);
+  return restart(sys);
+}
+
+double StableStepEstimate::restart(SecondOrderSystem& sys) {
+  evaluations_ = 0;
+  lambda_ = 0;
+  if (sys.global_size() == 0) return INFINITY;
   const LowRankJacobian& L = sys.jacobian_low_rank();
   const VecX& m = sys.lumped_mass();
   // ‖·‖_M: the iteration is that on M^-½ K M^-½, whose norm ratio never exceeds ω_max² for a
@@ -65,16 +72,46 @@ double StableStepEstimate::update(SecondOrderSystem& sys, double t, double h, co
     const double l = m_norm(y_);
     if (!(l > 0) || !std::isfinite(l)) break;  // nothing stiff, or a state past saving
     x_ = y_ / l;
-    const bool settled = std::abs(l - lambda_) < 1e-2 * l;
+    const bool settled = std::abs(l - lambda_) < 2e-2 * l;
     lambda_ = l;
     if (settled) break;
   }
   return step(sys);
 }
 
+void StableStepEstimate::save(const SecondOrderSystem& sys, std::vector<double>& m) const {
+  const VecX x = x_.size() == sys.size() ? sys.to_global(x_) : VecX();
+  m.insert(m.end(), {lambda_, static_cast<double>(evaluations_), static_cast<double>(x.size())});
+  m.insert(m.end(), x.data(), x.data() + x.size());
+}
+
+size_t StableStepEstimate::restore(const SecondOrderSystem& sys, const std::vector<double>& m,
+                                   size_t at) {
+  if (m.size() < at + 3) return at;
+  const auto n = static_cast<size_t>(m[at + 2]);
+  if (m.size() < at + 3 + n || (n != 0 && static_cast<long>(n) != sys.global_size()))
+    throw std::invalid_argument("checkpoint: the stable step's estimate does not fit this model");
+  lambda_ = m[at];
+  evaluations_ = static_cast<long>(m[at + 1]);
+  VecX x(static_cast<Eigen::Index>(n));
+  std::copy(m.begin() + static_cast<long>(at) + 3, m.begin() + static_cast<long>(at + 3 + n),
+            x.data());
+  x_ = n ? sys.to_local(x) : VecX();
+  return at + 3 + n;
+}
+
 double stable_time_step(SecondOrderSystem& sys, double t, const State& s) {
   StableStepEstimate e;
   return e.start(sys, t, s);
+}
+
+VecX stiffness_row_bounds(const SparseMatrix& J, const LowRankJacobian& L) {
+  VecX g = VecX::Zero(J.rows());
+  for (int j = 0; j < J.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(J, j); it; ++it) g[it.row()] += std::abs(it.value());
+  for (Eigen::Index k = 0; k < L.U.cols(); ++k)
+    g += L.U.col(k).cwiseAbs() * L.W.col(k).cwiseAbs().sum();
+  return g;
 }
 
 }  // namespace velum
