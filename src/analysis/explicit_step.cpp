@@ -56,19 +56,31 @@ void ExplicitStepControl::scale_mass() {
 }
 
 double ExplicitStepControl::update(double t, double h, const State& s, double last_step) {
-  if (!settings_.explicit_step.from_current_state) return last_step;
+  if (!settings_.explicit_step.from_current_state || ++since_ < stride_) return last_step;
+  since_ = 0;
+  const double before = estimate_.omega_squared();
   const double step = set_step(estimate_.update(sys_, t, h, s));
   report_.evaluations = estimate_.evaluations();
+  const double now = estimate_.omega_squared();
+  const double moved = now > 0 ? std::abs(now - before) / now : 1.0;
+  if (moved < 0.01)
+    stride_ = std::min(2 * stride_, kMaxStride);
+  else if (moved > 0.02)
+    stride_ = 1;
   return step;
 }
 
 void ExplicitStepControl::save(std::vector<double>& m) const {
+  m.insert(m.end(), {static_cast<double>(stride_), static_cast<double>(since_)});
   estimate_.save(sys_, m);
   m.push_back(static_cast<double>(added_.size()));
   m.insert(m.end(), added_.data(), added_.data() + added_.size());
 }
 
 void ExplicitStepControl::restore(const std::vector<double>& m, size_t at) {
+  if (m.size() < at + 2) return;  // nothing saved: start afresh
+  stride_ = static_cast<int>(m[at]), since_ = static_cast<int>(m[at + 1]);
+  at += 2;
   at = estimate_.restore(sys_, m, at);
   if (m.size() <= at) return;
   const auto n = static_cast<size_t>(m[at]);

@@ -22,7 +22,9 @@ class ExplicitStepControl {
   /// Returns the run's step.
   double start(double t, const State& s);
   /// At a trust check, the state reached by a step of h: the step the run goes on with (the
-  /// last one when the settings estimate at the start only).
+  /// last one when the settings estimate at the start only). The estimate is made at every
+  /// check while it moves, at every second and then every fourth check while it moved less
+  /// than 1 % the last time (back to every check once it moves more than 2 %).
   double update(double t, double h, const State& s, double last_step);
   /// What a restart needs (the estimate's vector, the mass added) appended to m; read back
   /// from m[at...] at a restart (the mass added applied again). Collective calls.
@@ -39,6 +41,8 @@ class ExplicitStepControl {
   std::function<void(std::string)> warn_;
   StableStepEstimate estimate_;
   VecX added_;  ///< mass scaling: the mass added per node (empty: none)
+  static constexpr int kMaxStride = 4;
+  int stride_ = 1, since_ = 0;  ///< estimate every stride_ checks; checks since the last
 };
 
 }  // namespace velum
