@@ -9,6 +9,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "explicit_step.hpp"
 #include "velum/math/threads.hpp"
 #include "velum/parallel/processes.hpp"
 
@@ -366,14 +367,21 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     sys.start_loads(settings.time.t0, s.u, s.v);
 
   TimeLoopSettings loop = settings.time;
+  // Central difference: the step is safety x the stable step (capped by time.step), estimated
+  // at the start (after mass scaling) and, from the current state, at every trust check.
+  const bool explicit_run = !integrator->implicit();
+  ExplicitStepControl explicit_step(sys, settings, result.explicit_step, warn);
   if (resume) {
     loop.step = resume->loop.step;
-    if (!integrator->implicit()) loop.adaptive = false;
-  } else if (!integrator->implicit()) {
-    // Central difference: cap the step at 0.9 of the stable estimate at the start.
-    result.stable_step = stable_time_step(sys, loop.t0, s);
-    loop.step = std::min(loop.step, 0.9 * result.stable_step);
+  } else if (explicit_run) {
+    loop.step = explicit_step.start(loop.t0, s);
+    result.stable_step = result.explicit_step.first;
+  }
+  if (explicit_run) {
     loop.adaptive = false;
+    // min_step plays no part without step control, but stretches a step that would stop
+    // short of an output time by up to it: kept far below any step the run may set.
+    loop.min_step = std::min(loop.min_step, 1e-6 * loop.step);
   }
 
   Energies& E = result.energy;
@@ -403,7 +411,8 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     stability.restore(static_cast<int>(m[0]));
     warned_fold = m[1] != 0;
     t_last = m[2];
-    energy.restore(m, 3);
+    const size_t at = energy.restore(m, 3);
+    if (explicit_run) explicit_step.restore(m, at);
   } else {
     AcceptedStep first{.t = loop.t0, .output_time = true};
     if (observer && !observer(StepSnapshot{first, sys, s, E})) return result;
@@ -420,6 +429,8 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
               .factorizations = st.total_factorizations,
               .cutbacks = st.cutbacks,
               .control = st.control ? *st.control : StepControlState{}};
+    // Central difference: the step the run goes on with (set at this step's check).
+    if (explicit_run) c.loop.control.h = loop.step;
     c.state = *current_state;
     if (unchecked != 0) energy.settle(st.t, *current_state, E);  // what the checkpoint saves
     if (sys.distributed()) {  // whole, in the global numbering, on the first process
@@ -431,6 +442,7 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     c.integrator = integrator->save(sys);
     c.analysis = {static_cast<double>(stability.last()), warned_fold ? 1.0 : 0.0, t_last};
     energy.save(c.analysis);
+    if (explicit_run) explicit_step.save(c.analysis);
     c.loads = sys.save_load_state();
     c.warnings = result.warnings;
     return c;
@@ -459,6 +471,10 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
     implausible = plausible.check(st.t, U, cur, energy.balanced(), energy.held(E), E.external_work,
                                   energy.work_scale(), energy.held_start());
     if (!implausible.empty()) return false;
+    if (explicit_run && st.next_step) {
+      loop.step = explicit_step.update(st.t, st.h, cur, loop.step);
+      *st.next_step = loop.step;
+    }
     return !observer ||
            observer(StepSnapshot{st, sys, cur, E, st.control ? &make_checkpoint : nullptr});
   };

@@ -76,6 +76,10 @@ const SparseMatrix& MechanicalSystem::mass_matrix() const {
   if (!have_mass_) {
     assembler_.make_matrix(M_);
     assembler_.mass(&M_, nullptr);
+    for (Eigen::Index n = 0; n < added_nodes_.size(); ++n)
+      for (int c = 0; c < 3; ++c)
+        if (const int eq = dofs_.equation(static_cast<int>(n), c); eq >= 0 && added_nodes_[n] != 0)
+          M_.coeffRef(eq, eq) += added_nodes_[n];
     // The mass couples a node's components with the same component of its neighbours only
     // (ρ h ∫ N_a N_b dA times the identity): six of the nine entries of a block are zeros the
     // Jacobian's pattern holds. Its products walk the entries alone, the same sums (a zero
@@ -85,6 +89,15 @@ const SparseMatrix& MechanicalSystem::mass_matrix() const {
     have_mass_ = true;
   }
   return M_;
+}
+
+void MechanicalSystem::add_node_mass(const VecX& per_node) {
+  if (distributed()) throw std::invalid_argument("mass scaling runs on one process only");
+  if (added_nodes_.size() == 0) added_nodes_.setZero(model_.num_nodes());
+  added_nodes_ += per_node;
+  lumped_nodes_ += per_node;
+  for (int eq = 0; eq < size(); ++eq) lumped_eq_[eq] = lumped_nodes_[equation_node_[eq]];
+  have_mass_ = false;  // rebuilt with it on next use
 }
 
 const SparseMatrix& MechanicalSystem::mass_entries() const {

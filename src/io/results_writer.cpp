@@ -549,6 +549,22 @@ void ResultsWriter::write_summary(const RunSummary& r) {
     }
     s += "  ],\n";
   }
+  if (const ExplicitStepReport& x = r.explicit_step; x.estimates > 0) {
+    s += fmt::format(
+        "  \"explicit_step\": {{\"safety\": {}, \"stable_step_start\": {}, \"stable_step_last\": "
+        "{}, "
+        "\"smallest_step\": {}, \"largest_step\": {}, \"estimates\": {}, "
+        "\"estimate_evaluations\": {}",
+        json_number(r.safety), json_number(x.first), json_number(x.last), json_number(x.smallest),
+        json_number(x.largest), x.estimates, x.evaluations);
+    if (r.target_step > 0)
+      s += fmt::format(
+          ", \"mass_scaling\": {{\"target_step\": {}, \"added_mass\": {}, \"model_mass\": {}, "
+          "\"added_fraction\": {}, \"nodes\": {}}}",
+          json_number(r.target_step), json_number(x.added_mass), json_number(x.model_mass),
+          json_number(x.model_mass > 0 ? x.added_mass / x.model_mass : 0.0), x.scaled_nodes);
+    s += "},\n";
+  }
   std::string warnings;
   for (const auto& w : r.warnings) warnings += (warnings.empty() ? "" : ", ") + json_string(w);
   s += fmt::format("  \"warnings\": [{}],\n", warnings);

@@ -270,6 +270,9 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     summary.final_time = result.loop.completed ? result.loop.t : summary.final_time;
     summary.energy = result.energy;
     summary.integrator = result.integrator;
+    summary.explicit_step = result.explicit_step;
+    summary.safety = settings.explicit_step.safety;
+    summary.target_step = settings.explicit_step.target_step;
     summary.solver = result.solver;
     summary.dofs = result.dofs;
     out.stopped = result.loop.stopped;

@@ -357,28 +357,4 @@ void StaticNewton::restore(const SecondOrderSystem& sys, const std::vector<doubl
   if (n2) u_prev2_ = sys.to_local(u_prev2_);
 }
 
-double stable_time_step(SecondOrderSystem& sys, double t, const State& s) {
-  VecX r, zero = VecX::Zero(sys.size());
-  SparseMatrix K;
-  sys.evaluate(t, s.u, s.v, zero, 1.0, 0.0, 0.0, r, &K);
-  const VecX& m = sys.lumped_mass();
-  VecX x = VecX::Ones(sys.size());
-  double lambda = 0;
-  for (int it = 0; it < 50; ++it) {
-    VecX Kx = K * x;
-    sys.complete(Kx);  // K may be this process's share
-    const VecX y = Kx.cwiseQuotient(m);
-    const double l = sys.norm(y) / sys.norm(x);
-    x = y / sys.norm(y);
-    if (std::abs(l - lambda) < 1e-4 * l) {
-      lambda = l;
-      break;
-    }
-    lambda = l;
-  }
-  // A penalty that is not active yet still bounds the step once it is (ω² at most the sum).
-  lambda += sys.load_stiffness_over_mass();
-  return lambda > 0 ? 2.0 / std::sqrt(lambda) : INFINITY;
-}
-
 }  // namespace velum

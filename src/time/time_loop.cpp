@@ -21,6 +21,7 @@ class StepControl {
   double size() const { return m_.h; }
   const StepControlState& state() const { return m_; }
   void restore(const StepControlState& m) { m_ = m; }
+  void set_size(double h) { m_.h = h; }
   void failed(double tried) {
     if (m_.trying) m_.streak_needed = std::min(2 * m_.streak_needed, kMaxStreak);
     m_.trying = false;
@@ -167,10 +168,13 @@ TimeLoopResult run_time_loop(SecondOrderSystem& sys, TimeIntegrator& integrator,
         .control = &control.state(),
         .cutbacks = res.cutbacks};
     control.converged(rep.factorizations);
+    double next_step = control.size();
+    if (!cfg.adaptive) info.next_step = &next_step;
     if (observer && !observer(info, s)) {
       res.stopped = true;
       return res;
     }
+    if (!cfg.adaptive && next_step > 0) control.set_size(next_step);
   }
   res.completed = true;
   return res;

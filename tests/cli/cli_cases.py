@@ -317,6 +317,12 @@ CASES = [
     ("rho_inf_out_of_range", mutate(analysis__integrator__rho_inf=1.5), {}, [], 1, ["rho_inf must lie in [0, 1]"]),
     ("central_difference_static", mutate(analysis__type="static", analysis__integrator__scheme="central-difference"), {}, [], 1, ["needs type: dynamic"]),
     ("unknown_analysis_type", mutate(analysis__type="quasistatic"), {}, [], 1, ["unknown analysis type"]),
+    ("safety_above_one", mutate(analysis__integrator={"scheme": "central-difference", "safety": 1.2}), {}, [], 1, ["model.yaml:", "analysis.integrator.safety", "in (0, 1] (got 1.2)"]),
+    ("safety_not_positive", mutate(analysis__integrator={"scheme": "central-difference", "safety": 0}), {}, [], 1, ["model.yaml:", "analysis.integrator.safety", "must be positive"]),
+    ("safety_implicit", mutate(analysis__integrator={"scheme": "newmark", "safety": 0.8}), {}, [], 1, ["model.yaml:", "analysis.integrator.safety", "scheme: central-difference"]),
+    ("stable_step_unknown", mutate(analysis__integrator={"scheme": "central-difference", "stable_step": "always"}), {}, [], 1, ["model.yaml:", "analysis.integrator.stable_step", "'current'", "(got 'always')"]),
+    ("mass_scaling_no_target", mutate(analysis__integrator={"scheme": "central-difference", "mass_scaling": {"target": 1e-5}}), {}, [], 1, ["model.yaml:", "analysis.integrator.mass_scaling", "target_step"]),
+    ("mass_scaling_negative", mutate(analysis__integrator={"scheme": "central-difference", "mass_scaling": {"target_step": -1e-5}}), {}, [], 1, ["model.yaml:", "analysis.integrator.mass_scaling.target_step", "must be positive"]),
     ("petsc_not_built", mutate(analysis__linear_solver="petsc"), {}, [], 1, ["not available in this build"]) if not HAVE_PETSC else
     ("petsc_options_without_dash", mutate(analysis__linear_solver="petsc", analysis__petsc_options="ksp_type gmres"), {}, [], 1, ["analysis.petsc_options", "begin with '-'"]),
     ("petsc_options_other_solver", mutate(analysis__petsc_options="-ksp_type gmres"), {}, [], 1, ["petsc_options apply to linear_solver: petsc only"]),

@@ -33,6 +33,32 @@ struct FormFindingSettings {
   double max_seconds = 0;
 };
 
+/// Central difference's step (analysis.integrator; docs/performance.md, explicit dynamics).
+struct ExplicitStepSettings {
+  /// The run's step is safety x the stable step estimated (capped by time.step), in (0, 1]:
+  /// the estimate is a power iteration, which approaches ω_max from below.
+  double safety = 0.9;
+  /// Re-estimate the stable step from the current state at every trust check
+  /// (kExplicitCheckInterval steps, output times); false: at the start only.
+  bool from_current_state = true;
+  /// Mass scaling (> 0): at the start, mass added to every node whose own stable step (its
+  /// rows' Gershgorin bound over its mass) is below this, so that the run's step reaches it;
+  /// the mass added is reported (AnalysisResult::explicit_step). 0: none.
+  double target_step = 0;
+};
+
+/// What central difference did with its step (AnalysisResult::explicit_step).
+struct ExplicitStepReport {
+  /// The stable step estimated at the start (after mass scaling) and last; the smallest and
+  /// largest steps the run set from them (safety x estimate, capped by time.step).
+  double first = 0, last = 0, smallest = 0, largest = 0;
+  int estimates = 0;     ///< estimates in the run (the start's included)
+  long evaluations = 0;  ///< force evaluations the estimates after the start cost
+  /// Mass scaling: the mass added over the nodes, the model's mass before, the nodes scaled.
+  double added_mass = 0, model_mass = 0;
+  int scaled_nodes = 0;
+};
+
 struct AnalysisSettings {
   /// static: load stepping with Newton; relaxation: each load level by dynamic relaxation,
   /// finished by Newton (relaxation.hpp); dynamic: a time integrator.
@@ -56,6 +82,7 @@ struct AnalysisSettings {
   double rho_inf = 0.8;     ///< generalized-alpha
   double hht_alpha = 0.05;  ///< hht, in [0, 1/3]
   double newmark_beta = 0.25, newmark_gamma = 0.5;
+  ExplicitStepSettings explicit_step;  ///< central-difference
   /// Static steps: start Newton from the last state extrapolated along the last increments
   /// (kExtrapolate), or from the last state itself (kNone).
   enum class Predictor { kExtrapolate, kNone };
@@ -134,7 +161,8 @@ struct AnalysisResult {
   std::string integrator, solver;
   int dofs = 0;
   long factorizations = 0, analyses = 0;
-  double stable_step = 0;  ///< central difference: the estimate used
+  double stable_step = 0;            ///< central difference: the estimate at the start
+  ExplicitStepReport explicit_step;  ///< central difference
   /// What a user must know about a run that ended normally (an unstable equilibrium ...);
   /// each also went to `on_warning` as it happened.
   std::vector<std::string> warnings;

@@ -78,6 +78,12 @@ class MechanicalSystem final : public SecondOrderSystem {
   /// v · mass_times(v), the same bits).
   double mass_product_share(const VecX& v) const { return v.dot(mass_entries() * v); }
   const NodePositions& last_external() const { return Fext_; }
+  /// Mass scaling (explicit dynamics): adds per_node (over the model's nodes) to the lumped
+  /// mass and, as point masses, to the mass matrix: inertia alone, no load sees it. One
+  /// process only.
+  void add_node_mass(const VecX& per_node);
+  /// The lumped mass of each node (the model's, plus what add_node_mass added).
+  const VecX& node_mass() const { return lumped_nodes_; }
   /// Whether last_external() after an evaluate() at an accepted state is what
   /// external_forces() gives there (to round-off: the follower pressures come fused with the
   /// internal pass): no load uses the velocity, keeps a state integrated in time or a low-rank
@@ -180,6 +186,7 @@ class MechanicalSystem final : public SecondOrderSystem {
   mutable SparseMatrix T_;  ///< tension stiffness (stiffen_stress_free), built on first use
   SparseMatrix K_;
   VecX lumped_nodes_, lumped_eq_;
+  VecX added_nodes_;                              ///< add_node_mass (empty: none)
   std::vector<int> equation_node_;                ///< node of each equation
   std::vector<std::unique_ptr<LoadTerm>> terms_;  ///< the model's loads, bound
   int low_rank_columns_ = 0;                      ///< of all loads (a gas chamber: one)

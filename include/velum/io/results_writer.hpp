@@ -58,6 +58,9 @@ struct RunSummary {
   int form_updates = -1;     ///< form finding: reference updates (-1: not form finding)
   double form_residual = 0;  ///< form finding: residual / force scale on the found shape
   std::vector<StepSummary> analysis_steps;  ///< a staged model's steps (empty otherwise)
+  /// Central difference: its step and mass scaling ("explicit_step"; estimates 0: none).
+  ExplicitStepReport explicit_step;
+  double safety = 0, target_step = 0;
 };
 
 /// The largest (or smallest) value of a result over the output times so far, where and when.

@@ -140,8 +140,4 @@ class StaticNewton : public TimeIntegrator {
   int negative_pivots_ = 0;
 };
 
-/// Largest stable step of central difference, 2/ω_max, with ω_max² estimated by power
-/// iteration on M_lumped⁻¹ K at state s (K from the Jacobian with cu = 1).
-double stable_time_step(SecondOrderSystem& sys, double t, const State& s);
-
 }  // namespace velum

@@ -53,6 +53,10 @@ struct AcceptedStep {
   const StepReport* report = nullptr;
   const StepControlState* control = nullptr;  ///< after this step (for checkpoints)
   int cutbacks = 0;                           ///< of the run so far
+  /// Loops without step control (adaptive false: central difference): the step for the
+  /// steps after this one, which the observer may change (the stable step re-estimated from
+  /// the current state); null otherwise.
+  double* next_step = nullptr;
 };
 
 struct TimeLoopResult {

@@ -50,6 +50,43 @@ std::optional<std::string> bad_column_name(const std::string& name) {
 
 }  // namespace
 
+// Central difference's step: analysis.integrator's safety, stable_step and mass_scaling
+// (docs/model-format.md).
+void Reader::parse_explicit_step(const Node& in, const std::string& p) {
+  ExplicitStepSettings& x = in_.analysis.explicit_step;
+  const bool central = in_.analysis.scheme == "central-difference";
+  for (const char* key : {"safety", "stable_step", "mass_scaling"})
+    if (has(in, key) && !central)
+      error(in[key], sub(p, key),
+            fmt::format("{} is a setting of central-difference's step (scheme: "
+                        "central-difference)",
+                        key));
+  if (!central) return;
+  if (auto v = positive(in, "safety", p, false, "the safety factor")) {
+    if (*v > 1)
+      error(in["safety"], sub(p, "safety"),
+            fmt::format("safety is the fraction of the stable step taken, in (0, 1] (got {})", *v));
+    else
+      x.safety = *v;
+  }
+  if (auto v = text(in, "stable_step", p, false)) {
+    if (*v == "current" || *v == "start")
+      x.from_current_state = *v == "current";
+    else
+      error(in["stable_step"], sub(p, "stable_step"),
+            fmt::format("stable_step is 'current' (estimated again from the current state at "
+                        "every check) or 'start' (got '{}')",
+                        *v));
+  }
+  if (has(in, "mass_scaling")) {
+    const Node m = in["mass_scaling"];
+    const std::string q = sub(p, "mass_scaling");
+    if (check_map(m, q, {"target_step"}))
+      if (auto h = positive(m, "target_step", q, true, "the step mass scaling reaches"))
+        x.target_step = *h;
+  }
+}
+
 void Reader::parse_analysis(const Node& a) {
   if (!check_map(a, "analysis",
                  {"type", "integrator", "time", "newton", "damping", "linear_solver", "relaxation",
@@ -131,7 +168,9 @@ void Reader::parse_analysis(const Node& a) {
   if (has(a, "integrator")) {
     const Node in = a["integrator"];
     const std::string p = "analysis.integrator";
-    if (check_map(in, p, {"scheme", "rho_inf", "alpha", "beta", "gamma"})) {
+    if (check_map(in, p,
+                  {"scheme", "rho_inf", "alpha", "beta", "gamma", "safety", "stable_step",
+                   "mass_scaling"})) {
       if (auto sc = text(in, "scheme", p, false)) {
         const std::vector<std::string> schemes = {"newmark", "hht", "generalized-alpha",
                                                   "central-difference"};
@@ -157,6 +196,7 @@ void Reader::parse_analysis(const Node& a) {
         else
           s.hht_alpha = *al;
       }
+      parse_explicit_step(in, p);
       if (auto b = positive(in, "beta", p, false, "the Newmark beta")) s.newmark_beta = *b;
       if (auto g = number(in, "gamma", p, false)) {
         if (*g < 0.5)

@@ -182,6 +182,7 @@ class Reader : public ReaderContext {
 
   // read_analysis.cpp
   void parse_analysis(const Node& a);
+  void parse_explicit_step(const Node& integrator, const std::string& path);
   void parse_path(const Node& pa);
   void parse_output(const Node& o, const Node& root);
   bool locate(HistoryEntry& he) const;
