@@ -8,8 +8,25 @@
 
 namespace velum {
 
+namespace {
+
+// The step on a grid of 512 steps per octave, rounded down (at most 0.14 % shorter). The
+// estimate is a power iteration converged to about 1e-10, and on several processes its sums
+// run in another order: unsnapped, one and two processes took steps 7e-11 apart and their
+// contact histories drifted 3.5e-8 apart over 2,300 steps (tests/parallel/mpi_explicit.py).
+double snapped(double h) {
+  if (!(h > 0) || !std::isfinite(h)) return h;
+  constexpr double kPerOctave = 512;
+  return std::exp2(std::floor(std::log2(h) * kPerOctave) / kPerOctave);
+}
+
+}  // namespace
+
 double ExplicitStepControl::set_step(double estimate) {
-  const double h = std::min(settings_.time.step, settings_.explicit_step.safety * estimate);
+  const double safe = settings_.explicit_step.safety * estimate;
+  // Mass scaling's target is reached whatever the grid (one process only).
+  const double floor = std::min(settings_.explicit_step.target_step, safe);
+  const double h = std::min(settings_.time.step, std::max(snapped(safe), floor));
   report_.last = estimate;
   ++report_.estimates;
   report_.smallest = report_.smallest > 0 ? std::min(report_.smallest, h) : h;

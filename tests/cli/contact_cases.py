@@ -101,8 +101,23 @@ for kind in ("static", "relaxation", "dynamic", "explicit"):
     fz, f0, rz = float(last["fz"]), float(last["f0"]), float(last["rz"])
     check(fz > 0, f"{kind}: the sheet pushes the ball up ({fz:.4g} N)")
     check(abs(f0 - abs(fz)) < 1e-6 * abs(fz), f"{kind}: magnitude by contact index = |fz|")
-    weight = 9.81 * 1.0 if kind == "explicit" else 0.0  # the sheet's, 1 kg/m² over 1 m²
-    check(abs(fz + weight - rz) < 0.01 * fz, f"{kind}: the edges carry the ball's push (reaction {rz:.4g})")
+    if kind != "explicit":
+        check(abs(fz - rz) < 0.01 * fz, f"{kind}: the edges carry the ball's push (reaction {rz:.4g})")
+    else:
+        # The penalty chatters: at one instant the light sheet's inertia is part of the balance
+        # (2.8 % of the push at t = 1, 55 % at t = 0.5). Over the last quarter, sampled every
+        # 0.5 ms (no frames), the push and the sheet's weight (1 kg/m² over 1 m²) are carried
+        # by the edges: the sheet's momentum hardly changes.
+        fine = copy.deepcopy(m)
+        fine["output"].update(interval=5.0e-4, fields=False)
+        pf, out_fine, _ = run("explicit-fine", fine)
+        tail = [r for r in csv.DictReader(open(os.path.join(out_fine, "history.csv")))
+                if pf.returncode == 0 and float(r["time"]) >= 0.75]
+        push = sum(float(r["fz"]) for r in tail) / max(len(tail), 1)
+        held = sum(float(r["rz"]) for r in tail) / max(len(tail), 1)
+        check(len(tail) > 400 and abs(push + 9.81 - held) < 0.01 * push,
+              f"{kind}: the edges carry the ball's push over the last quarter (mean push {push:.4g} N, "
+              f"mean reaction {held:.4g} N, {len(tail)} samples)")
     check(abs(float(last["bz"]) - 0.2505) < 1e-12, "the ball's centre followed its motion")
     rows = list(csv.DictReader(open(os.path.join(out, "history.csv"))))
     check(abs(float(rows[2]["vz"]) + (0.052 if kind == "explicit" else 0.05)) < 1e-6,

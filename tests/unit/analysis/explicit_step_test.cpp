@@ -89,7 +89,9 @@ TEST(ExplicitStep, AStiffeningSheetBlowsUpOnTheStartStepAndHoldsOnTheCurrentOne)
       "evaluations over %d steps\n",
       x.first, x.last, x.smallest, x.largest, x.estimates, x.evaluations, r.loop.steps);
   EXPECT_LT(x.smallest, 0.9 * x.largest);  // the sheet stiffened, the step followed
-  EXPECT_DOUBLE_EQ(x.largest, 0.9 * x.first);
+  // safety x the estimate, rounded down to the step grid (512 per octave)
+  EXPECT_LE(x.largest, 0.9 * x.first);
+  EXPECT_GT(x.largest, 0.9 * x.first * std::exp2(-1.0 / 512));
   // At every check while the estimate moves, at every fourth at least.
   EXPECT_GE(x.estimates, r.loop.steps / (4 * kExplicitCheckInterval));
   EXPECT_LE(x.estimates, r.loop.steps / kExplicitCheckInterval + 1);
