@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "unit_square.hpp"
 #include "velum/analysis/analysis.hpp"
 #include "velum/analysis/plausibility.hpp"
 #include "velum/material/linear_sheet_law.hpp"
@@ -14,6 +15,9 @@
 
 namespace velum {
 namespace {
+
+using test::explicit_run;
+using test::pressurised_square;
 
 // One tri3 (E t = 1 N/m, ρ t = 1 kg/m²: a wave speed of 1 m/s) with nodes 1 and 2 fixed and
 // node 3 free in its plane, thrown at `velocity`.
@@ -29,45 +33,6 @@ Model thrown_triangle(const Vec3& velocity) {
   m.fixed.push_back({{0, 1}, {true, true, true}});
   m.fixed.push_back({{2}, {false, false, true}});
   m.initial_velocities.push_back({{2}, velocity});
-  return m;
-}
-
-AnalysisSettings explicit_run(double t_end, double step = 1.0) {
-  AnalysisSettings s;
-  s.type = AnalysisSettings::Type::kDynamic;
-  s.scheme = "central-difference";
-  s.time.step = step;  // capped at the stable step's fraction
-  s.time.t_end = t_end;
-  return s;
-}
-
-// A square of 4 x 4 quad4 (1 m, E t = 1 MN/m) clamped at its edges under a follower
-// pressure, with or without prestress.
-Model pressurised_square(double pressure, double prestress) {
-  Model m;
-  const int n = 4;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      m.add_node(j * (n + 1) + i + 1, Vec3(double(i) / n, double(j) / n, 0));
-  std::vector<int> conn, edge;
-  auto id = [&](int i, int j) { return j * (n + 1) + i; };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i)
-      conn.insert(conn.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      if (i == 0 || j == 0 || i == n || j == n) edge.push_back(id(i, j));
-  LinearSheetLaw law(PlaneStressLaw::isotropic("film", 1e9, 0.3));
-  if (prestress != 0) law.with_prestress(Vec3(prestress, prestress, 0));
-  BlockSetupReport report;
-  m.blocks.push_back(make_membrane_block("quad4", "sheet", std::move(conn), m.X, law, 1000.0, 1e-3,
-                                         nullptr, shape::Integration::kGauss, report));
-  m.fixed.push_back({edge, {true, true, true}});
-  PressureLoad p;
-  p.block = 0;
-  p.value = pressure;
-  for (int e = 0; e < 16; ++e) p.elements.push_back(e);
-  m.pressures.push_back(std::move(p));
   return m;
 }
 

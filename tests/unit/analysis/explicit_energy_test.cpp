@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "unit_square.hpp"
 #include "velum/analysis/analysis.hpp"
 #include "velum/material/linear_sheet_law.hpp"
 #include "velum/model/model.hpp"
@@ -18,46 +19,29 @@
 namespace velum {
 namespace {
 
+using test::explicit_run;
+
 // A square of n x n quad4 (1 m, E t = 1 MN/m, ρ t = 1 kg/m²) clamped at its edges, prestressed
 // to 1 kN/m both ways, with or without the tension field; no load. Its inner nodes start at
 // `velocity` times sin πx sin πy (zero: at rest).
 Model prestressed_square(int n, const Vec3& velocity, bool wrinkling) {
   Model m;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      m.add_node(j * (n + 1) + i + 1, Vec3(double(i) / n, double(j) / n, 0));
-  std::vector<int> conn, edge, inner;
-  auto id = [&](int i, int j) { return j * (n + 1) + i; };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i)
-      conn.insert(conn.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      (i == 0 || j == 0 || i == n || j == n ? edge : inner).push_back(id(i, j));
+  test::UnitSquare sq = test::add_unit_square(m, n);
   LinearSheetLaw law(PlaneStressLaw::isotropic("film", 1e9, 0.3));
   law.with_prestress(Vec3(1e6, 1e6, 0));
   if (wrinkling) law.with_wrinkling();
   BlockSetupReport report;
-  m.blocks.push_back(make_membrane_block("quad4", "sheet", std::move(conn), m.X, law, 1000.0, 1e-3,
-                                         nullptr, shape::Integration::kGauss, report));
-  m.fixed.push_back({edge, {true, true, true}});
+  m.blocks.push_back(make_membrane_block("quad4", "sheet", std::move(sq.conn), m.X, law, 1000.0,
+                                         1e-3, nullptr, shape::Integration::kGauss, report));
+  m.fixed.push_back({sq.edge, {true, true, true}});
   // A smooth profile, sin πx sin πy times `velocity` (mostly the first mode: the central
   // difference's energy error is (ω h)² small there).
   if (velocity.squaredNorm() > 0)
-    for (int node : inner)
+    for (int node : sq.inner)
       m.initial_velocities.push_back({{node},
                                       velocity * std::sin(std::numbers::pi * m.X(0, node)) *
                                           std::sin(std::numbers::pi * m.X(1, node))});
   return m;
-}
-
-AnalysisSettings explicit_run(double t_end) {
-  AnalysisSettings s;
-  s.type = AnalysisSettings::Type::kDynamic;
-  s.scheme = "central-difference";
-  s.time.step = 1.0;  // capped at the stable step's fraction
-  s.time.t_end = t_end;
-  return s;
 }
 
 struct Outcome {

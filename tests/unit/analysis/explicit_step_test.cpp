@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "unit_square.hpp"
 #include "velum/analysis/analysis.hpp"
 #include "velum/material/linear_sheet_law.hpp"
 #include "velum/model/model.hpp"
@@ -12,44 +13,8 @@
 namespace velum {
 namespace {
 
-AnalysisSettings explicit_run(double t_end, double step = 1.0) {
-  AnalysisSettings s;
-  s.type = AnalysisSettings::Type::kDynamic;
-  s.scheme = "central-difference";
-  s.time.step = step;  // capped at the stable step's fraction
-  s.time.t_end = t_end;
-  return s;
-}
-
-// A square of 4 x 4 quad4 (1 m, E t = 1 MN/m, ρ t = 1 kg/m²) clamped at its edges under a
-// follower pressure, without prestress: flat, it is stiff in its plane only; pressed out, its
-// membrane strain stiffens it.
-Model pressed_square(double pressure) {
-  Model m;
-  const int n = 4;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      m.add_node(j * (n + 1) + i + 1, Vec3(double(i) / n, double(j) / n, 0));
-  std::vector<int> conn, edge;
-  auto id = [&](int i, int j) { return j * (n + 1) + i; };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i)
-      conn.insert(conn.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      if (i == 0 || j == 0 || i == n || j == n) edge.push_back(id(i, j));
-  LinearSheetLaw law(PlaneStressLaw::isotropic("film", 1e9, 0.3));
-  BlockSetupReport report;
-  m.blocks.push_back(make_membrane_block("quad4", "sheet", std::move(conn), m.X, law, 1000.0, 1e-3,
-                                         nullptr, shape::Integration::kGauss, report));
-  m.fixed.push_back({edge, {true, true, true}});
-  PressureLoad p;
-  p.block = 0;
-  p.value = pressure;
-  for (int e = 0; e < 16; ++e) p.elements.push_back(e);
-  m.pressures.push_back(std::move(p));
-  return m;
-}
+using test::explicit_run;
+using test::pressurised_square;
 
 TEST(ExplicitStep, AStiffeningSheetBlowsUpOnTheStartStepAndHoldsOnTheCurrentOne) {
   // 4e5 Pa ramped over the run presses the square out until its membrane strain stiffens it
@@ -60,7 +25,7 @@ TEST(ExplicitStep, AStiffeningSheetBlowsUpOnTheStartStepAndHoldsOnTheCurrentOne)
   // applied at once instead, ExplicitChecks.ABlowUpFailsTheRunWithinTheInterval, swings the
   // sheet through flat, compressed states whose stiffness changes by more than the safety
   // factor's margin within one check interval: there the re-estimated step blows up too.)
-  Model m = pressed_square(4e5);
+  Model m = pressurised_square(4e5, 0);
   TimeFunction ramp;
   ramp.kind = TimeFunction::Kind::kRamp;
   ramp.duration = 1.0;
@@ -160,7 +125,7 @@ TEST(ExplicitStep, MassScalingAddsTheMassComputedByHandAndReachesTheTarget) {
 TEST(ExplicitStep, MassScalingThatAddsNothingChangesNoBit) {
   // A target below every node's own step adds nothing: the run is the run without the option,
   // to the bit (and that one is the run as before the option: nothing of it runs).
-  const Model m = pressed_square(100);
+  const Model m = pressurised_square(100, 0);
   auto run = [&](double target, std::vector<VecX>& states) {
     MechanicalSystem sys(m);
     AnalysisSettings s = explicit_run(0.02);

@@ -7,6 +7,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
+#include "unit_square.hpp"
 #include "velum/analysis/mechanical_system.hpp"
 #include "velum/material/linear_sheet_law.hpp"
 #include "velum/model/model.hpp"
@@ -20,29 +21,18 @@ namespace {
 // across its middle row of nodes, stiffer along its line than the sheet.
 Model anisotropic_sheet() {
   Model m;
-  const int n = 3;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      m.add_node(j * (n + 1) + i + 1, Vec3(double(i) / n, double(j) / n, 0));
-  auto id = [&](int i, int j) { return j * (n + 1) + i; };
-  std::vector<int> conn, edge;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i)
-      conn.insert(conn.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      if (i == 0 || j == 0 || i == n || j == n) edge.push_back(id(i, j));
+  test::UnitSquare sq = test::add_unit_square(m, 3);
   LinearSheetLaw law(PlaneStressLaw::fibers(
       "fabric",
       {{.E = 3e9, .angle_deg = 25}, {.E = 1e9, .angle_deg = 115}, {.E = 0.4e9, .angle_deg = 70}}));
   law.with_prestress(Vec3(2e6, 1e6, 0.3e6));
   BlockSetupReport report;
-  m.blocks.push_back(make_membrane_block("quad4", "sheet", std::move(conn), m.X, law, 1000.0, 1e-3,
-                                         nullptr, shape::Integration::kGauss, report));
-  m.blocks.push_back(make_cable_block("cable2", "line", {id(0, 1), id(1, 1), id(1, 1), id(2, 1)},
-                                      m.X, CableLaw{.E = 1e11, .S0 = 1e7}, 7800.0, 1e-5,
-                                      shape::Integration::kGauss, report));
-  m.fixed.push_back({edge, {true, true, true}});
+  m.blocks.push_back(make_membrane_block("quad4", "sheet", std::move(sq.conn), m.X, law, 1000.0,
+                                         1e-3, nullptr, shape::Integration::kGauss, report));
+  m.blocks.push_back(make_cable_block(
+      "cable2", "line", {sq.id(0, 1), sq.id(1, 1), sq.id(1, 1), sq.id(2, 1)}, m.X,
+      CableLaw{.E = 1e11, .S0 = 1e7}, 7800.0, 1e-5, shape::Integration::kGauss, report));
+  m.fixed.push_back({sq.edge, {true, true, true}});
   return m;
 }
 
