@@ -10,10 +10,8 @@
 #include <iostream>
 
 #include "crossing_strips.hpp"
+#include "pure_newton_run.hpp"
 #include "velum/analysis/mechanical_system.hpp"
-#include "velum/solve/linear_solver.hpp"
-#include "velum/time/integrators.hpp"
-#include "velum/time/time_loop.hpp"
 
 namespace velum {
 namespace {
@@ -33,25 +31,12 @@ Slide run_slide(double mu, double slide) {
   Model& m = *mp;
   MechanicalSystem sys(m);
   State s = test::state_from(sys, NodePositions::Zero(3, m.num_nodes()));
-  sys.start_loads(0, s.u, s.v);
-  StaticNewton integrator;
-  integrator.newton.reuse_tangent = false;  // pure Newton: the residuals show the tangent
-  auto solver = make_linear_solver(SolverKind::kAuto);
-  TimeLoopSettings loop;
-  loop.t0 = 0, loop.t_end = 2, loop.step = 0.1;
+  const test::PureNewtonRun run = test::pure_newton_run(sys, s, 2, 0.1, 1.1);
   Slide out;
-  const TimeLoopResult r =
-      run_time_loop(sys, integrator, *solver, loop, s, [&](const AcceptedStep& st, const State& c) {
-        sys.accept(st.t, c.u, c.v);
-        out.residuals = st.report->residuals;
-        if (std::abs(st.t - 1.1) < 1e-9) out.first = out.residuals;
-        return true;
-      });
-  out.completed = r.completed;
-  if (!r.completed) {
-    std::cout << "not completed: " << r.reason << "\n";
-    return out;
-  }
+  out.completed = run.completed;
+  out.first = run.first;
+  out.residuals = run.last;
+  if (!run.completed) return out;
   const NodePositions x = m.X + sys.displacements(2, s.u);
   // The force on the upper strip from the lower one: minus its supports' reactions and its
   // point loads (its own forces balance).

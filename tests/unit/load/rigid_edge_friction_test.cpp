@@ -9,11 +9,9 @@
 #include <cmath>
 #include <iostream>
 
+#include "pure_newton_run.hpp"
 #include "term_forces.hpp"
 #include "velum/analysis/mechanical_system.hpp"
-#include "velum/solve/linear_solver.hpp"
-#include "velum/time/integrators.hpp"
-#include "velum/time/time_loop.hpp"
 #include "wedge_strip.hpp"
 
 namespace velum {
@@ -117,25 +115,12 @@ Slide run_slide(double mu, double slide) {
   add_contact(*m, test::wedge(-1e-3), mu);
   MechanicalSystem sys(*m);
   State s = test::state_from(sys, NodePositions::Zero(3, m->num_nodes()));
-  sys.start_loads(0, s.u, s.v);
-  StaticNewton integrator;
-  integrator.newton.reuse_tangent = false;  // pure Newton: the residuals show the tangent
-  auto solver = make_linear_solver(SolverKind::kAuto);
-  TimeLoopSettings loop;
-  loop.t0 = 0, loop.t_end = 2, loop.step = 0.1;
+  const test::PureNewtonRun run = test::pure_newton_run(sys, s, 2, 0.1, 1.1);
   Slide out;
-  const TimeLoopResult r =
-      run_time_loop(sys, integrator, *solver, loop, s, [&](const AcceptedStep& st, const State& c) {
-        sys.accept(st.t, c.u, c.v);
-        out.last = st.report->residuals;
-        if (std::abs(st.t - 1.1) < 1e-9) out.first = out.last;
-        return true;
-      });
-  out.completed = r.completed;
-  if (!r.completed) {
-    std::cout << "not completed: " << r.reason << "\n";
-    return out;
-  }
+  out.completed = run.completed;
+  out.first = run.first;
+  out.last = run.last;
+  if (!run.completed) return out;
   const NodePositions x = m->X + sys.displacements(2, s.u);
   const VecX f = term_forces(sys, kLastTerm, s.u, nullptr);
   NodePositions F = NodePositions::Zero(3, m->num_nodes());
