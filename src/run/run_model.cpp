@@ -23,6 +23,9 @@
 // Present when the BLAS behind SuiteSparse is OpenBLAS (Debian's alternatives), absent (null)
 // with the reference BLAS.
 extern "C" void openblas_set_num_threads(int) __attribute__((weak));
+// OpenBLAS's own (the function it registers for fork): ends its worker threads; a later
+// openblas_set_num_threads starts them again.
+extern "C" void blas_thread_shutdown_() __attribute__((weak));
 
 namespace velum::run {
 namespace {
@@ -98,6 +101,11 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   // than cores they spin against ours (a small model's run spent most of its time in the
   // kernel). Give BLAS the same count as OpenMP.
   if (openblas_set_num_threads) openblas_set_num_threads(omp_get_max_threads());
+  // On one thread OpenBLAS never hands work to its workers, which it started when it was
+  // loaded and which spin (sched_yield) for 2^28 clock ticks (about 0.1 s) before they sleep:
+  // CPU of another core that a one-thread run would pay for. Ended here.
+  if (omp_get_max_threads() == 1 && openblas_set_num_threads && blas_thread_shutdown_)
+    blas_thread_shutdown_();
   if (opt.output) input.output.directory = *opt.output;
   out.directory = input.output.directory;
   if (!input.steps.empty()) return run_staged(input, opt);  // staged_run.cpp

@@ -32,9 +32,13 @@ class SymmetryCheck {
   bool symmetric(const SparseMatrix& A) {
     if (!structural_) return false;
     if (static_cast<Eigen::Index>(partner_.size()) == A.nonZeros()) return mapped_check(A);
-    const double* v = A.valuePtr();
-    double vmax = 0;
-    for (Eigen::Index k = 0; k < A.nonZeros(); ++k) vmax = std::max(vmax, std::abs(v[k]));
+    // Eigen's maximum vectorises (a loop of std::max carries its result from entry to entry);
+    // PropagateNumbers skips a NaN as std::max(vmax, NaN) did.
+    const Eigen::Index nnz = A.nonZeros();
+    const double vmax = nnz > 0 ? Eigen::Map<const Eigen::ArrayXd>(A.valuePtr(), nnz)
+                                      .abs()
+                                      .template maxCoeff<Eigen::PropagateNumbers>()
+                                : 0.0;
     if (!(vmax > 0) || !std::isfinite(vmax)) return asymmetry(A) <= kTolerance;  // the full walk
     double dmax = 0, unused = 0;
     return walk(A, dmax, unused, kTolerance * vmax) && dmax <= kTolerance * vmax;
