@@ -1,5 +1,5 @@
 // A bounding-volume hierarchy (axis-aligned boxes) over the faces of a contact surface: built
-// top-down once, refitted bottom-up to the faces' moved boxes at every evaluation, and asked
+// top-down once, refitted bottom-up to the faces' moved boxes at each search, and asked
 // for the faces whose box holds a point (docs/contact.md, "Search"). Queries allocate nothing.
 #pragma once
 

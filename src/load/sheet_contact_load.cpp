@@ -1,6 +1,7 @@
 // Sheet–sheet and self contact (sheet_contact.hpp, docs/contact.md "Sheets"): every node of a
 // set against the triangles (quads split in two) of the other set, or of its own set outside
-// its two rings of elements, found through a box tree refitted at every evaluation; the pair's
+// its two rings of elements, found among candidates that a box tree gave with a skin (kept
+// until a node has moved past half of it) by exact tests at every evaluation; the pair's
 // penalty force of face_contact.hpp. Its 12 x 12 matrix goes into K as node blocks: the
 // node's and the face's are in the mesh's pattern, the node–face coupling in the couplings
 // the term declares (update_couplings), which the system adds to the pattern.
@@ -158,45 +159,146 @@ SheetContactTerm::SheetContactTerm(const SheetContact& load, const LoadSite& sit
       edge_grow_ =
           std::max(edge_grow_, 0.5 * (site.model.X.col(e.b) - site.model.X.col(e.a)).norm());
   }
-  refit(site.model.X);
-  for (int w = 0; w < 2; ++w) tree_[static_cast<size_t>(w)].build(boxes_[static_cast<size_t>(w)]);
+  // The skin: the least node contact thickness (a quarter of the least contact distance
+  // between a node and a face may be crossed before a new candidate search), at most a tenth of
+  // the least element size (the candidates grow with it).
+  skin_ = std::numeric_limits<double>::infinity();
+  for (const Pass& p : load.passes)
+    for (size_t i = 0; i < p.nodes.size(); ++i)
+      skin_ = std::min({skin_, p.half[i], 0.1 * p.size[i]});
+  if (!(skin_ < std::numeric_limits<double>::infinity())) skin_ = 0;
+  candidate_start_.assign(slots + 1, 0);
+  x_candidates_.resize(slots);
+  for (size_t w = 0; w < 2; ++w) {
+    search_boxes_[w].resize(load.faces[w].size());
+    for (size_t f = 0; f < load.faces[w].size(); ++f)
+      search_boxes_[w][f] = face_box(site.model.X, load.faces[w][f], skin_);
+    tree_[w].build(search_boxes_[w]);
+  }
 }
 
-void SheetContactTerm::refit(const NodePositions& x) {
+contact::Box SheetContactTerm::face_box(const NodePositions& x, const Face& f, double skin) const {
+  // A node the search keeps is within reach of the face's plane (|g| < r) and projects inside
+  // the face up to the barycentric slack: inside the face's prism ±r along its normal, grown
+  // by the slack. Its box: the box of the face moved by ±r n (the reach along the normal
+  // only: a flat sheet's faces then overlap their neighbours' boxes by the slack, not by an
+  // element, and a query meets a few faces instead of tens).
+  const Vec3 a = x.col(f.n[0]), bb = x.col(f.n[1]), c = x.col(f.n[2]);
+  contact::Box b(a);
+  b.extend(bb);
+  b.extend(c);
+  const double r = f.half + reach_ + margin_, size = b.sizes().maxCoeff();
+  const Vec3 m = (bb - a).cross(c - a);
+  const double area2 = m.norm();
+  if (skin > 0) {
+    // Every corner moved at most δ/2: the box's sides by δ/2, its largest size (the slack) by
+    // δ, m by |Δm| ≤ δ (|b − a| + |c − a|) + δ², the unit normal by 2 |Δm| / |m|; the node
+    // by δ/2. Padded by round-off.
+    const double turn = area2 > 0
+                            ? 2 * (skin * ((bb - a).norm() + (c - a).norm()) + skin * skin) / area2
+                            : std::numeric_limits<double>::infinity();
+    const double grow =
+        2 * kInside * (size + skin) + skin + 1e-9 * (r + size) +
+        1e-13 * std::max(b.min().cwiseAbs().maxCoeff(), b.max().cwiseAbs().maxCoeff());
+    for (int j = 0; j < 3; ++j) {
+      const double d = area2 > 0 ? std::min(r, r * (std::abs(m[j]) / area2 + turn)) : r;
+      b.min()[j] -= d + grow;
+      b.max()[j] += d + grow;
+    }
+    return b;
+  }
+  const double slack = 2 * kInside * size;
+  if (area2 > 0) {
+    const Vec3 d = (r / area2) * m.cwiseAbs();
+    b.min() -= d;
+    b.max() += d;
+    b.min().array() -= slack;
+    b.max().array() += slack;
+  } else {  // degenerate: every direction
+    b.min().array() -= r + slack;
+    b.max().array() += r + slack;
+  }
+  return b;
+}
+
+void SheetContactTerm::fit_boxes(const NodePositions& x) {
   for (size_t w = 0; w < 2; ++w) {
     const auto& fs = load_.faces[w];
-    for (size_t f = 0; f < fs.size(); ++f) {
-      // A node the search keeps is within reach of the face's plane (|g| < r) and projects
-      // inside the face up to the barycentric slack: inside the face's prism ±r along its
-      // normal, grown by the slack. Its box: the box of the face moved by ±r n (the reach
-      // along the normal only: a flat sheet's faces then overlap their neighbours' boxes by
-      // the slack, not by an element, and a query meets a few faces instead of tens).
-      const Vec3 a = x.col(fs[f].n[0]), bb = x.col(fs[f].n[1]), c = x.col(fs[f].n[2]);
-      contact::Box b(a);
-      b.extend(bb);
-      b.extend(c);
-      const double r = fs[f].half + reach_ + margin_, slack = 2 * kInside * b.sizes().maxCoeff();
-      const Vec3 m = (bb - a).cross(c - a);
-      const double area2 = m.norm();
-      if (area2 > 0) {
-        const Vec3 d = (r / area2) * m.cwiseAbs();
-        b.min() -= d;
-        b.max() += d;
-        b.min().array() -= slack;
-        b.max().array() += slack;
-      } else {  // degenerate: every direction
-        b.min().array() -= r + slack;
-        b.max().array() += r + slack;
-      }
-      boxes_[w][f] = b;
-    }
-    if (!tree_[w].empty()) tree_[w].refit(boxes_[w]);
+    const long faces = static_cast<long>(fs.size());
+#pragma omp parallel for schedule(static) if (faces > kParallelSearch)
+    for (long f = 0; f < faces; ++f)
+      boxes_[w][static_cast<size_t>(f)] = face_box(x, fs[static_cast<size_t>(f)], 0.0);
   }
+}
+
+bool SheetContactTerm::moved_past_skin(const NodePositions& x) const {
+  double most = 0;
+  for (size_t p = 0; p < load_.passes.size(); ++p) {
+    const Pass& pass = load_.passes[p];
+    const long nodes = static_cast<long>(pass.nodes.size());
+#pragma omp parallel for schedule(static) reduction(max : most) if (nodes > kParallelSearch)
+    for (long i = 0; i < nodes; ++i)
+      most = std::max(most, (x.col(pass.nodes[static_cast<size_t>(i)]) -
+                             x_candidates_[slot(p, static_cast<size_t>(i))])
+                                .squaredNorm());
+  }
+  return most > 0.25 * skin_ * skin_;
+}
+
+void SheetContactTerm::find_candidates(const NodePositions& x) {
+  for (size_t w = 0; w < 2; ++w) {
+    const auto& fs = load_.faces[w];
+    const long faces = static_cast<long>(fs.size());
+#pragma omp parallel for schedule(static) if (faces > kParallelSearch)
+    for (long f = 0; f < faces; ++f)
+      search_boxes_[w][static_cast<size_t>(f)] = face_box(x, fs[static_cast<size_t>(f)], skin_);
+    if (!tree_[w].empty()) tree_[w].refit(search_boxes_[w]);
+  }
+  // Two sweeps of queries, in parallel: each slot's count, then (after their running sum) its
+  // faces, so nothing is allocated per node.
+  for (int sweep = 0; sweep < 2; ++sweep) {
+    for (size_t p = 0; p < load_.passes.size(); ++p) {
+      const Pass& pass = load_.passes[p];
+      const auto& fs = load_.faces[static_cast<size_t>(pass.faces)];
+      const contact::FaceTree& tree = tree_[static_cast<size_t>(pass.faces)];
+      const long nodes = static_cast<long>(pass.nodes.size());
+#pragma omp parallel for schedule(dynamic, 256) if (nodes > kParallelSearch)
+      for (long ii = 0; ii < nodes; ++ii) {
+        const size_t i = static_cast<size_t>(ii), k = slot(p, i);
+        const int n = pass.nodes[i];
+        const Vec3 y = x.col(n);
+        if (sweep == 0) {
+          int count = 0;
+          tree.query(y, [&](int f) { count += excluded(n, fs[static_cast<size_t>(f)]) ? 0 : 1; });
+          candidate_start_[k + 1] = count;
+          x_candidates_[k] = y;
+        } else {
+          int at = candidate_start_[k];
+          tree.query(y, [&](int f) {
+            if (!excluded(n, fs[static_cast<size_t>(f)]))
+              candidates_[static_cast<size_t>(at++)] = f;
+          });
+        }
+      }
+    }
+    if (sweep == 0) {
+      candidate_start_[0] = 0;
+      for (size_t k = 0; k + 1 < candidate_start_.size(); ++k)
+        candidate_start_[k + 1] += candidate_start_[k];
+      candidates_.resize(static_cast<size_t>(candidate_start_.back()));
+    }
+  }
+  have_candidates_ = true;
+  ++candidate_searches_;
 }
 
 void SheetContactTerm::search(const NodePositions& x) {
   searched_at_ = nullptr;  // hits_ now from x
-  refit(x);
+  // The candidates of the last candidate search while no node has moved past half the skin
+  // since (they hold every face the search below can keep), else new ones; the exact tests
+  // (the face's box at x, the projection, the reach) run on them at every evaluation.
+  if (!have_candidates_ || moved_past_skin(x)) find_candidates(x);
+  fit_boxes(x);
   hits_.resize(pairs_.size());
   for (size_t p = 0; p < load_.passes.size(); ++p) {
     const Pass& pass = load_.passes[p];
@@ -220,26 +322,29 @@ void SheetContactTerm::search(const NodePositions& x) {
         const Face& wf = fs[static_cast<size_t>(was.face)];
         was_normal = (x.col(wf.n[1]) - x.col(wf.n[0])).cross(x.col(wf.n[2]) - x.col(wf.n[0]));
       }
-      tree_[static_cast<size_t>(pass.faces)].query(y, [&](int f) {
+      const auto& boxes = boxes_[static_cast<size_t>(pass.faces)];
+      for (int q = candidate_start_[k]; q < candidate_start_[k + 1]; ++q) {
+        const int f = candidates_[static_cast<size_t>(q)];
+        if (!boxes[static_cast<size_t>(f)].contains(y)) continue;
         const Face& face = fs[static_cast<size_t>(f)];
-        if (excluded(n, face)) return;
         const Vec3 a = x.col(face.n[0]), b = x.col(face.n[1]), c = x.col(face.n[2]);
         const Vec2 xi = contact::plane_coordinates(y, a, b, c);
-        if (xi[0] < -kInside || xi[1] < -kInside || xi.sum() > 1 + kInside) return;
+        if (xi[0] < -kInside || xi[1] < -kInside || xi.sum() > 1 + kInside) continue;
         const Vec3 m = (b - a).cross(c - a);
         const double g = (y - a).dot(m) / m.norm();
         double side = g >= 0 ? 1.0 : -1.0;
         if (was.face >= 0) side = m.dot(was_normal) >= 0 ? was.side : -was.side;
         // Within reach: the contact distance and, behind the face, an element more.
         const double reach = pass.half[i] + face.half + margin_;
-        if (std::abs(g) >= reach) return;
+        if (std::abs(g) >= reach) continue;
         // The face of the last accepted state while it still holds the node's projection
-        // (the residual then stays smooth through a step), else the nearest.
+        // (the residual then stays smooth through a step), else the nearest, of two as near
+        // the lower index (the pair does not depend on the candidates' order).
         if (f == was.face)
           best = f, best_g = g, best_side = side, best_abs = -1;
-        else if (std::abs(g) < best_abs)
+        else if (std::abs(g) < best_abs || (std::abs(g) == best_abs && f < best))
           best = f, best_g = g, best_side = side, best_abs = std::abs(g);
-      });
+      }
       hits_[k] = {best, best_side, best_g};
     }
   }

@@ -186,6 +186,9 @@ class SheetContactTerm final : public LoadTerm {
     return contact::penetration_check(penetration_ratio_, fmt::format("contact {}", load_.index),
                                       "through a face, past the contact thickness", warn);
   }
+  // The candidate searches (the trees' queries) made since construction; the other
+  // evaluations reused the last one's candidates.
+  int candidate_searches() const { return candidate_searches_; }
   std::string account_json() const override {
     return fmt::format(
         "{{\"contact\": {}, \"sheets\": true, \"self\": {}, \"penalty\": [{:.6g}, {:.6g}], "
@@ -226,7 +229,21 @@ class SheetContactTerm final : public LoadTerm {
     }
     return false;
   }
-  void refit(const NodePositions& x);
+  // Face f's box at x (docs/contact.md "Search"): a node that the search keeps is inside it.
+  // With skin δ > 0, a box that also holds any such node after every node has moved at most
+  // δ/2: grown by δ (the face's corners and the node), the slack's growth and the turn of the
+  // face's normal that such moves allow (|Δn̂| ≤ 2 |Δm| / |m|, m the face's doubled area
+  // vector), so the faces it finds are candidates for every evaluation until a node has moved
+  // more than δ/2.
+  contact::Box face_box(const NodePositions& x, const Face& f, double skin) const;
+  // The faces' boxes at x (no skin) into boxes_, for the exact test of every evaluation.
+  void fit_boxes(const NodePositions& x);
+  // The candidates at x: the trees refitted to the faces' boxes grown by skin_, each slot's
+  // faces (outside its excluded rings) into candidates_, and x kept as x_candidates_.
+  void find_candidates(const NodePositions& x);
+  // Whether some node of the passes (they hold every face's corners) is more than skin_/2
+  // from where the last candidate search saw it.
+  bool moved_past_skin(const NodePositions& x) const;
   // Edge pairs: calls found(i, j, X, pair, thickness) for every pair of a first-list edge i
   // and a second-list edge j (self: j > i) away from each other's rings whose closest points
   // lie inside both and within reach; `pair` the state it had at the last accepted state (a
@@ -355,7 +372,16 @@ class SheetContactTerm final : public LoadTerm {
   const double* searched_at_ = nullptr;
   std::vector<double> node_status_;  ///< per model node: 0 open, 1 stick, 2 slip (accepted)
   std::array<contact::FaceTree, 2> tree_;
-  std::array<std::vector<contact::Box>, 2> boxes_;
+  std::array<std::vector<contact::Box>, 2> boxes_;  ///< the faces' boxes at the evaluation
+  // The candidates (a Verlet list): the trees' boxes grown by the skin, per slot its faces
+  // (slot k's: candidates_[candidate_start_[k]] up to candidate_start_[k + 1]) and the nodes'
+  // positions at the last candidate search (per slot).
+  std::array<std::vector<contact::Box>, 2> search_boxes_;
+  std::vector<int> candidate_start_, candidates_;
+  std::vector<Vec3> x_candidates_;
+  bool have_candidates_ = false;
+  int candidate_searches_ = 0;
+  double skin_ = 0;    ///< δ: the least node contact thickness, at most a tenth of an element
   double reach_ = 0;   ///< the largest node contact thickness
   double margin_ = 0;  ///< how far a node is followed past its contact distance (an element)
   int steps_ = 0, initial_count_ = 0, active_accepted_ = 0;

@@ -12,6 +12,7 @@
 
 #include "crossing_strips.hpp"
 #include "load/edge_contact.hpp"
+#include "reused_candidates.hpp"
 #include "term_forces.hpp"
 #include "velum/analysis/mechanical_system.hpp"
 #include "velum/solve/linear_solver.hpp"
@@ -134,6 +135,16 @@ void check_term_matrix(double mu, double shift, contact::Status status, const ch
     ++touching;
   }
   EXPECT_EQ(touching, 8) << what;  // both long edges of each strip's middle element
+}
+
+// The anisotropic crossing strips 0.3 mm into the contact distance, with their edge pairs
+// (searched at every evaluation): the node-to-face candidates reused (skin 0.5 mm) give a
+// fresh search's forces and matrix.
+TEST(EdgeContact, ReusedCandidatesGiveAFreshSearchsForcesAndMatrix) {
+  test::CrossingStrips o;
+  o.z0 = 0.7e-3, o.held = test::CrossingStrips::Held::kEndsHeld;
+  auto m = test::crossing_strips(o);
+  test::check_reused_candidates(*m, 2e-4, 2e-3, "crossing strips");
 }
 
 TEST(EdgeContact, TermMatrixMatchesFiniteDifferences) {

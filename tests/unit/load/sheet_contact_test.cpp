@@ -12,6 +12,7 @@
 #include "../../verification/model_builders.hpp"
 #include "load/face_contact.hpp"
 #include "load/face_tree.hpp"
+#include "reused_candidates.hpp"
 #include "term_forces.hpp"
 #include "velum/analysis/mechanical_system.hpp"
 #include "velum/load/contact_load.hpp"
@@ -264,6 +265,12 @@ TEST(SheetContact, TermMatrixMatchesFiniteDifferences) {
   check_term_matrix(*ts.m, 1e-4, "two sheets");
 }
 
+// The skin 0.5 mm (the least contact thickness): moves of 0.2 mm reuse the candidates.
+TEST(SheetContact, ReusedCandidatesGiveAFreshSearchsForcesAndMatrix) {
+  TwoSheets ts = two_sheets(2e-4, 0);
+  test::check_reused_candidates(*ts.m, 2e-4, 2e-3, "two sheets");
+}
+
 TEST(SheetContact, InitialPenetrationsAreReportedAndRelaxed) {
   // The upper sheet starts 0.3 mm into the lower one's contact thickness.
   std::vector<double> first_residual;
@@ -391,6 +398,12 @@ void check_fold(const Fold& f, MechanicalSystem& sys, const LoopRun& r, double c
 TEST(SheetContact, SelfTermMatrixMatchesFiniteDifferences) {
   Fold f = fold(0.01);
   check_term_matrix(*f.m, 1e-4, "fold (self)");
+}
+
+// The skin 1.8 mm (a tenth of the elements' size): moves of 0.8 mm reuse the candidates.
+TEST(SheetContact, SelfReusedCandidatesGiveAFreshSearchsForcesAndMatrix) {
+  Fold f = fold(0.01);
+  test::check_reused_candidates(*f.m, 8e-4, 5e-3, "fold (self)");
 }
 
 TEST(SheetContact, FoldedSheetKeepsItsLayersApartStatic) {
