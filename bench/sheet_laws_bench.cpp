@@ -172,7 +172,10 @@ void BM_LinearBlockPass(benchmark::State& state) {
   F << 1.08, 0.05, 0.0, -0.03, 0.97, 0.0, 0.02, 0.04, 1.0;
   const NodePositions x = F * X;
   std::vector<double> r(elements.size() * M::kDofs);
-  std::vector<double> K(tangent ? elements.size() * M::kDofs * M::kDofs : 0);
+  // Aligned as the assembler's buffer is (the block writes each element's matrix as a
+  // fixed-size Eigen matrix; a 16-byte aligned std::vector crashed on AVX-512 aligned stores).
+  std::vector<double, Eigen::aligned_allocator<double>> K(
+      tangent ? elements.size() * M::kDofs * M::kDofs : 0);
   for (auto _ : state) {
     block->internal(elements, x, r.data(), tangent ? K.data() : nullptr);
     benchmark::DoNotOptimize(r.data());
