@@ -98,17 +98,8 @@ TEST(EdgeFriction, EdgePairsGoThroughTheSavedState) {
   auto m = test::crossing_strips(o);
   MechanicalSystem a(*m), b(*m), c(*m);
   State s = test::state_from(a, NodePositions::Zero(3, m->num_nodes()));
-  a.start_loads(0, s.u, s.v);
-  StaticNewton integrator;
-  auto solver = make_linear_solver(SolverKind::kAuto);
-  TimeLoopSettings loop;
-  loop.t0 = 0, loop.t_end = 1.3, loop.step = 0.1;
-  const TimeLoopResult r =
-      run_time_loop(a, integrator, *solver, loop, s, [&](const AcceptedStep& st, const State& x) {
-        a.accept(st.t, x.u, x.v);
-        return true;
-      });
-  ASSERT_TRUE(r.completed) << r.reason;
+  const test::PureNewtonRun r = test::pure_newton_run(a, s, 1.3, 0.1, -1, false);
+  ASSERT_TRUE(r.completed);
   b.restore_load_state(a.save_load_state());
   c.start_loads(1.3, s.u, s.v);
   // A little further along the slide: the anchors of the last accepted state hold.

@@ -19,11 +19,12 @@ struct PureNewtonRun {
   std::vector<double> first, last;  ///< Newton's residuals at t_first, at the last step
 };
 
+/// pure_newton false: Newton as runs use it (the tangent reused where it converges).
 inline PureNewtonRun pure_newton_run(MechanicalSystem& sys, State& s, double t_end, double step,
-                                     double t_first) {
+                                     double t_first, bool pure_newton = true) {
   sys.start_loads(0, s.u, s.v);
   StaticNewton integrator;
-  integrator.newton.reuse_tangent = false;
+  if (pure_newton) integrator.newton.reuse_tangent = false;
   auto solver = make_linear_solver(SolverKind::kAuto);
   TimeLoopSettings loop;
   loop.t0 = 0, loop.t_end = t_end, loop.step = step;
