@@ -8,6 +8,7 @@
 #include "velum/parallel/processes.hpp"
 #include "velum/run/commands.hpp"
 #include "velum/run/fit_command.hpp"
+#include "velum/run/huge_page_heap.hpp"
 #include "velum/run/pattern_command.hpp"
 #include "velum/run/plot_command.hpp"
 #include "velum/run/seams_command.hpp"
@@ -23,8 +24,11 @@ struct ProcessesGuard {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // First: it may re-execute the program with OPENBLAS_CORETYPE set (blas_kernels.hpp).
+  // First: it may re-execute the program with OPENBLAS_CORETYPE set (blas_kernels.hpp), and
+  // with a huge-page heap asked of glibc (huge_page_heap.hpp): one restart carries both.
+  const bool huge_page_heap = velum::run::request_huge_page_heap();
   velum::choose_blas_kernels(argv);
+  if (huge_page_heap) velum::run::start_again(argv);
   velum::io::prepare_standard_streams();
   // Under mpirun every process runs this same program on the same model (docs/parallel.md).
   if (!velum::processes::start(&argc, &argv)) return velum::run::kExitBadInput;
