@@ -1,7 +1,7 @@
 // The node-to-face contact kernel of sheet–sheet and self contact (docs/contact.md): the gap of
 // a node x from the plane of a triangle (a, b, c), its gradient in the 12 coordinates and its
-// Hessian (the exact derivative of the closed-form gradient, by forward differentiation of
-// fixed size: allocation-free), and the penalty force and stiffness of the pair.
+// Hessian (both in closed form, fixed size: allocation-free), the penalty force and stiffness
+// of the pair, and its Coulomb friction (forward differentiation of fixed size).
 #pragma once
 
 #include <Eigen/Core>
@@ -40,23 +40,56 @@ Eigen::Matrix<T, 12, 1> plane_gap_gradient(const Eigen::Matrix<T, 12, 1>& X, T* 
   return G;
 }
 
-/// g, ∇g and ∇∇g at X.
+/// g, ∇g and ∇∇g at X, in closed form (docs/contact.md, "Force and tangent"): g depends on
+/// r = x − a, u = b − a, v = c − a only, and with M = |m|, P = I − n nᵀ, q = P r / M,
+/// S = n qᵀ + q nᵀ + (g / M) P and [w]× the cross-product matrix,
+///   ∂²g/∂r∂u = −P [v]× / M,  ∂²g/∂r∂v = P [u]× / M,  ∂²g/∂r² = 0,
+///   ∂²g/∂u² = [v]× S [v]× / M,  ∂²g/∂v² = [u]× S [u]× / M,  ∂²g/∂u∂v = −[v]× S [u]× / M − [q]×
+/// (from dn = P dm / M, dq = (P dr − S dm) / M, dm = −[v]× du + [u]× dv); a's rows and columns
+/// are minus the sums of the others' (a translation leaves g). A few 3 x 3 products instead of
+/// the forward differentiation of the 12-vector gradient that it replaces (the same to
+/// round-off: tests/unit/load/sheet_contact_test.cpp).
 inline double plane_gap(const Vec12& X, Vec12& grad, Mat12* hessian) {
-  if (!hessian) {
-    double g = 0;
-    grad = plane_gap_gradient<double>(X, &g);
-    return g;
+  const Vec3 x = X.segment<3>(0), a = X.segment<3>(3), b = X.segment<3>(6), c = X.segment<3>(9);
+  const Vec3 u = b - a, v = c - a, m = u.cross(v);
+  const double M = m.norm();
+  const Vec3 n = m / M, r = x - a;
+  const double g = r.dot(n);
+  const Vec3 q = (r - g * n) / M;
+  // The gradient as plane_gap_gradient's.
+  const Vec3 gc = q.cross(u), gb = -q.cross(v);
+  grad.segment<3>(0) = n;
+  grad.segment<3>(3) = -n - gb - gc;
+  grad.segment<3>(6) = gb;
+  grad.segment<3>(9) = gc;
+  if (!hessian) return g;
+  const Mat3 P = Mat3::Identity() - n * n.transpose();
+  const Mat3 S = n * q.transpose() + q * n.transpose() + (g / M) * P;
+  const Mat3 U = cross_matrix(u), V = cross_matrix(v);
+  const Mat3 SU = S * U, SV = S * V;
+  // The blocks in (r, u, v), which are x's, b's and c's.
+  Mat3 B[3][3];
+  B[0][0].setZero();
+  B[0][1] = -(P * V) / M;
+  B[0][2] = (P * U) / M;
+  B[1][1] = (V * SV) / M;
+  B[2][2] = (U * SU) / M;
+  B[1][2] = -(V * SU) / M - cross_matrix(q);
+  B[1][0] = B[0][1].transpose();
+  B[2][0] = B[0][2].transpose();
+  B[2][1] = B[1][2].transpose();
+  Mat12& H = *hessian;
+  constexpr int at[3] = {0, 6, 9};  // where r's, u's and v's coordinates are in X
+  Mat3 to_a = Mat3::Zero();         // ∂²g/∂a²: the sum of every block
+  for (int j = 0; j < 3; ++j) {
+    const Mat3 col = B[0][j] + B[1][j] + B[2][j];  // minus ∂²g/∂a ∂(r, u, v)_j
+    for (int i = 0; i < 3; ++i) H.block<3, 3>(at[i], at[j]) = B[i][j];
+    H.block<3, 3>(3, at[j]) = -col;
+    H.block<3, 3>(at[j], 3) = -col.transpose();
+    to_a += col;
   }
-  using AD = Eigen::AutoDiffScalar<Vec12>;
-  Eigen::Matrix<AD, 12, 1> Y;
-  for (int i = 0; i < 12; ++i) Y[i] = AD(X[i], 12, i);
-  AD g;
-  const Eigen::Matrix<AD, 12, 1> G = plane_gap_gradient<AD>(Y, &g);
-  for (int i = 0; i < 12; ++i) {
-    grad[i] = G[i].value();
-    hessian->row(i) = G[i].derivatives().transpose();
-  }
-  return g.value();
+  H.block<3, 3>(3, 3) = to_a;
+  return g;
 }
 
 /// The barycentric coordinates (of b and c) of x's projection on the plane of (a, b, c).

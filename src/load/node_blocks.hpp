@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 
 #include "velum/assembly/dof_map.hpp"
 
@@ -37,6 +38,75 @@ inline void subtract_node_block(const DofMap& dofs, int i, int j, const Mat3& D,
     }
     for (; a < 3; ++a)
       if (const int ri = rows[a]; ri >= 0 && A(a, b) != 0) K.coeffRef(ri, cj) += A(a, b);
+  }
+}
+
+// K −= D, the matrix ∂f/∂X of a pair over its N nodes (3 N coordinates, global axes), as the
+// N² node blocks subtract_node_block would add, with one search per pair of nodes instead of
+// one per column: the columns of a node's equations hold the same rows (the assembler's
+// pattern is built node by node), so where the row node's first entry sits in the first
+// column gives it in the others (checked, else searched); its equations are consecutive
+// rows there. Nodes with a frame of their own, and a matrix not compressed, take
+// subtract_node_block. The entries added are the same in the same order, so K's bits are
+// too.
+template <int N>
+void subtract_node_blocks(const DofMap& dofs, const std::array<int, N>& nodes,
+                          const Eigen::Matrix<double, 3 * N, 3 * N>& D, SparseMatrix& K) {
+  bool framed = false;
+  for (int n : nodes) framed = framed || dofs.frame(n) >= 0;
+  if (framed || !K.isCompressed()) {
+    for (int a = 0; a < N; ++a)
+      for (int b = 0; b < N; ++b)
+        subtract_node_block(dofs, nodes[static_cast<size_t>(a)], nodes[static_cast<size_t>(b)],
+                            D.template block<3, 3>(3 * a, 3 * b), K);
+    return;
+  }
+  const int* eq = dofs.equations();
+  const int* outer = K.outerIndexPtr();
+  const int* inner = K.innerIndexPtr();
+  double* values = K.valuePtr();
+  bool inserted = false;  // an entry was outside the pattern: K is no longer compressed
+  for (int b = 0; b < N; ++b) {
+    const int* cols = eq + 3 * nodes[static_cast<size_t>(b)];
+    for (int a = 0; a < N; ++a) {
+      const int* rows = eq + 3 * nodes[static_cast<size_t>(a)];
+      int first = 0;  // the row node's first component with an equation
+      while (first < 3 && rows[first] < 0) ++first;
+      if (first == 3) continue;
+      int offset = -1;  // where that row sits from the start of the node's columns
+      for (int cb = 0; cb < 3; ++cb) {
+        const int cj = cols[cb];
+        if (cj < 0) continue;
+        if (inserted) {  // outside the pattern before: the slow way, as subtract_node_block
+          for (int ca = first; ca < 3; ++ca)
+            if (const double d = D(3 * a + ca, 3 * b + cb); rows[ca] >= 0 && d != 0)
+              K.coeffRef(rows[ca], cj) -= d;
+          continue;
+        }
+        const int begin = outer[cj], end = outer[cj + 1];
+        int k = begin + offset;
+        if (offset < 0 || k >= end || inner[k] != rows[first])
+          k = static_cast<int>(std::lower_bound(inner + begin, inner + end, rows[first]) - inner);
+        offset = k - begin;
+        for (int ca = first; ca < 3; ++ca) {
+          const int ri = rows[ca];
+          if (ri < 0) continue;
+          if (k >= end || inner[k] != ri)
+            k = static_cast<int>(std::lower_bound(inner + begin, inner + end, ri) - inner);
+          const double d = D(3 * a + ca, 3 * b + cb);
+          if (k < end && inner[k] == ri) {
+            values[k++] -= d;
+          } else if (d != 0) {  // not in the pattern (see subtract_node_block): inserted
+            K.coeffRef(ri, cj) -= d;
+            inserted = true;
+            for (int cc = ca + 1; cc < 3; ++cc)  // the rest of this column
+              if (const double e = D(3 * a + cc, 3 * b + cb); rows[cc] >= 0 && e != 0)
+                K.coeffRef(rows[cc], cj) -= e;
+            break;
+          }
+        }
+      }
+    }
   }
 }
 
