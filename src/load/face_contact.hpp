@@ -40,7 +40,7 @@ Eigen::Matrix<T, 12, 1> plane_gap_gradient(const Eigen::Matrix<T, 12, 1>& X, T* 
   return G;
 }
 
-/// g, ∇g and ∇∇g at X, in closed form (docs/contact.md, "Force and tangent"): g depends on
+/// ∇∇g at X (g: the gap there), in closed form (docs/contact.md, "Force and tangent"): g depends on
 /// r = x − a, u = b − a, v = c − a only, and with M = |m|, P = I − n nᵀ, q = P r / M,
 /// S = n qᵀ + q nᵀ + (g / M) P and [w]× the cross-product matrix,
 ///   ∂²g/∂r∂u = −P [v]× / M,  ∂²g/∂r∂v = P [u]× / M,  ∂²g/∂r² = 0,
@@ -49,20 +49,12 @@ Eigen::Matrix<T, 12, 1> plane_gap_gradient(const Eigen::Matrix<T, 12, 1>& X, T* 
 /// are minus the sums of the others' (a translation leaves g). A few 3 x 3 products instead of
 /// the forward differentiation of the 12-vector gradient that it replaces (the same to
 /// round-off: tests/unit/load/sheet_contact_test.cpp).
-inline double plane_gap(const Vec12& X, Vec12& grad, Mat12* hessian) {
+inline void plane_gap_hessian(const Vec12& X, double g, Mat12& H) {
   const Vec3 x = X.segment<3>(0), a = X.segment<3>(3), b = X.segment<3>(6), c = X.segment<3>(9);
   const Vec3 u = b - a, v = c - a, m = u.cross(v);
   const double M = m.norm();
-  const Vec3 n = m / M, r = x - a;
-  const double g = r.dot(n);
-  const Vec3 q = (r - g * n) / M;
-  // The gradient as plane_gap_gradient's.
-  const Vec3 gc = q.cross(u), gb = -q.cross(v);
-  grad.segment<3>(0) = n;
-  grad.segment<3>(3) = -n - gb - gc;
-  grad.segment<3>(6) = gb;
-  grad.segment<3>(9) = gc;
-  if (!hessian) return g;
+  const Vec3 n = m / M;
+  const Vec3 q = (x - a - g * n) / M;
   const Mat3 P = Mat3::Identity() - n * n.transpose();
   const Mat3 S = n * q.transpose() + q * n.transpose() + (g / M) * P;
   const Mat3 U = cross_matrix(u), V = cross_matrix(v);
@@ -78,7 +70,6 @@ inline double plane_gap(const Vec12& X, Vec12& grad, Mat12* hessian) {
   B[1][0] = B[0][1].transpose();
   B[2][0] = B[0][2].transpose();
   B[2][1] = B[1][2].transpose();
-  Mat12& H = *hessian;
   constexpr int at[3] = {0, 6, 9};  // where r's, u's and v's coordinates are in X
   Mat3 to_a = Mat3::Zero();         // ∂²g/∂a²: the sum of every block
   for (int j = 0; j < 3; ++j) {
@@ -89,6 +80,13 @@ inline double plane_gap(const Vec12& X, Vec12& grad, Mat12* hessian) {
     to_a += col;
   }
   H.block<3, 3>(3, 3) = to_a;
+}
+
+/// g and ∇g at X (as plane_gap_gradient computes them), and ∇∇g when asked.
+inline double plane_gap(const Vec12& X, Vec12& grad, Mat12* hessian) {
+  double g = 0;
+  grad = plane_gap_gradient<double>(X, &g);
+  if (hessian) plane_gap_hessian(X, g, *hessian);
   return g;
 }
 
@@ -128,10 +126,29 @@ bool penalty_pair_force(Gap&& gap, const Vec12& X, double side, double thickness
   return true;
 }
 
-/// The node-to-face pair (x pushed to its side, the face the other way).
+/// The node-to-face pair (x pushed to its side, the face the other way): penalty_pair_force on
+/// the plane gap, its Hessian computed only for a pair that presses. `face_held`: the face's
+/// corners have no equations, so of ∂f/∂X only the node's block is assembled, which needs no
+/// Hessian (g is linear in x: ∂²g/∂x² = 0); D is then −k ∇g ∇gᵀ, exact in that block only.
 inline bool pair_force(const Vec12& X, double side, double thickness, double k, bool tangent,
-                       PairResult& r) {
-  return penalty_pair_force(plane_gap, X, side, thickness, k, tangent, r);
+                       PairResult& r, bool face_held = false) {
+  Vec12 grad;
+  const double g = plane_gap(X, grad, nullptr);
+  r.gap = side * g - thickness;
+  r.p = -k * r.gap;
+  if (r.p <= 0) {
+    r.p = 0;
+    return false;
+  }
+  r.f = (r.p * side) * grad;
+  if (!tangent) return true;
+  r.D = -k * grad * grad.transpose();
+  if (!face_held) {
+    Mat12 H;
+    plane_gap_hessian(X, g, H);
+    r.D += (r.p * side) * H;
+  }
+  return true;
 }
 
 }  // namespace velum::contact

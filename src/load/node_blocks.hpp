@@ -41,6 +41,29 @@ inline void subtract_node_block(const DofMap& dofs, int i, int j, const Mat3& D,
   }
 }
 
+// Asks the memory for the entries of K's columns of these nodes' equations (a node's columns
+// are consecutive), which subtract_node_blocks will find and change: called before a pair's
+// kernel, the loads run while it computes (a pair's columns are mostly not in cache: scattered
+// over the matrix, they made most of the scatter's time).
+template <size_t N>
+void prefetch_node_columns(const DofMap& dofs, const std::array<int, N>& nodes,
+                           const SparseMatrix& K) {
+  if (!K.isCompressed()) return;
+  const int* eq = dofs.equations();
+  const int* outer = K.outerIndexPtr();
+  for (int n : nodes) {
+    const int* e = eq + 3 * static_cast<size_t>(n);
+    const int first = std::max({e[0], e[1], e[2]});  // a node's equations: held ones are -1
+    if (first < 0) continue;
+    int lo = first, hi = first;
+    for (int c = 0; c < 3; ++c)
+      if (e[c] >= 0) lo = std::min(lo, e[c]), hi = std::max(hi, e[c]);
+    const int begin = outer[lo], end = outer[hi + 1];
+    for (int k = begin; k < end; k += 16) __builtin_prefetch(K.innerIndexPtr() + k);
+    for (int k = begin; k < end; k += 8) __builtin_prefetch(K.valuePtr() + k);
+  }
+}
+
 // K −= D, the matrix ∂f/∂X of a pair over its N nodes (3 N coordinates, global axes), as the
 // N² node blocks subtract_node_block would add, with one search per pair of nodes instead of
 // one per column: the columns of a node's equations hold the same rows (the assembler's

@@ -319,6 +319,11 @@ class SheetContactTerm final : public LoadTerm {
     }
     return contact::plane_coordinates(y, x.col(face.n[0]), x.col(face.n[1]), x.col(face.n[2]));
   }
+  // Whether node n has no equation (held in every direction).
+  bool held(int n) const {
+    const int* e = site_.dofs.equations() + 3 * static_cast<size_t>(n);
+    return e[0] < 0 && e[1] < 0 && e[2] < 0;
+  }
   // K −= D (a pair's 12 x 12 matrix ∂f/∂X over its four nodes) as sixteen node blocks.
   void add_blocks(const std::array<int, 4>& nodes, const contact::Mat12& D, SparseMatrix& K) const {
     subtract_node_blocks<4>(site_.dofs, nodes, D, K);
