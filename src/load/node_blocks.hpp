@@ -96,6 +96,8 @@ void subtract_node_blocks(const DofMap& dofs, const std::array<int, N>& nodes,
       int first = 0;  // the row node's first component with an equation
       while (first < 3 && rows[first] < 0) ++first;
       if (first == 3) continue;
+      // A node free in every direction: its rows are three consecutive entries of a column.
+      const bool whole = first == 0 && rows[1] == rows[0] + 1 && rows[2] == rows[0] + 2;
       int offset = -1;  // where that row sits from the start of the node's columns
       for (int cb = 0; cb < 3; ++cb) {
         const int cj = cols[cb];
@@ -111,6 +113,11 @@ void subtract_node_blocks(const DofMap& dofs, const std::array<int, N>& nodes,
         if (offset < 0 || k >= end || inner[k] != rows[first])
           k = static_cast<int>(std::lower_bound(inner + begin, inner + end, rows[first]) - inner);
         offset = k - begin;
+        if (whole && k + 2 < end && inner[k + 2] == rows[2]) {  // sorted: inner[k + 1] too
+          const double* d = &D(3 * a, 3 * b + cb);              // the block's column
+          values[k] -= d[0], values[k + 1] -= d[1], values[k + 2] -= d[2];
+          continue;
+        }
         for (int ca = first; ca < 3; ++ca) {
           const int ri = rows[ca];
           if (ri < 0) continue;
