@@ -40,33 +40,35 @@ Eigen::Matrix<T, 12, 1> plane_gap_gradient(const Eigen::Matrix<T, 12, 1>& X, T* 
   return G;
 }
 
-/// ∇∇g at X (g: the gap there), in closed form (docs/contact.md, "Force and tangent"): g depends on
-/// r = x − a, u = b − a, v = c − a only, and with M = |m|, P = I − n nᵀ, q = P r / M,
-/// S = n qᵀ + q nᵀ + (g / M) P and [w]× the cross-product matrix,
+/// D += s ∇∇g at X (g: the gap there), ∇∇g in closed form (docs/contact.md, "Force and tangent"): g
+/// depends on r = x − a, u = b − a, v = c − a only, and with M = |m|, P = I − n nᵀ, q = P r / M, S
+/// = n qᵀ + q nᵀ + (g / M) P and [w]× the cross-product matrix,
 ///   ∂²g/∂r∂u = −P [v]× / M,  ∂²g/∂r∂v = P [u]× / M,  ∂²g/∂r² = 0,
 ///   ∂²g/∂u² = [v]× S [v]× / M,  ∂²g/∂v² = [u]× S [u]× / M,  ∂²g/∂u∂v = −[v]× S [u]× / M − [q]×
 /// (from dn = P dm / M, dq = (P dr − S dm) / M, dm = −[v]× du + [u]× dv); a's rows and columns
 /// are minus the sums of the others' (a translation leaves g). A few 3 x 3 products instead of
 /// the forward differentiation of the 12-vector gradient that it replaces (the same to
 /// round-off: tests/unit/load/sheet_contact_test.cpp).
-inline void plane_gap_hessian(const Vec12& X, double g, Mat12& H) {
+inline void add_plane_gap_hessian(const Vec12& X, double g, double s, Mat12& D) {
   const Vec3 x = X.segment<3>(0), a = X.segment<3>(3), b = X.segment<3>(6), c = X.segment<3>(9);
   const Vec3 u = b - a, v = c - a, m = u.cross(v);
   const double M = m.norm();
   const Vec3 n = m / M;
   const Vec3 q = (x - a - g * n) / M;
-  const Mat3 P = Mat3::Identity() - n * n.transpose();
-  const Mat3 S = n * q.transpose() + q * n.transpose() + (g / M) * P;
+  // s P / M and s S / M, so that every block below is s times its own (no division there).
+  const double w = s / M;
+  const Mat3 P = w * (Mat3::Identity() - n * n.transpose());
+  const Mat3 S = w * (n * q.transpose() + q * n.transpose()) + (g / M) * P;
   const Mat3 U = cross_matrix(u), V = cross_matrix(v);
   const Mat3 SU = S * U, SV = S * V;
   // The blocks in (r, u, v), which are x's, b's and c's.
   Mat3 B[3][3];
   B[0][0].setZero();
-  B[0][1] = -(P * V) / M;
-  B[0][2] = (P * U) / M;
-  B[1][1] = (V * SV) / M;
-  B[2][2] = (U * SU) / M;
-  B[1][2] = -(V * SU) / M - cross_matrix(q);
+  B[0][1] = -(P * V);
+  B[0][2] = P * U;
+  B[1][1] = V * SV;
+  B[2][2] = U * SU;
+  B[1][2] = -(V * SU) - s * cross_matrix(q);
   B[1][0] = B[0][1].transpose();
   B[2][0] = B[0][2].transpose();
   B[2][1] = B[1][2].transpose();
@@ -74,12 +76,18 @@ inline void plane_gap_hessian(const Vec12& X, double g, Mat12& H) {
   Mat3 to_a = Mat3::Zero();         // ∂²g/∂a²: the sum of every block
   for (int j = 0; j < 3; ++j) {
     const Mat3 col = B[0][j] + B[1][j] + B[2][j];  // minus ∂²g/∂a ∂(r, u, v)_j
-    for (int i = 0; i < 3; ++i) H.block<3, 3>(at[i], at[j]) = B[i][j];
-    H.block<3, 3>(3, at[j]) = -col;
-    H.block<3, 3>(at[j], 3) = -col.transpose();
+    for (int i = 0; i < 3; ++i) D.block<3, 3>(at[i], at[j]) += B[i][j];
+    D.block<3, 3>(3, at[j]) -= col;
+    D.block<3, 3>(at[j], 3) -= col.transpose();
     to_a += col;
   }
-  H.block<3, 3>(3, 3) = to_a;
+  D.block<3, 3>(3, 3) += to_a;
+}
+
+/// ∇∇g at X (g: the gap there): add_plane_gap_hessian with s = 1 into zeros.
+inline void plane_gap_hessian(const Vec12& X, double g, Mat12& H) {
+  H.setZero();
+  add_plane_gap_hessian(X, g, 1.0, H);
 }
 
 /// g and ∇g at X (as plane_gap_gradient computes them), and ∇∇g when asked.
@@ -143,11 +151,7 @@ inline bool pair_force(const Vec12& X, double side, double thickness, double k, 
   r.f = (r.p * side) * grad;
   if (!tangent) return true;
   r.D = -k * grad * grad.transpose();
-  if (!face_held) {
-    Mat12 H;
-    plane_gap_hessian(X, g, H);
-    r.D += (r.p * side) * H;
-  }
+  if (!face_held) add_plane_gap_hessian(X, g, r.p * side, r.D);
   return true;
 }
 
