@@ -89,15 +89,25 @@ void subtract_node_blocks(const DofMap& dofs, const std::array<int, N>& nodes,
   const int* inner = K.innerIndexPtr();
   double* values = K.valuePtr();
   bool inserted = false;  // an entry was outside the pattern: K is no longer compressed
+  // Per node: its first component with an equation (3: none), and whether it is free in every
+  // direction with consecutive equations (its rows then three consecutive entries of a column).
+  std::array<int, N> firsts;
+  std::array<bool, N> wholes;
+  for (int a = 0; a < N; ++a) {
+    const int* e = eq + 3 * nodes[static_cast<size_t>(a)];
+    int f = 0;
+    while (f < 3 && e[f] < 0) ++f;
+    firsts[static_cast<size_t>(a)] = f;
+    wholes[static_cast<size_t>(a)] = f == 0 && e[1] == e[0] + 1 && e[2] == e[0] + 2;
+  }
   for (int b = 0; b < N; ++b) {
+    if (firsts[static_cast<size_t>(b)] == 3) continue;  // no column
     const int* cols = eq + 3 * nodes[static_cast<size_t>(b)];
     for (int a = 0; a < N; ++a) {
+      const int first = firsts[static_cast<size_t>(a)];
+      if (first == 3) continue;  // no row
       const int* rows = eq + 3 * nodes[static_cast<size_t>(a)];
-      int first = 0;  // the row node's first component with an equation
-      while (first < 3 && rows[first] < 0) ++first;
-      if (first == 3) continue;
-      // A node free in every direction: its rows are three consecutive entries of a column.
-      const bool whole = first == 0 && rows[1] == rows[0] + 1 && rows[2] == rows[0] + 2;
+      const bool whole = wholes[static_cast<size_t>(a)];
       int offset = -1;  // where that row sits from the start of the node's columns
       for (int cb = 0; cb < 3; ++cb) {
         const int cj = cols[cb];
