@@ -317,9 +317,10 @@ TEST(SheetContact, TermMatrixMatchesFiniteDifferences) {
 // The whole system's Jacobian (the sheets' anisotropic membranes and the contact's node
 // blocks, scattered pair by pair: subtract_node_blocks) against central differences of its
 // residual: two prestressed anisotropic sheets pressed into each other, both free inside
-// their edges, the upper one shifted half an element so its nodes fall inside the lower
-// one's faces, and the lower sheet's side x = 0 on a skew plane (its nodes in a frame of
-// their own: the pair scatter's slow way).
+// their edges, the upper one shifted half an element along x and 0.15 of one along y so its
+// nodes fall inside the lower one's faces, and the lower sheet's side x = 0 on a skew plane
+// (its nodes in a frame of their own: the pair scatter's slow way, for the pairs of the
+// faces along that side).
 TEST(SheetContact, WholeJacobianOnAnisotropicSheetsMatchesFiniteDifferences) {
   auto m = std::make_unique<Model>();
   const int n = 4;
