@@ -1,7 +1,7 @@
 // The node-to-face contact kernel of sheet–sheet and self contact (docs/contact.md): the gap of
 // a node x from the plane of a triangle (a, b, c), its gradient in the 12 coordinates and its
-// Hessian (the exact derivative of the closed-form gradient, by forward differentiation of
-// fixed size: allocation-free), and the penalty force and stiffness of the pair.
+// Hessian (both in closed form, fixed size: allocation-free), the penalty force and stiffness
+// of the pair, and its Coulomb friction (forward differentiation of fixed size).
 #pragma once
 
 #include <Eigen/Core>
@@ -40,23 +40,62 @@ Eigen::Matrix<T, 12, 1> plane_gap_gradient(const Eigen::Matrix<T, 12, 1>& X, T* 
   return G;
 }
 
-/// g, ∇g and ∇∇g at X.
+/// D += s ∇∇g at X (g: the gap there), ∇∇g in closed form (docs/contact.md, "Force and tangent"): g
+/// depends on r = x − a, u = b − a, v = c − a only, and with M = |m|, P = I − n nᵀ, q = P r / M, S
+/// = n qᵀ + q nᵀ + (g / M) P and [w]× the cross-product matrix,
+///   ∂²g/∂r∂u = −P [v]× / M,  ∂²g/∂r∂v = P [u]× / M,  ∂²g/∂r² = 0,
+///   ∂²g/∂u² = [v]× S [v]× / M,  ∂²g/∂v² = [u]× S [u]× / M,  ∂²g/∂u∂v = −[v]× S [u]× / M − [q]×
+/// (from dn = P dm / M, dq = (P dr − S dm) / M, dm = −[v]× du + [u]× dv); a's rows and columns
+/// are minus the sums of the others' (a translation leaves g). A few 3 x 3 products instead of
+/// the forward differentiation of the 12-vector gradient that it replaces (the same to
+/// round-off: tests/unit/load/sheet_contact_test.cpp).
+inline void add_plane_gap_hessian(const Vec12& X, double g, double s, Mat12& D) {
+  const Vec3 x = X.segment<3>(0), a = X.segment<3>(3), b = X.segment<3>(6), c = X.segment<3>(9);
+  const Vec3 u = b - a, v = c - a, m = u.cross(v);
+  const double M = m.norm();
+  const Vec3 n = m / M;
+  const Vec3 q = (x - a - g * n) / M;
+  // s P / M and s S / M, so that every block below is s times its own (no division there).
+  const double w = s / M;
+  const Mat3 P = w * (Mat3::Identity() - n * n.transpose());
+  const Mat3 S = w * (n * q.transpose() + q * n.transpose()) + (g / M) * P;
+  const Mat3 U = cross_matrix(u), V = cross_matrix(v);
+  const Mat3 SU = S * U, SV = S * V;
+  // The blocks in (r, u, v), which are x's, b's and c's.
+  Mat3 B[3][3];
+  B[0][0].setZero();
+  B[0][1] = -(P * V);
+  B[0][2] = P * U;
+  B[1][1] = V * SV;
+  B[2][2] = U * SU;
+  B[1][2] = -(V * SU) - s * cross_matrix(q);
+  B[1][0] = B[0][1].transpose();
+  B[2][0] = B[0][2].transpose();
+  B[2][1] = B[1][2].transpose();
+  constexpr int at[3] = {0, 6, 9};  // where r's, u's and v's coordinates are in X
+  Mat3 to_a = Mat3::Zero();         // ∂²g/∂a²: the sum of every block
+  for (int j = 0; j < 3; ++j) {
+    const Mat3 col = B[0][j] + B[1][j] + B[2][j];  // minus ∂²g/∂a ∂(r, u, v)_j
+    for (int i = 0; i < 3; ++i) D.block<3, 3>(at[i], at[j]) += B[i][j];
+    D.block<3, 3>(3, at[j]) -= col;
+    D.block<3, 3>(at[j], 3) -= col.transpose();
+    to_a += col;
+  }
+  D.block<3, 3>(3, 3) += to_a;
+}
+
+/// ∇∇g at X (g: the gap there): add_plane_gap_hessian with s = 1 into zeros.
+inline void plane_gap_hessian(const Vec12& X, double g, Mat12& H) {
+  H.setZero();
+  add_plane_gap_hessian(X, g, 1.0, H);
+}
+
+/// g and ∇g at X (as plane_gap_gradient computes them), and ∇∇g when asked.
 inline double plane_gap(const Vec12& X, Vec12& grad, Mat12* hessian) {
-  if (!hessian) {
-    double g = 0;
-    grad = plane_gap_gradient<double>(X, &g);
-    return g;
-  }
-  using AD = Eigen::AutoDiffScalar<Vec12>;
-  Eigen::Matrix<AD, 12, 1> Y;
-  for (int i = 0; i < 12; ++i) Y[i] = AD(X[i], 12, i);
-  AD g;
-  const Eigen::Matrix<AD, 12, 1> G = plane_gap_gradient<AD>(Y, &g);
-  for (int i = 0; i < 12; ++i) {
-    grad[i] = G[i].value();
-    hessian->row(i) = G[i].derivatives().transpose();
-  }
-  return g.value();
+  double g = 0;
+  grad = plane_gap_gradient<double>(X, &g);
+  if (hessian) plane_gap_hessian(X, g, *hessian);
+  return g;
 }
 
 /// The barycentric coordinates (of b and c) of x's projection on the plane of (a, b, c).
@@ -95,10 +134,25 @@ bool penalty_pair_force(Gap&& gap, const Vec12& X, double side, double thickness
   return true;
 }
 
-/// The node-to-face pair (x pushed to its side, the face the other way).
+/// The node-to-face pair (x pushed to its side, the face the other way): penalty_pair_force on
+/// the plane gap, its Hessian computed only for a pair that presses. `face_held`: the face's
+/// corners have no equations, so of ∂f/∂X only the node's block is assembled, which needs no
+/// Hessian (g is linear in x: ∂²g/∂x² = 0); D is then −k ∇g ∇gᵀ, exact in that block only.
 inline bool pair_force(const Vec12& X, double side, double thickness, double k, bool tangent,
-                       PairResult& r) {
-  return penalty_pair_force(plane_gap, X, side, thickness, k, tangent, r);
+                       PairResult& r, bool face_held = false) {
+  Vec12 grad;
+  const double g = plane_gap(X, grad, nullptr);
+  r.gap = side * g - thickness;
+  r.p = -k * r.gap;
+  if (r.p <= 0) {
+    r.p = 0;
+    return false;
+  }
+  r.f = (r.p * side) * grad;
+  if (!tangent) return true;
+  r.D = -k * grad * grad.transpose();
+  if (!face_held) add_plane_gap_hessian(X, g, r.p * side, r.D);
+  return true;
 }
 
 }  // namespace velum::contact

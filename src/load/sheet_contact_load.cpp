@@ -403,13 +403,16 @@ void SheetContactTerm::add(const LoadState& s, LoadOutput& out) {
     const int node = pass.nodes[i];
     const double c = pass.half[i] + face.half - relaxed(k);
     const contact::Vec12 X = coordinates(s.x, node, face);
-    if (!contact::pair_force(X, pair.side, c, k_[k], out.K != nullptr, r)) return;
+    const std::array<int, 4> nodes = {node, face.n[0], face.n[1], face.n[2]};
+    if (out.K) prefetch_node_columns(site_.dofs, nodes, *out.K);
+    // A face held in full (a held sheet's): only the node's block is assembled, no Hessian.
+    const bool face_held = held(face.n[0]) && held(face.n[1]) && held(face.n[2]);
+    if (!contact::pair_force(X, pair.side, c, k_[k], out.K != nullptr, r, face_held)) return;
     if (load_.friction > 0) {
       Vec3 slip;
       contact::pair_friction(X, pair.side, c, k_[k], load_.friction,
                              anchor_on(k, face, pair.face, pass.faces), out.K != nullptr, r, slip);
     }
-    const std::array<int, 4> nodes = {node, face.n[0], face.n[1], face.n[2]};
     for (int a = 0; a < 4; ++a) out.F.col(nodes[static_cast<size_t>(a)]) += r.f.segment<3>(3 * a);
     // K −= ∂f/∂X: the node's and the face's blocks (the mesh's pattern) and those between
     // them (the couplings).

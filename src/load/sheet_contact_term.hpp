@@ -303,9 +303,6 @@ class SheetContactTerm final : public LoadTerm {
     if (offset_[k] <= 0 || load_.relax_steps <= 0) return 0.0;
     return offset_[k] * std::max(0.0, 1.0 - static_cast<double>(steps_ + 1) / load_.relax_steps);
   }
-  void add_block(int i, int j, const Mat3& D, SparseMatrix& K) const {
-    subtract_node_block(site_.dofs, i, j, D, K);
-  }
   // Friction: slot k's anchor on `face` (barycentric coordinates of its b and c): the anchor's
   // face point carried to a new face, or the node's accepted position for a new pair, both
   // by the faces' accepted positions (so the anchor holds within a step: the tangent stays
@@ -322,12 +319,14 @@ class SheetContactTerm final : public LoadTerm {
     }
     return contact::plane_coordinates(y, x.col(face.n[0]), x.col(face.n[1]), x.col(face.n[2]));
   }
+  // Whether node n has no equation (held in every direction).
+  bool held(int n) const {
+    const int* e = site_.dofs.equations() + 3 * static_cast<size_t>(n);
+    return e[0] < 0 && e[1] < 0 && e[2] < 0;
+  }
   // K −= D (a pair's 12 x 12 matrix ∂f/∂X over its four nodes) as sixteen node blocks.
   void add_blocks(const std::array<int, 4>& nodes, const contact::Mat12& D, SparseMatrix& K) const {
-    for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b)
-        add_block(nodes[static_cast<size_t>(a)], nodes[static_cast<size_t>(b)],
-                  D.block<3, 3>(3 * a, 3 * b), K);
+    subtract_node_blocks<4>(site_.dofs, nodes, D, K);
   }
 
   const SheetContact& load_;

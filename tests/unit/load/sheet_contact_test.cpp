@@ -61,6 +61,55 @@ TEST(SheetContact, PairTangentMatchesCentralDifferences) {
   }
 }
 
+// The plane gap's Hessian in closed form (plane_gap) against the forward differentiation of
+// its gradient that it replaced, and against central differences of the gradient, on random
+// triangles away from degenerate (their area at least a tenth of their longest side squared).
+TEST(SheetContact, GapHessianInClosedFormMatchesForwardDifferentiation) {
+  using AD = Eigen::AutoDiffScalar<Vec12>;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  double worst_ad = 0, worst_grad = 0, worst_fd = 0;
+  int tried = 0;
+  while (tried < 200) {
+    Vec12 X;
+    for (int i = 0; i < 12; ++i) X[i] = u(rng);
+    const Vec3 a = X.segment<3>(3), b = X.segment<3>(6), c = X.segment<3>(9);
+    const double longest = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
+    if ((b - a).cross(c - a).norm() < 0.2 * longest * longest) continue;
+    ++tried;
+    Vec12 grad;
+    Mat12 H;
+    const double g = contact::plane_gap(X, grad, &H);
+    // The reference: the gradient's forward derivative (as plane_gap computed it before).
+    Eigen::Matrix<AD, 12, 1> Y;
+    for (int i = 0; i < 12; ++i) Y[i] = AD(X[i], 12, i);
+    AD g_ad;
+    const Eigen::Matrix<AD, 12, 1> G = contact::plane_gap_gradient<AD>(Y, &g_ad);
+    Mat12 H_ad;
+    Vec12 grad_ad;
+    for (int i = 0; i < 12; ++i) grad_ad[i] = G[i].value(), H_ad.row(i) = G[i].derivatives();
+    EXPECT_NEAR(g, g_ad.value(), 1e-15);
+    worst_grad = std::max(worst_grad, (grad - grad_ad).norm() / grad_ad.norm());
+    worst_ad = std::max(worst_ad, (H - H_ad).norm() / H_ad.norm());
+    Mat12 fd;
+    const double h = 1e-6;
+    for (int j = 0; j < 12; ++j) {
+      Vec12 Xp = X, Xm = X, gp, gm;
+      Xp[j] += h, Xm[j] -= h;
+      contact::plane_gap(Xp, gp, nullptr);
+      contact::plane_gap(Xm, gm, nullptr);
+      fd.col(j) = (gp - gm) / (2 * h);
+    }
+    worst_fd = std::max(worst_fd, (fd - H).norm() / H.norm());
+  }
+  std::cout << "plane gap, 200 triangles: gradient against forward differentiation " << worst_grad
+            << ", Hessian " << worst_ad << ", Hessian against central differences " << worst_fd
+            << "\n";
+  EXPECT_LT(worst_grad, 1e-13);
+  EXPECT_LT(worst_ad, 1e-12);
+  EXPECT_LT(worst_fd, 1e-7);
+}
+
 TEST(SheetContact, FaceTreeFindsWhatEveryFaceHolds) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(0, 1);
@@ -263,6 +312,80 @@ Fold fold(double c);
 TEST(SheetContact, TermMatrixMatchesFiniteDifferences) {
   TwoSheets ts = two_sheets(2e-4, 0);
   check_term_matrix(*ts.m, 1e-4, "two sheets");
+}
+
+// The whole system's Jacobian (the sheets' anisotropic membranes and the contact's node
+// blocks, scattered pair by pair: subtract_node_blocks) against central differences of its
+// residual: two prestressed anisotropic sheets pressed into each other, both free inside
+// their edges, the upper one shifted half an element along x and 0.15 of one along y so its
+// nodes fall inside the lower one's faces, and the lower sheet's side x = 0 on a skew plane
+// (its nodes in a frame of their own: the pair scatter's slow way, for the pairs of the
+// faces along that side).
+TEST(SheetContact, WholeJacobianOnAnisotropicSheetsMatchesFiniteDifferences) {
+  auto m = std::make_unique<Model>();
+  const int n = 4;
+  const double a = 0.4, h = a / n, overlap = 2e-4;
+  AnisotropicConstants ac;
+  ac.E1 = 2e9, ac.E2 = 0.8e9, ac.nu12 = 0.3, ac.G12 = 0.5e9, ac.eta1 = 0.2, ac.eta2 = -0.1;
+  const SheetLaw law =
+      SheetLaw(PlaneStressLaw::anisotropic("aniso", ac)).with_prestress({1e6, 7e5, 2e5});
+  for (int layer = 0; layer < 2; ++layer) {
+    test::NodeCache nodes(*m, 1e-9);
+    std::vector<int> conn;
+    const double shift = layer ? 0.5 * h : 0.0;
+    test::mesh_patch(
+        nodes,
+        [&](double u, double v) {
+          return Vec3(a * u + shift, a * v + 0.3 * shift, layer * (kT - overlap));
+        },
+        n, n, "quad4", conn);
+    test::add_membrane(*m, "quad4", std::move(conn), law, 1000.0, kT);
+  }
+  std::vector<int> held, skew;
+  for (int i = 0; i < m->num_nodes(); ++i) {
+    const Vec3 X = m->X.col(i);
+    const bool lower = X.z() < 0.5 * kT;
+    const double x0 = lower ? 0.0 : 0.5 * h, y0 = lower ? 0.0 : 0.15 * h;
+    const bool at_x0 = X.x() < x0 + 1e-9, at_y0 = X.y() < y0 + 1e-9;
+    const bool at_x1 = X.x() > x0 + a - 1e-9, at_y1 = X.y() > y0 + a - 1e-9;
+    if (lower && at_x0 && !at_y0 && !at_y1)
+      skew.push_back(i);
+    else if (at_x0 || at_y0 || at_x1 || at_y1)
+      held.push_back(i);
+  }
+  m->fixed.push_back({held, {true, true, true}});
+  m->symmetry.push_back({skew, Vec3(std::cos(0.5), std::sin(0.5), 0)});
+  ContactLoad cl;
+  cl.parts.push_back({1, {}});
+  cl.other.push_back({0, {}});
+  for (int e = 0; e < m->blocks[0]->size(); ++e)
+    cl.parts[0].elements.push_back(e), cl.other[0].elements.push_back(e);
+  m->loads.add(make_load(cl));
+  for (auto& l : m->loads) l->set_up(*m);
+  MechanicalSystem sys(*m);
+  const int neq = sys.size();
+  std::srand(3);
+  const VecX u0 = 1e-5 * VecX::Random(neq), zero = VecX::Zero(neq);
+  sys.start_loads(0, u0, zero);
+  VecX r;
+  SparseMatrix J;
+  sys.evaluate(0, u0, zero, zero, 1, 0, 0, r, &J);
+  sys.evaluate(0, u0, zero, zero, 1, 0, 0, r, &J);  // on the pattern with the couplings
+  const MatX Jd = MatX(J);
+  MatX fd(neq, neq);
+  const double step = 1e-9;
+  for (int k = 0; k < neq; ++k) {
+    VecX up = u0, um = u0, rp, rm;
+    up[k] += step, um[k] -= step;
+    sys.evaluate(0, up, zero, zero, 1, 0, 0, rp, nullptr);
+    sys.evaluate(0, um, zero, zero, 1, 0, 0, rm, nullptr);
+    fd.col(k) = (rp - rm) / (2 * step);
+  }
+  const double err = (Jd - fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
+  std::cout << "anisotropic sheets in contact, " << neq << " equations: Jacobian against central "
+            << "differences " << err << "\n";
+  EXPECT_GT(term_forces(sys, kLastTerm, u0, nullptr).norm(), 1.0);  // the sheets press
+  EXPECT_LT(err, 1e-6);
 }
 
 // The skin 0.5 mm (the least contact thickness): moves of 0.2 mm reuse the candidates.
