@@ -44,6 +44,8 @@ std::map<std::string, int> elements_per_type(const Model& m) {
 int check_command(const std::filesystem::path& file) {
   say(stdout, "velum {} check: {}\n{}\n", VELUM_VERSION, file.string(), kUnitsNote);
   auto in = load(file);
+  // Under mpirun (a model read in parts): every process goes on only if every one read it.
+  if (processes::count() > 1 && !processes::all(in.has_value())) return kExitBadInput;
   if (!in) return kExitBadInput;
   const Model& m = in->model;
   int dofs = 0;
@@ -60,6 +62,14 @@ int check_command(const std::filesystem::path& file) {
   say(stdout, "elements:   {} ({})\n", m.num_elements(),
       per_type.empty() ? "" : per_type.substr(1));
   say(stdout, "blocks:     {}\n", m.blocks.size());
+  if (m.piece) {  // a part read (mesh.parts): this process's piece
+    size_t own = 0;
+    for (const auto& o : m.piece->own) own += o.size();
+    say(stdout, "part:       {} of {}: {} of the model's {} nodes, {} own elements, {} of {} "
+                "equations here\n",
+        processes::rank(), processes::count(), m.num_nodes(), m.piece->global_nodes, own, dofs,
+        m.piece->global_equations);
+  }
   say(stdout, "dofs:       {} equations ({} fixed or prescribed components)\n", dofs,
       3 * m.num_nodes() - dofs);
   std::string mats;
@@ -92,6 +102,9 @@ int run_command(const RunOptions& opt) {
   controls.restart = opt.restart;
   InterruptGuard interrupts;  // SIGINT, SIGTERM: finish the current step, then stop
   auto in = load(opt.model, opt.quiet);
+  // Under mpirun every process goes on only if every process read the model (a part read,
+  // mesh.parts, can fail on one process alone).
+  if (processes::count() > 1 && !processes::all(in.has_value())) return kExitBadInput;
   if (!in) return kExitBadInput;
   if (const int sig = InterruptGuard::signal_received())  // nothing written yet
     return sig == SIGINT ? kExitInterrupted : kExitTerminated;

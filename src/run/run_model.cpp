@@ -120,8 +120,9 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   const int all_nodes = input.model.num_nodes();
   // Displacement control: its equation in the whole model's numbering (the node may be
   // another process's once the model is shared out).
+  // (A model read in parts has it from the split.)
   if (PathSettings& path = input.analysis.path;
-      path.method == PathSettings::Method::kDisplacement) {
+      path.method == PathSettings::Method::kDisplacement && !input.model.piece) {
     if (const std::string why = resolve_path_equation(path, input.model, DofMap(input.model));
         !why.empty()) {
       out.status = kExitBadInput;
@@ -133,7 +134,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   try {
     // Several processes: each keeps its piece of the model only (its elements' section data,
     // the nodes it holds), so that the memory per process falls with the processes.
-    if (several) share_out(input);
+    // A model read in parts (mesh.parts) is a piece already.
+    if (several && !input.model.piece) share_out(input);
     system = std::make_unique<MechanicalSystem>(input.model);
   } catch (const std::exception& e) {
     out.status = kExitBadInput;

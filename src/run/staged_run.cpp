@@ -55,7 +55,7 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
   {
     std::unique_ptr<MechanicalSystem> first;  // the writer's until the first step begins
     try {
-      if (several) share_steps(input);
+      if (several && !input.model.piece) share_steps(input);  // (mesh.parts: pieces already)
       first = std::make_unique<MechanicalSystem>(input.model);
     } catch (const std::exception& e) {
       return refuse(e.what());

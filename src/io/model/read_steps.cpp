@@ -135,6 +135,7 @@ ModelInput Reader::read_steps(const Node& root) {
   bool fields = true;
   for (size_t i = 0; i < plans.size(); ++i) {
     Reader r(name_, base_dir_);
+    r.step_ = i;  // (a part read: the step's numbering)
     try {
       ModelInput si = r.read_one(model_of(i));
       for (const auto& w : si.warnings)
