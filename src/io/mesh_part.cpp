@@ -55,7 +55,8 @@ class Words {
   }
   size_t count(size_t most) {
     const long n = integer<long>();
-    if (n < 0 || static_cast<size_t>(n) > most) fail(fmt::format("a count of {} is out of range", n));
+    if (n < 0 || static_cast<size_t>(n) > most)
+      fail(fmt::format("a count of {} is out of range", n));
     return static_cast<size_t>(n);
   }
   std::string quoted() {

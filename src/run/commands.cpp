@@ -65,8 +65,9 @@ int check_command(const std::filesystem::path& file) {
   if (m.piece) {  // a part read (mesh.parts): this process's piece
     size_t own = 0;
     for (const auto& o : m.piece->own) own += o.size();
-    say(stdout, "part:       {} of {}: {} of the model's {} nodes, {} own elements, {} of {} "
-                "equations here\n",
+    say(stdout,
+        "part:       {} of {}: {} of the model's {} nodes, {} own elements, {} of {} "
+        "equations here\n",
         processes::rank(), processes::count(), m.num_nodes(), m.piece->global_nodes, own, dofs,
         m.piece->global_equations);
   }

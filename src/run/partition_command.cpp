@@ -187,20 +187,21 @@ int partition_command(const std::filesystem::path& file, int parts,
         num.equation = piece.equation;
       } else {  // another step's numbering: the same nodes (the sharing holds them all)
         std::vector<int> lm;
-        const ModelPiece other = plan_piece(*models[m], *dofs[m], r, parts, cell_owner,
-                                            &sharing.equation_owners, lm);
+        const ModelPiece other =
+            plan_piece(*models[m], *dofs[m], r, parts, cell_owner, &sharing.equation_owners, lm);
         if (other.global_node != piece.global_node) {
-          say(stderr, "error: {}: the steps' pieces differ (an internal error): nothing usable "
-                      "written\n", file.string());
+          say(stderr,
+              "error: {}: the steps' pieces differ (an internal error): nothing usable "
+              "written\n",
+              file.string());
           return kExitBadInput;
         }
         num.equation = other.equation;
       }
       num.global_equations = dofs[m]->global_equations();
       num.whole_nodes = dofs[m]->whole_nodes();
-      num.path_equation = paths[m].method == PathSettings::Method::kDisplacement
-                              ? paths[m].equation
-                              : -1;
+      num.path_equation =
+          paths[m].method == PathSettings::Method::kDisplacement ? paths[m].equation : -1;
       for (const auto& all : edges[m]) {
         auto& mine = num.edge_loads.emplace_back();
         for (const auto& e : all)
@@ -232,8 +233,7 @@ int partition_command(const std::filesystem::path& file, int parts,
     };
     for (const auto& [name, nodes] : in.node_sets) p.node_sets[name] = here(nodes);
     for (const auto& [name, nodes] : set_nodes) p.element_set_nodes[name] = here(nodes);
-    for (const HistoryEntry& h : in.output.history)
-      p.history.push_back({h.block, h.element, h.xi});
+    for (const HistoryEntry& h : in.output.history) p.history.push_back({h.block, h.element, h.xi});
     p.points = points;
     try {
       io::write_mesh_part(mesh_part_file(dir, r), p);

@@ -26,9 +26,9 @@ struct MeshPart {
 
   // The piece's nodes, in the whole model's order (their local numbering).
   std::vector<long> node_id;
-  std::vector<int> global_node;  ///< index in the whole model
-  NodePositions X;               ///< 3 x nodes
-  std::vector<char> kept;        ///< ModelPiece::kept
+  std::vector<int> global_node;                     ///< index in the whole model
+  NodePositions X;                                  ///< 3 x nodes
+  std::vector<char> kept;                           ///< ModelPiece::kept
   std::vector<int> lone, bare, shared, neighbours;  ///< ModelPiece's, local node indices
   std::vector<std::vector<int>> shared_with;
 
@@ -47,10 +47,10 @@ struct MeshPart {
   /// One element group (one block of the whole model, in order): this part's elements of it.
   struct Group {
     std::string set, type;
-    int whole = 0;              ///< elements in the whole block
-    std::vector<int> own;       ///< their index in the whole block, ascending
-    std::vector<long> ids;      ///< their ids
-    std::vector<long> node_ids; ///< their connectivity by node id, flattened
+    int whole = 0;               ///< elements in the whole block
+    std::vector<int> own;        ///< their index in the whole block, ascending
+    std::vector<long> ids;       ///< their ids
+    std::vector<long> node_ids;  ///< their connectivity by node id, flattened
   };
   std::vector<Group> groups;
 

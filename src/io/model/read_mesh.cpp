@@ -319,9 +319,9 @@ std::optional<std::vector<int>> Reader::node_list(const Node& n, const std::stri
     }
     const auto& X = in_.model.X;
     const double tol =
-        1e-9 * std::max(1.0, part_       ? part_->size  // the whole model's, as the split's
-                              : X.cols() ? (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm()
-                                         : 1.0);
+        1e-9 * std::max(1.0, part_      ? part_->size  // the whole model's, as the split's
+                             : X.cols() ? (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm()
+                                        : 1.0);
     for (int i = 0; i < in_.model.num_nodes(); ++i)
       if (((X.col(i) - lo).array() >= -tol).all() && ((hi - X.col(i)).array() >= -tol).all())
         out.push_back(i);

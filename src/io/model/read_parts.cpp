@@ -127,9 +127,10 @@ void Reader::finish_part() {
   MeshPart& p = *part_;
   const MeshPart::Numbering& num = p.numberings[step_];
   if (part_own_.size() != in_.model.blocks.size()) {
-    errors_.push_back(fmt::format("{}: mesh.parts: the sections build other blocks than the "
-                                  "split's: split the model again with `velum partition`",
-                                  name_));
+    errors_.push_back(
+        fmt::format("{}: mesh.parts: the sections build other blocks than the "
+                    "split's: split the model again with `velum partition`",
+                    name_));
     return;
   }
   auto piece = std::make_shared<ModelPiece>();
@@ -149,9 +150,10 @@ void Reader::finish_part() {
   piece->element_cut = p.element_cut;
   // The edge loads' edges, found on the whole mesh by the split.
   if (in_.model.edge_loads.size() != num.edge_loads.size()) {
-    errors_.push_back(fmt::format("{}: mesh.parts: the model's edge loads are not the split's: "
-                                  "split the model again with `velum partition`",
-                                  name_));
+    errors_.push_back(
+        fmt::format("{}: mesh.parts: the model's edge loads are not the split's: "
+                    "split the model again with `velum partition`",
+                    name_));
     return;
   }
   for (size_t k = 0; k < num.edge_loads.size(); ++k) {
