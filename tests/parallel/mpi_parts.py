@@ -111,7 +111,7 @@ def main():
                        os.path.join(out, "three")], env, "2 parts on 3 processes",
                       [parts, "mesh.parts", "2 parts", "3 processes"])
     errors += refused([velum, "run", parts, "-q", "-o", os.path.join(out, "one")], env,
-                      "2 parts on 1 process", [parts, "mesh.parts", "2 parts", "1 process"])
+                      "2 parts on 1 process", [parts, "mesh.parts", "2 parts", "mpirun -np 2"])
     errors += refused([velum, "partition", os.path.join(out, "quarter", "whole.yaml"), "-n", "1",
                        "-o", os.path.join(out, "n1")], env, "velum partition -n 1", ["-n 1"])
     if errors:

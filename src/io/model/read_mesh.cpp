@@ -283,7 +283,7 @@ std::optional<std::vector<int>> Reader::node_list(const Node& n, const std::stri
     if (!id) return false;
     auto it = in_.model.node_index.find(*id);
     if (it == in_.model.node_index.end()) {
-      if (part_) return true;  // a part read: another part's node (the split checked it)
+      if (parts_given_) return true;  // a part read: another part's node (the split checked it)
       error(v, path, fmt::format("undefined node {}", *id));
       return false;
     }

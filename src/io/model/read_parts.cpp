@@ -30,6 +30,7 @@ int parts_in(const std::filesystem::path& file) {
 
 void Reader::parse_parts(const Node& mesh) {
   mesh_ok_ = false;
+  parts_given_ = true;
   if (!check_map(mesh, "mesh", {"parts"})) {
     error(mesh, "mesh",
           "mesh.parts holds the whole mesh (nodes, elements and node sets, written by `velum "
@@ -57,6 +58,13 @@ void Reader::parse_parts(const Node& mesh) {
           fmt::format("{}: missing or not a part of `velum partition` (the folder holds no split "
                       "model)",
                       first.string()));
+    return;
+  }
+  if (parts != count && count == 1) {
+    error(at, "mesh.parts",
+          fmt::format("{} holds the model split into {} parts ({}): a model read in parts runs "
+                      "under mpirun, one process a part: `mpirun -np {} velum run ...`",
+                      dir.string(), parts, first.string(), parts));
     return;
   }
   if (parts != count) {

@@ -85,6 +85,7 @@ class Reader : public ReaderContext {
   /// Where a history entry's point or element is (the split found it on the whole mesh).
   bool place_from_part(HistoryEntry& he, size_t index) const;
   std::unique_ptr<MeshPart> part_;          ///< the part read (mesh.parts), or null
+  bool parts_given_ = false;                ///< mesh.parts given (read or not: ids are not checked)
   size_t step_ = 0;                         ///< the analysis step read (its numbering in the part)
   std::vector<std::vector<int>> part_own_;  ///< per block: its elements of this part
   /// Per element set: its groups' elements of this part and their whole count, in order.
