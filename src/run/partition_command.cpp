@@ -21,14 +21,18 @@ namespace {
 constexpr int kMaxParts = 4096;
 
 // What the split cannot carry yet (each needs the whole mesh at set-up, or data the parts do
-// not hold): empty when the model can be split, else why.
+// not hold): empty when the model can be split, else why, as "line: key: text".
 std::string unsplittable(const ModelInput& in, const YAML::Node& root) {
+  auto at = [](const YAML::Node& n, const std::string& key, const std::string& text) {
+    return fmt::format("{}: {}: {}", n.Mark().line + 1, key, text);
+  };
   const YAML::Node mesh = root["mesh"];
   if (mesh && mesh.IsMap())
     for (const char* key : {"positions", "reference_positions", "panel_references"})
-      if (mesh[key]) return fmt::format("mesh.{}: not carried into parts yet", key);
+      if (mesh[key])
+        return at(mesh[key], fmt::format("mesh.{}", key), "not carried into parts yet");
   for (const char* key : {"rigid_bodies", "contact", "patterns"})
-    if (root[key]) return fmt::format("{}: not read with mesh.parts yet", key);
+    if (root[key]) return at(root[key], key, "not read with mesh.parts yet");
   auto loads_of = [](const Model& m) -> std::string {
     static const std::set<std::string_view> kinds = {"point", "edge", "pressure", "gravity",
                                                      "drag"};
@@ -40,12 +44,13 @@ std::string unsplittable(const ModelInput& in, const YAML::Node& root) {
   for (const auto& s : in.steps) models.push_back(&s.model);
   for (const Model* m : models) {
     if (const std::string k = loads_of(*m); !k.empty())
-      return fmt::format("loads: a {} load is not read with mesh.parts yet", k);
+      return at(root["loads"] ? root["loads"] : root, "loads",
+                fmt::format("a {} load is not read with mesh.parts yet", k));
     for (const auto& b : m->blocks)
       if (b->sliding())
-        return fmt::format("sections: set '{}': sliding cables are not read with mesh.parts yet",
-                           b->set_name());
-    if (m->U0.size()) return "the model's start positions are not carried into parts yet";
+        return at(root["sections"], "sections",
+                  fmt::format("set '{}': sliding cables are not read with mesh.parts yet",
+                              b->set_name()));
   }
   return {};
 }
@@ -93,7 +98,7 @@ int partition_command(const std::filesystem::path& file, int parts,
   }
   for (const auto& w : in.warnings) say(stderr, "warning: {}\n", w);
   if (const std::string why = unsplittable(in, root); !why.empty()) {
-    say(stderr, "error: {}: {}: nothing written\n", file.string(), why);
+    say(stderr, "error: {}:{}: nothing written\n", file.string(), why);
     return kExitBadInput;
   }
   if (in.analysis.partition == ElementPartition::kScotch)

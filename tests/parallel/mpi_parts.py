@@ -14,8 +14,9 @@ Usage: mpi_parts.py VELUM EXAMPLES OUTDIR
 Each runs under `mpirun -np 2` twice, whole read (the model as it is) and part read; every
 history column must agree within 1e-8 of its largest magnitude, summary.json must say the
 same status and steps. Bad input: a parts folder that is not there, the parts read on another
-number of processes (3, and 1 without mpirun), and `velum partition -n 1` each exit 1 with a
-message naming the model file and the key.
+number of processes (3, and 1 without mpirun), `velum partition -n 1` and the split of a model
+with start positions (mesh.reference_positions) each exit 1 with a message naming the model
+file and the key.
 """
 import json
 import os
@@ -114,6 +115,9 @@ def main():
                       "2 parts on 1 process", [parts, "mesh.parts", "2 parts", "mpirun -np 2"])
     errors += refused([velum, "partition", os.path.join(out, "quarter", "whole.yaml"), "-n", "1",
                        "-o", os.path.join(out, "n1")], env, "velum partition -n 1", ["-n 1"])
+    flat = os.path.join(examples, "airbag-flat-reference", "model.yaml")
+    errors += refused([velum, "partition", flat, "-n", "2", "-o", os.path.join(out, "flat")], env,
+                      "a split of start positions", [flat, "mesh.reference_positions"])
     if errors:
         sys.exit("FAIL:\n" + "\n".join(errors))
     print("parts on 2 processes: the whole read's answers")
