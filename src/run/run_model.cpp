@@ -117,7 +117,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
                     input.file.string(), processes::count()));
     return out;
   }
-  const int all_nodes = input.model.num_nodes();
+  const int all_nodes =  // (a model read in parts: the whole model's)
+      input.model.piece ? input.model.piece->global_nodes : input.model.num_nodes();
   // Displacement control: its equation in the whole model's numbering (the node may be
   // another process's once the model is shared out).
   // (A model read in parts has it from the split.)

@@ -49,7 +49,8 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
             "step '{}': analysis.linear_solver: a run on {} processes needs linear_solver: petsc",
             s.name, processes::count()));
   const PreparedSteps prepared = prepare_steps(input.steps);
-  const int all_nodes = input.model.num_nodes();
+  const int all_nodes =  // (a model read in parts: the whole model's)
+      input.model.piece ? input.model.piece->global_nodes : input.model.num_nodes();
   std::optional<OutputLock> lock;
   std::unique_ptr<ResultsWriter> writer;
   {

@@ -13,7 +13,8 @@ Usage: mpi_parts.py VELUM EXAMPLES OUTDIR
 
 Each runs under `mpirun -np 2` twice, whole read (the model as it is) and part read; every
 history column must agree within 1e-8 of its largest magnitude, summary.json must say the
-same status and steps. Bad input: a parts folder that is not there, the parts read on another
+same status and steps, and the part read's frames must be pieces with the one-process
+frames' values (mpi_cases.frame_errors). Bad input: a parts folder that is not there, the parts read on another
 number of processes (3, and 1 without mpirun), `velum partition -n 1` and the split of a model
 with start positions (mesh.reference_positions) each exit 1 with a message naming the model
 file and the key.
@@ -26,8 +27,9 @@ import sys
 import yaml
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mpi_cases import compare, fresh, history, model as quarter, run  # noqa: E402
-from mpi_staged import hypar  # noqa: E402
+from mpi_cases import compare, frame_errors, fresh, history, model as quarter, run  # noqa: E402
+from mpi_pieces import SIGN_FREE  # noqa: E402
+from mpi_staged import floor, hypar  # noqa: E402
 
 
 def with_petsc(d):
@@ -73,6 +75,11 @@ def case(velum, name, d, out, env):
                           f"{sb.get(key)}")
     if sa.get("status") != "converged":
         errors.append(f"{name}: the whole read did not converge: {sa.get('reason')}")
+    # The part read's frames: pieces with the one-process frames' values.
+    one = os.path.join(folder, "whole-1")
+    run([velum, "run", whole, "-q", "-o", one], env)
+    if os.path.isdir(os.path.join(one, "frames")):
+        errors += [f"{name}, part read: {e}" for e in frame_errors(one, b, 2, SIGN_FREE, floor)]
     if not errors:
         print(f"{name}: {len(ref[1])} rows, largest difference {worst(ref, got):.3g} of a "
               "column's largest value")
