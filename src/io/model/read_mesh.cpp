@@ -282,8 +282,12 @@ std::optional<std::vector<int>> Reader::node_list(const Node& n, const std::stri
     auto id = integer(v, path, "node id");
     if (!id) return false;
     auto it = in_.model.node_index.find(*id);
+    if (parts_given_)  // a part read: another part's node, or none's (checked over the parts)
+      in_.part_ids.push_back({it != in_.model.node_index.end(),
+                              fmt::format("{}:{}: {}: undefined node {} (in no part of mesh.parts)",
+                                          name_, line_of(v), path, *id)});
     if (it == in_.model.node_index.end()) {
-      if (parts_given_) return true;  // a part read: another part's node (the split checked it)
+      if (parts_given_) return true;
       error(v, path, fmt::format("undefined node {}", *id));
       return false;
     }
