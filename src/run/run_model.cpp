@@ -108,6 +108,14 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     blas_thread_shutdown_();
   if (opt.output) input.output.directory = *opt.output;
   out.directory = input.output.directory;
+  if (opt.restart && input.model.piece) {  // (the same decision on every process)
+    out.status = kExitBadInput;
+    out.errors.push_back(fmt::format(
+        "{}: mesh.parts: --restart is not available for a model read in parts yet: run the "
+        "model with its whole mesh (mesh.file) to restart it",
+        input.file.string()));
+    return out;
+  }
   if (!input.steps.empty()) return run_staged(input, opt);  // staged_run.cpp
 
   if (several && input.analysis.solver != SolverKind::kPetsc) {

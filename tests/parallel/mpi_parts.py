@@ -15,7 +15,7 @@ Each runs under `mpirun -np 2` twice, whole read (the model as it is) and part r
 history column must agree within 1e-8 of its largest magnitude, summary.json must say the
 same status and steps, and the part read's frames must be pieces with the one-process
 frames' values (mpi_cases.frame_errors). Bad input: a node id that no part holds, a parts folder that is not there, the parts read on another
-number of processes (3, and 1 without mpirun), `velum partition -n 1` and the split of a model
+number of processes (3, and 1 without mpirun), `--restart` (not available in parts yet), `velum partition -n 1` and the split of a model
 with start positions (mesh.reference_positions) each exit 1 with a message naming the model
 file and the key.
 """
@@ -122,6 +122,9 @@ def main():
     errors += refused(["mpirun", "-np", "2", velum, "run", unknown, "-q", "-o",
                        os.path.join(out, "unknown-out")], env, "a node id in no part",
                       [unknown, "loads[2].nodes", "undefined node 99999"])
+    errors += refused(["mpirun", "-np", "2", velum, "run", parts, "-q", "--restart",
+                       os.path.join(out, "quarter", "parts-2")], env,
+                      "--restart of a model read in parts", [parts, "mesh.parts", "--restart"])
     errors += refused(["mpirun", "-np", "3", velum, "run", parts, "-q", "-o",
                        os.path.join(out, "three")], env, "2 parts on 3 processes",
                       [parts, "mesh.parts", "2 parts", "3 processes"])
