@@ -9,6 +9,7 @@
 #include "velum/run/commands.hpp"
 #include "velum/run/fit_command.hpp"
 #include "velum/run/huge_page_heap.hpp"
+#include "velum/run/partition_command.hpp"
 #include "velum/run/pattern_command.hpp"
 #include "velum/run/plot_command.hpp"
 #include "velum/run/seams_command.hpp"
@@ -99,6 +100,18 @@ int main(int argc, char** argv) {
       ->required();
   seams_cmd->add_option("-o,--output", seams_output, "model file to write (YAML)")->required();
 
+  std::filesystem::path partition_input, partition_output;
+  int partition_parts = 0;
+  auto* partition_cmd = app.add_subcommand(
+      "partition",
+      "Split a model for P MPI processes: one part per process, read with mesh.parts so that "
+      "no process holds the whole mesh");
+  partition_cmd->add_option("MODEL", partition_input, "model file (YAML)")->required();
+  partition_cmd->add_option("-n,--parts", partition_parts, "number of processes (parts)")
+      ->required();
+  partition_cmd->add_option("-o,--output", partition_output, "folder to write the parts in")
+      ->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -116,6 +129,8 @@ int main(int argc, char** argv) {
     if (import_cmd->parsed()) return velum::run::import_command(import_deck, import_output);
     if (pattern_cmd->parsed()) return velum::run::pattern_command(pattern_input, pattern_output);
     if (seams_cmd->parsed()) return velum::run::seams_command(seams_input, seams_output);
+    if (partition_cmd->parsed())
+      return velum::run::partition_command(partition_input, partition_parts, partition_output);
     return velum::run::check_command(check_model);
   } catch (const std::bad_alloc&) {
     velum::io::say(stderr, "error: out of memory: the model is too large for this machine\n");

@@ -70,9 +70,13 @@ DofMap::DofMap(const Model& model) {
 }
 
 std::vector<long> DofMap::row_start() const {
+  return row_start(processes::count());
+}
+
+std::vector<long> DofMap::row_start(int size) const {
   // Contiguous ranges, whole blocks of three when the equations come so, as even as PETSc's
   // own split (PetscSolver uses these).
-  const int size = processes::count(), bs = whole_nodes_ && neq_ % 3 == 0 ? 3 : 1;
+  const int bs = whole_nodes_ && neq_ % 3 == 0 ? 3 : 1;
   std::vector<long> start(static_cast<size_t>(size) + 1);
   for (int r = 0; r <= size; ++r)
     start[static_cast<size_t>(r)] = processes::range_start(neq_, bs, size, r);

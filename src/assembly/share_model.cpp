@@ -67,9 +67,13 @@ void share_nodes(ModelPiece& piece, std::vector<std::pair<int, int>>& also,
 
 void add_equation_owners(MeshSharing& sharing, const Model& whole) {
   if (processes::count() <= 1) return;
+  add_equation_owners(sharing, whole, processes::count());
+}
+
+void add_equation_owners(MeshSharing& sharing, const Model& whole, int count) {
   if (whole.piece) throw std::logic_error("add_equation_owners: the model is already a piece");
   const DofMap dofs(whole);
-  const std::vector<long> start = dofs.row_start();
+  const std::vector<long> start = dofs.row_start(count);
   sharing.equation_owners.resize(static_cast<size_t>(whole.num_nodes()));
   for (int n = 0; n < whole.num_nodes(); ++n)
     for (int c = 0; c < 3; ++c)
@@ -81,55 +85,39 @@ void add_equation_owners(MeshSharing& sharing, const Model& whole) {
       }
 }
 
-namespace {
-
-// share_model; `plan` null: this model alone.
-std::vector<int> share(Model& model, ElementPartition partition, MeshSharing* plan) {
-  const int count = processes::count();
-  if (count <= 1) return {};
-  if (model.piece) throw std::logic_error("share_model: the model is already a piece");
-  const int rank = processes::rank();
-  const auto nn = static_cast<size_t>(model.num_nodes());
-  auto piece = std::make_shared<ModelPiece>();
-  piece->global_nodes = model.num_nodes();
-  if (model.num_nodes() > 0)
-    piece->size = (model.X.rowwise().maxCoeff() - model.X.rowwise().minCoeff()).norm();
-  const DofMap whole(model);  // the global numbering, the same on every process
+std::vector<int> row_rule_owners(const Model& model, const DofMap& whole, int count) {
+  // An element belongs to the process that owns the row of its lowest equation (rows split in
+  // contiguous even ranges): with a node numbering that follows the mesh (bandwidth-reduced,
+  // or row by row), a process's elements form a band whose entries mostly fall in its own
+  // rows. An element without equations goes round-robin.
   const long neq = whole.global_equations();
-  const std::vector<long> start = whole.row_start();
-  piece->global_equations = whole.global_equations();
-  piece->whole_nodes = whole.whole_nodes();
+  std::vector<int> out;
+  out.reserve(static_cast<size_t>(model.num_elements()));
+  for (const auto& bp : model.blocks)
+    for (int e = 0; e < bp->size(); ++e) {
+      long lowest = neq;
+      for (int n : bp->nodes(e))
+        for (int c = 0; c < 3; ++c)
+          if (const int q = whole.global_equation(n, c); q >= 0) lowest = std::min(lowest, long{q});
+      out.push_back(lowest < neq ? processes::owner(lowest, neq, count) : e % count);
+    }
+  return out;
+}
 
-  // PT-Scotch on the element graph when asked for (a collective call); the row rule below
-  // when it is not, or not available.
-  std::vector<int> graph_part;
-  const bool planned = plan && !plan->cell_owner.empty();
-  if (planned) {
-    if (plan->cell_owner.size() != static_cast<size_t>(model.num_elements()))
-      throw std::logic_error("share_model: the sharing is for another mesh");
-    graph_part = plan->cell_owner;
-    piece->partition = plan->partition;
-    piece->partition_note = plan->partition_note;
-  } else if (partition == ElementPartition::kScotch) {
-    std::vector<long> offsets, adjacency;
-    element_graph(model, offsets, adjacency);
-    std::string why;
-    if (processes::partition_graph(offsets, adjacency, graph_part, why))
-      piece->partition = ElementPartition::kScotch;
-    else
-      piece->partition_note = why, graph_part.clear();
-  }
-  // The row rule: an element belongs to the process that owns the row of its lowest equation
-  // (rows split in contiguous even ranges): with a node numbering that follows the mesh
-  // (bandwidth-reduced, or row by row), a process's elements form a band whose entries mostly
-  // fall in its own rows. An element without equations goes round-robin.
-  auto owner = [&](const ElementBlock& b, int e) {
-    long lowest = neq;
-    for (int n : b.nodes(e))
-      for (int c = 0; c < 3; ++c)
-        if (const int q = whole.global_equation(n, c); q >= 0) lowest = std::min(lowest, long{q});
-    return lowest < neq ? processes::owner(lowest, neq) : e % count;
-  };
+ModelPiece plan_piece(const Model& model, const DofMap& whole, int rank, int count,
+                      const std::vector<int>& cell_owner,
+                      const std::vector<std::vector<int>>* equation_owners,
+                      std::vector<int>& local_of) {
+  if (cell_owner.size() != static_cast<size_t>(model.num_elements()))
+    throw std::logic_error("plan_piece: the element owners are for another mesh");
+  const auto nn = static_cast<size_t>(model.num_nodes());
+  ModelPiece piece;
+  piece.global_nodes = model.num_nodes();
+  if (model.num_nodes() > 0)
+    piece.size = (model.X.rowwise().maxCoeff() - model.X.rowwise().minCoeff()).norm();
+  const std::vector<long> start = whole.row_start(count);
+  piece.global_equations = whole.global_equations();
+  piece.whole_nodes = whole.whole_nodes();
   // Per node: the processes whose elements hold it (one, -1 none, -2 several) and the lowest
   // of them; the processes holding it at all (its elements', its equations' owners', the
   // first for nodes in no element and point masses' nodes); whether this process does.
@@ -151,9 +139,9 @@ std::vector<int> share(Model& model, ElementPartition partition, MeshSharing* pl
   };
   size_t cell = 0;  // the element's index through the blocks
   for (const auto& bp : model.blocks) {
-    auto& own = piece->own.emplace_back();
+    auto& own = piece.own.emplace_back();
     for (int e = 0; e < bp->size(); ++e, ++cell) {
-      const int p = graph_part.empty() ? owner(*bp, e) : graph_part[cell];
+      const int p = cell_owner[cell];
       if (p == rank) own.push_back(e);
       for (int node : bp->nodes(e)) {
         const auto n = static_cast<size_t>(node);
@@ -164,20 +152,10 @@ std::vector<int> share(Model& model, ElementPartition partition, MeshSharing* pl
       }
     }
   }
-  if (plan && !planned) {  // the first model of the sharing: its elements' processes for all
-    plan->partition = piece->partition;
-    plan->partition_note = piece->partition_note;
-    plan->cell_owner.clear();
-    for (const auto& bp : model.blocks)
-      for (int e = 0; e < bp->size(); ++e)
-        plan->cell_owner.push_back(graph_part.empty()
-                                       ? owner(*bp, e)
-                                       : graph_part[static_cast<size_t>(plan->cell_owner.size())]);
-  }
   // Every model's equations' owners hold the node, so that the pieces agree (a staged run).
-  if (plan)
-    for (size_t n = 0; n < std::min(nn, plan->equation_owners.size()); ++n)
-      for (int p : plan->equation_owners[n]) hold(n, p);
+  if (equation_owners)
+    for (size_t n = 0; n < std::min(nn, equation_owners->size()); ++n)
+      for (int p : (*equation_owners)[n]) hold(n, p);
   for (size_t n = 0; n < nn; ++n) {
     if (element_holder[n] == -1) hold(n, 0);
     for (int c = 0; c < 3; ++c)
@@ -188,28 +166,73 @@ std::vector<int> share(Model& model, ElementPartition partition, MeshSharing* pl
   for (const auto& pm : model.masses) hold(static_cast<size_t>(pm.node), 0);
 
   // The piece's nodes, in global order.
-  std::vector<int> local_of(nn, -1);
+  local_of.assign(nn, -1);
   for (size_t n = 0; n < nn; ++n)
     if (here[n]) {
-      local_of[n] = static_cast<int>(piece->global_node.size());
-      piece->global_node.push_back(static_cast<int>(n));
+      local_of[n] = static_cast<int>(piece.global_node.size());
+      piece.global_node.push_back(static_cast<int>(n));
       for (int c = 0; c < 3; ++c)
-        piece->equation.push_back(whole.global_equation(static_cast<int>(n), c));
-      piece->kept.push_back(element_holder[n] == -1 ? rank == 0 : lowest[n] == rank);
+        piece.equation.push_back(whole.global_equation(static_cast<int>(n), c));
+      piece.kept.push_back(element_holder[n] == -1 ? rank == 0 : lowest[n] == rank);
     }
   for (size_t n = 0; n < nn; ++n)
-    if (element_holder[n] == -2) ++piece->element_cut;
-  share_nodes(*piece, also, local_of, rank);
+    if (element_holder[n] == -2) ++piece.element_cut;
+  share_nodes(piece, also, local_of, rank);
   // The first process also holds the diagonal blocks of the point masses' nodes (their mass
   // and the payload's drag Jacobian are added there once) and of nodes in no element, so
   // that the shares' patterns together are the one-process pattern.
   if (rank == 0) {
     for (size_t n = 0; n < nn; ++n)
-      if (element_holder[n] == -1) piece->bare.push_back(local_of[n]);
-    piece->lone = piece->bare;
+      if (element_holder[n] == -1) piece.bare.push_back(local_of[n]);
+    piece.lone = piece.bare;
     for (const auto& pm : model.masses)
-      piece->lone.push_back(local_of[static_cast<size_t>(pm.node)]);
+      piece.lone.push_back(local_of[static_cast<size_t>(pm.node)]);
   }
+  return piece;
+}
+
+namespace {
+
+// share_model; `plan` null: this model alone.
+std::vector<int> share(Model& model, ElementPartition partition, MeshSharing* plan) {
+  const int count = processes::count();
+  if (count <= 1) return {};
+  if (model.piece) throw std::logic_error("share_model: the model is already a piece");
+  const int rank = processes::rank();
+  const DofMap whole(model);  // the global numbering, the same on every process
+
+  // PT-Scotch on the element graph when asked for (a collective call); the row rule when it
+  // is not, or not available.
+  std::vector<int> graph_part;
+  ElementPartition used = ElementPartition::kRows;
+  std::string note;
+  const bool planned = plan && !plan->cell_owner.empty();
+  if (planned) {
+    if (plan->cell_owner.size() != static_cast<size_t>(model.num_elements()))
+      throw std::logic_error("share_model: the sharing is for another mesh");
+    graph_part = plan->cell_owner;
+    used = plan->partition;
+    note = plan->partition_note;
+  } else if (partition == ElementPartition::kScotch) {
+    std::vector<long> offsets, adjacency;
+    element_graph(model, offsets, adjacency);
+    std::string why;
+    if (processes::partition_graph(offsets, adjacency, graph_part, why))
+      used = ElementPartition::kScotch;
+    else
+      note = why, graph_part.clear();
+  }
+  if (graph_part.empty()) graph_part = row_rule_owners(model, whole, count);
+  if (plan && !planned) {  // the first model of the sharing: its elements' processes for all
+    plan->partition = used;
+    plan->partition_note = note;
+    plan->cell_owner = graph_part;
+  }
+  std::vector<int> local_of;
+  auto piece = std::make_shared<ModelPiece>(plan_piece(
+      model, whole, rank, count, graph_part, plan ? &plan->equation_owners : nullptr, local_of));
+  piece->partition = used;
+  piece->partition_note = note;
 
   // The loads cut down to the piece while the mesh is whole (an edge load's boundary is the
   // whole mesh's); those with nothing here dropped.

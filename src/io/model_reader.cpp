@@ -166,6 +166,13 @@ void Reader::parse(const Node& root) {
   if (auto t = text(root, "title", "", false)) in_.title = *t;
   parse_functions(root["functions"]);
   if (require(root, "mesh", "")) parse_mesh(root["mesh"]);
+  if (part_)  // what a part read does not know yet (each needs the whole mesh at set-up)
+    for (const char* key : {"rigid_bodies", "contact", "patterns"})
+      if (has(root, key))
+        error(root[key], key,
+              fmt::format("{} is not read with mesh.parts yet: run the model with its whole "
+                          "mesh (mesh.file)",
+                          key));
   if (require(root, "materials", "")) parse_materials(root["materials"]);
   if (require(root, "sections", "")) parse_sections(root["sections"]);
   if (has(root, "patterns")) parse_patterns(root["patterns"]);
@@ -224,6 +231,11 @@ void Reader::final_checks(const Node& root) {
   if (!errors_.empty()) return;
   if (in_.model.blocks.empty()) {
     error(root, "mesh", "the model has no elements");
+    return;
+  }
+  if (part_) {  // a part read: what only the whole mesh knows, from the split
+    finish_part();
+    set_up_loads();
     return;
   }
   set_up_loads();  // edge loads' boundary, gas chambers' closure and volume

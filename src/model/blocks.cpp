@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <Eigen/Cholesky>
 
+#include <algorithm>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
@@ -588,6 +589,18 @@ void ElementBlock::keep_piece(std::span<const int> elements, const std::vector<i
       renumbered[at] = local_of[static_cast<size_t>(connectivity_[at])];
     }
   connectivity_ = std::move(renumbered);
+}
+
+void ElementBlock::spread(int total, std::span<const int> elements) {
+  if (!slot_.empty() || static_cast<size_t>(size()) != elements.size())
+    throw std::logic_error("ElementBlock::spread: not a block of the listed elements only");
+  const auto n = static_cast<size_t>(nodes_per_element());
+  std::vector<int> spread(static_cast<size_t>(total) * n, -1);
+  for (size_t i = 0; i < elements.size(); ++i)
+    std::copy_n(connectivity_.begin() + static_cast<std::ptrdiff_t>(i * n), n,
+                spread.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(elements[i]) * n));
+  connectivity_ = std::move(spread);
+  set_kept(elements);
 }
 
 void ElementBlock::pressure(std::span<const int> elements, const NodePositions& x, double p,

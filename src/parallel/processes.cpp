@@ -273,10 +273,7 @@ void exchange(const double* out, const std::vector<Channel>& to, double* in,
 }
 
 int owner(long k, long total) {
-  const long base = total / my_count, extra = total % my_count;
-  // The first `extra` processes hold base + 1 items.
-  const long split = extra * (base + 1);
-  return static_cast<int>(k < split ? k / (base + 1) : extra + (k - split) / std::max(base, 1L));
+  return owner(k, total, my_count);
 }
 
 bool partition_graph(const std::vector<long>& offsets, const std::vector<long>& adjacency,

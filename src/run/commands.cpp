@@ -33,6 +33,24 @@ std::optional<ModelInput> load(const std::filesystem::path& file, bool quiet = f
   }
 }
 
+/// Under mpirun, a model read in parts (mesh.parts): false, each named on the first process,
+/// when a node id the model file names is held by no part (each process knows its own part
+/// only). A collective call; true at once for a model read whole.
+bool named_ids_found(const ModelInput& in) {
+  if (processes::count() <= 1 || !in.model.piece) return true;
+  const long n = processes::min(static_cast<long>(in.part_ids.size()));  // (the same everywhere)
+  std::vector<double> here(static_cast<size_t>(n));
+  for (size_t i = 0; i < here.size(); ++i) here[i] = in.part_ids[i].here ? 1 : 0;
+  processes::sum(here.data(), n);
+  bool found = true;
+  for (size_t i = 0; i < here.size(); ++i)
+    if (here[i] == 0) {
+      found = false;
+      if (processes::rank() == 0) say(stderr, "error: {}\n", in.part_ids[i].missing);
+    }
+  return found;
+}
+
 std::map<std::string, int> elements_per_type(const Model& m) {
   std::map<std::string, int> out;
   for (const auto& b : m.blocks) out[std::string(b->type_name())] += b->size();
@@ -44,7 +62,10 @@ std::map<std::string, int> elements_per_type(const Model& m) {
 int check_command(const std::filesystem::path& file) {
   say(stdout, "velum {} check: {}\n{}\n", VELUM_VERSION, file.string(), kUnitsNote);
   auto in = load(file);
+  // Under mpirun (a model read in parts): every process goes on only if every one read it.
+  if (processes::count() > 1 && !processes::all(in.has_value())) return kExitBadInput;
   if (!in) return kExitBadInput;
+  if (!named_ids_found(*in)) return kExitBadInput;
   const Model& m = in->model;
   int dofs = 0;
   try {
@@ -60,6 +81,15 @@ int check_command(const std::filesystem::path& file) {
   say(stdout, "elements:   {} ({})\n", m.num_elements(),
       per_type.empty() ? "" : per_type.substr(1));
   say(stdout, "blocks:     {}\n", m.blocks.size());
+  if (m.piece) {  // a part read (mesh.parts): this process's piece
+    size_t own = 0;
+    for (const auto& o : m.piece->own) own += o.size();
+    say(stdout,
+        "part:       {} of {}: {} of the model's {} nodes, {} own elements, {} of {} "
+        "equations here\n",
+        processes::rank(), processes::count(), m.num_nodes(), m.piece->global_nodes, own, dofs,
+        m.piece->global_equations);
+  }
   say(stdout, "dofs:       {} equations ({} fixed or prescribed components)\n", dofs,
       3 * m.num_nodes() - dofs);
   std::string mats;
@@ -92,7 +122,11 @@ int run_command(const RunOptions& opt) {
   controls.restart = opt.restart;
   InterruptGuard interrupts;  // SIGINT, SIGTERM: finish the current step, then stop
   auto in = load(opt.model, opt.quiet);
+  // Under mpirun every process goes on only if every process read the model (a part read,
+  // mesh.parts, can fail on one process alone).
+  if (processes::count() > 1 && !processes::all(in.has_value())) return kExitBadInput;
   if (!in) return kExitBadInput;
+  if (!named_ids_found(*in)) return kExitBadInput;
   if (const int sig = InterruptGuard::signal_received())  // nothing written yet
     return sig == SIGINT ? kExitInterrupted : kExitTerminated;
   const RunOutcome out = run_model(*in, controls);

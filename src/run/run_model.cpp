@@ -108,6 +108,14 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
     blas_thread_shutdown_();
   if (opt.output) input.output.directory = *opt.output;
   out.directory = input.output.directory;
+  if (opt.restart && input.model.piece) {  // (the same decision on every process)
+    out.status = kExitBadInput;
+    out.errors.push_back(fmt::format(
+        "{}: mesh.parts: --restart is not available for a model read in parts yet: run the "
+        "model with its whole mesh (mesh.file) to restart it",
+        input.file.string()));
+    return out;
+  }
   if (!input.steps.empty()) return run_staged(input, opt);  // staged_run.cpp
 
   if (several && input.analysis.solver != SolverKind::kPetsc) {
@@ -117,11 +125,13 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
                     input.file.string(), processes::count()));
     return out;
   }
-  const int all_nodes = input.model.num_nodes();
+  const int all_nodes =  // (a model read in parts: the whole model's)
+      input.model.piece ? input.model.piece->global_nodes : input.model.num_nodes();
   // Displacement control: its equation in the whole model's numbering (the node may be
   // another process's once the model is shared out).
+  // (A model read in parts has it from the split.)
   if (PathSettings& path = input.analysis.path;
-      path.method == PathSettings::Method::kDisplacement) {
+      path.method == PathSettings::Method::kDisplacement && !input.model.piece) {
     if (const std::string why = resolve_path_equation(path, input.model, DofMap(input.model));
         !why.empty()) {
       out.status = kExitBadInput;
@@ -133,7 +143,8 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   try {
     // Several processes: each keeps its piece of the model only (its elements' section data,
     // the nodes it holds), so that the memory per process falls with the processes.
-    if (several) share_out(input);
+    // A model read in parts (mesh.parts) is a piece already.
+    if (several && !input.model.piece) share_out(input);
     system = std::make_unique<MechanicalSystem>(input.model);
   } catch (const std::exception& e) {
     out.status = kExitBadInput;

@@ -49,13 +49,14 @@ RunOutcome run_staged(ModelInput& input, const RunControls& opt) {
             "step '{}': analysis.linear_solver: a run on {} processes needs linear_solver: petsc",
             s.name, processes::count()));
   const PreparedSteps prepared = prepare_steps(input.steps);
-  const int all_nodes = input.model.num_nodes();
+  const int all_nodes =  // (a model read in parts: the whole model's)
+      input.model.piece ? input.model.piece->global_nodes : input.model.num_nodes();
   std::optional<OutputLock> lock;
   std::unique_ptr<ResultsWriter> writer;
   {
     std::unique_ptr<MechanicalSystem> first;  // the writer's until the first step begins
     try {
-      if (several) share_steps(input);
+      if (several && !input.model.piece) share_steps(input);  // (mesh.parts: pieces already)
       first = std::make_unique<MechanicalSystem>(input.model);
     } catch (const std::exception& e) {
       return refuse(e.what());

@@ -36,6 +36,8 @@ class DofMap {
   /// Where the global equations start on each process when owned in whole nodes where
   /// possible (as PETSc splits a matrix of block size 3): count() + 1 entries.
   std::vector<long> row_start() const;
+  /// The same for `count` processes (the split of a model into parts on one process).
+  std::vector<long> row_start(int count) const;
   /// Equations come three to a node (every node has all or none).
   bool whole_nodes() const { return whole_nodes_; }
   const EquationLayout& layout() const { return layout_; }

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "velum/assembly/dof_map.hpp"
 #include "velum/model/model.hpp"
 #include "velum/parallel/element_partition.hpp"
 #include "velum/parallel/model_piece.hpp"
@@ -38,6 +39,22 @@ struct MeshSharing {
 
 /// Adds the owners of `whole`'s equations to sharing.equation_owners (a whole model).
 void add_equation_owners(MeshSharing& sharing, const Model& whole);
+/// The same for `count` processes (`velum partition`, on one process).
+void add_equation_owners(MeshSharing& sharing, const Model& whole, int count);
+
+/// Per element through the blocks: the process of `count` that computes it by the row rule
+/// (the owner of the row of its lowest equation in `whole`, the model's numbering).
+std::vector<int> row_rule_owners(const Model& model, const DofMap& whole, int count);
+
+/// What process `rank` of `count` holds of `model` (whole, left as it is) with its elements
+/// computed by `cell_owner` (per element through the blocks) and, for a staged run, the nodes
+/// of every model's equation owners held too: share_model's rules without MPI, so that
+/// `velum partition` computes every part on one process. `local_of`: per node of the whole
+/// model its index on the piece (-1: not held). Partition and its note are left to the caller.
+ModelPiece plan_piece(const Model& model, const DofMap& whole, int rank, int count,
+                      const std::vector<int>& cell_owner,
+                      const std::vector<std::vector<int>>* equation_owners,
+                      std::vector<int>& local_of);
 
 /// share_model with the elements shared as in `sharing` (filled on the first call) and the
 /// nodes held by the owners of every model's equations. Collective; nothing on one process.

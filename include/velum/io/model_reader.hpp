@@ -124,6 +124,14 @@ struct ModelInput {
   PatternSettings patterns;  ///< empty panels: no `patterns:`
   /// The node sets by name (mesh file's and inline, boxes found), as node indices.
   std::map<std::string, std::vector<int>> node_sets;
+  /// A model read in parts (mesh.parts): each node id the file names, in the order read (the
+  /// same on every process), whether this process's part holds it, and the message for an id
+  /// that no part holds; the run checks them over the processes (each knows its part only).
+  struct NamedId {
+    bool here = false;
+    std::string missing;
+  };
+  std::vector<NamedId> part_ids;
 };
 
 // Limits beyond which a model is refused as bad input (docs/model-format.md, "Limits"): each

@@ -146,6 +146,11 @@ class ElementBlock {
   /// the other elements keep their index but no nodes (-1): only the listed ones may be asked
   /// for anything afterwards.
   void keep_piece(std::span<const int> elements, const std::vector<int>& local_of);
+  /// A block built from the listed elements only (a part read: docs/parallel.md), their
+  /// section data at 0, 1, ..., spread to the whole block's `total` elements: the listed ones
+  /// (ascending) at their index there, the others without nodes (-1) or data, as keep_piece
+  /// leaves a piece's block.
+  void spread(int total, std::span<const int> elements);
 
  protected:
   ElementBlock(const shape::ShapeInfo& shape, std::string set_name, std::vector<int> connectivity,

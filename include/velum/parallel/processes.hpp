@@ -6,6 +6,7 @@
 // every call here is trivial.
 #pragma once
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,12 @@ void exchange(const double* out, const std::vector<Channel>& to, double* in,
 /// The process that owns item k of `total` split into count() contiguous, even ranges (as
 /// PETSc splits rows).
 int owner(long k, long total);
+/// The same for `count` processes (the split of a model into parts on one process).
+inline int owner(long k, long total, int count) {
+  const long base = total / count, extra = total % count;
+  const long split = extra * (base + 1);  // the first `extra` processes hold base + 1 items
+  return static_cast<int>(k < split ? k / (base + 1) : extra + (k - split) / std::max(base, 1L));
+}
 /// Where part r of `total` items split into `parts` contiguous ranges of whole blocks of
 /// `block` items (total a multiple of it), as even as PETSc's own split, starts; r = parts
 /// gives `total`.

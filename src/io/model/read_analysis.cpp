@@ -363,6 +363,7 @@ void Reader::parse_path(const Node& pa) {
   } else if (*m == "displacement") {
     path.method = PathSettings::Method::kDisplacement;
     auto n = nodes_of(pa, "node", p);
+    if (part_ && n && n->empty()) n->push_back(-1);  // another part's node: not here
     if (n && n->size() != 1) {
       error(pa["node"], sub(p, "node"), "give one node");
       n.reset();
@@ -489,6 +490,7 @@ void Reader::parse_output(const Node& o, const Node& root) {
       case Q::kPosition: {
         auto n = nodes_of(e, "node", p);
         auto c = component(e, "component", p);
+        if (part_ && n && n->empty()) n->push_back(-1);  // another part's node: not here
         if (n && n->size() != 1) {
           error(e["node"], sub(p, "node"), "give one node");
           n.reset();
@@ -539,7 +541,7 @@ void Reader::parse_output(const Node& o, const Node& root) {
         }
         if (ok) {
           he.point = *pt;
-          if (!locate(he)) {
+          if (!locate(he, out.history.size())) {
             if (mesh_ok_)
               error(e["point"], sub(p, "point"),
                     fmt::format("the point [{}, {}, {}] lies in no membrane element", he.point.x(),
@@ -565,7 +567,7 @@ void Reader::parse_output(const Node& o, const Node& root) {
         ok = parse_contact_history(e, p, he);
         break;
       case Q::kForce:
-        ok = locate_cable(e, p, he);
+        ok = locate_cable(e, p, he, "force", out.history.size());
         break;
       case Q::kSlip:
         ok = parse_slip_history(e, p, he);
@@ -580,10 +582,16 @@ void Reader::parse_output(const Node& o, const Node& root) {
 // `element: id` of a cable element (cable2, cable3 or a sliding_cable chain) for the history
 // quantity `force`: its block and position there.
 bool Reader::locate_cable(const Node& e, const std::string& p, HistoryEntry& he,
-                          const char* quantity) {
+                          const char* quantity, size_t index) {
   if (!require(e, "element", p)) return false;
   auto id = integer(e["element"], sub(p, "element"), "element id");
   if (!id) return false;
+  if (part_) {  // a part read: where the split found it (the element may be another part's)
+    if (place_from_part(he, index)) return true;
+    error(e["element"], sub(p, "element"),
+          fmt::format("the split found no cable element {}: split the model again", *id));
+    return false;
+  }
   for (size_t b = 0; b < in_.element_ids.size() && b < in_.model.blocks.size(); ++b) {
     const auto& ids = in_.element_ids[b];
     const auto at = std::find(ids.begin(), ids.end(), *id);
@@ -607,7 +615,8 @@ bool Reader::locate_cable(const Node& e, const std::string& p, HistoryEntry& he,
   return false;
 }
 
-bool Reader::locate(HistoryEntry& he) const {
+bool Reader::locate(HistoryEntry& he, size_t index) const {
+  if (part_) return place_from_part(he, index);
   for (size_t b = 0; b < in_.model.blocks.size(); ++b) {
     const SurfaceBlock* blk = in_.model.blocks[b]->surface();
     if (!blk) continue;

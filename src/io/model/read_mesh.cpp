@@ -29,13 +29,19 @@ void Reader::add_node(long id, const Vec3& x, const Node& at, const std::string&
 }
 
 void Reader::parse_mesh(const Node& mesh) {
+  if (has(mesh, "parts")) {  // a split model: this process's part only (read_parts.cpp)
+    parse_parts(mesh);
+    return;
+  }
   if (!check_map(mesh, "mesh",
-                 {"file", "nodes", "elements", "node_sets", "positions", "reference_positions",
-                  "panel_references"}))
+                 {"file", "parts", "nodes", "elements", "node_sets", "positions",
+                  "reference_positions", "panel_references"}))
     return;
   mesh_ok_ = true;
   if (!has(mesh, "file") && !has(mesh, "nodes")) {
-    error(mesh, "mesh", "give a mesh file (mesh.file) or inline nodes (mesh.nodes)");
+    error(mesh, "mesh",
+          "give a mesh file (mesh.file), inline nodes (mesh.nodes) or a split model's parts "
+          "(mesh.parts)");
     mesh_ok_ = false;
     return;
   }
@@ -276,7 +282,12 @@ std::optional<std::vector<int>> Reader::node_list(const Node& n, const std::stri
     auto id = integer(v, path, "node id");
     if (!id) return false;
     auto it = in_.model.node_index.find(*id);
+    if (parts_given_)  // a part read: another part's node, or none's (checked over the parts)
+      in_.part_ids.push_back({it != in_.model.node_index.end(),
+                              fmt::format("{}:{}: {}: undefined node {} (in no part of mesh.parts)",
+                                          name_, line_of(v), path, *id)});
     if (it == in_.model.node_index.end()) {
+      if (parts_given_) return true;
       error(v, path, fmt::format("undefined node {}", *id));
       return false;
     }
@@ -312,12 +323,13 @@ std::optional<std::vector<int>> Reader::node_list(const Node& n, const std::stri
     }
     const auto& X = in_.model.X;
     const double tol =
-        1e-9 *
-        std::max(1.0, X.cols() ? (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm() : 1.0);
+        1e-9 * std::max(1.0, part_      ? part_->size  // the whole model's, as the split's
+                             : X.cols() ? (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm()
+                                        : 1.0);
     for (int i = 0; i < in_.model.num_nodes(); ++i)
       if (((X.col(i) - lo).array() >= -tol).all() && ((hi - X.col(i)).array() >= -tol).all())
         out.push_back(i);
-    if (out.empty()) {
+    if (out.empty() && !part_) {  // (a part read: the box's nodes are another part's)
       error(b, sub(path, "box"), "the box contains no node");
       return std::nullopt;
     }
@@ -338,12 +350,14 @@ std::optional<std::vector<int>> Reader::node_list(const Node& n, const std::stri
   }
   const std::string name = n.Scalar();
   if (auto it = node_sets_.find(name); it != node_sets_.end()) {
-    if (it->second.empty()) {
+    if (it->second.empty() && !part_) {  // (a part read: the set's nodes are another part's)
       error(n, path, fmt::format("node set '{}' is empty", name));
       return std::nullopt;
     }
     return it->second;
   }
+  if (part_)  // the element set's nodes here, all of them (not only those of own elements)
+    if (auto it = part_set_nodes_.find(name); it != part_set_nodes_.end()) return it->second;
   if (auto it = element_sets_.find(name); it != element_sets_.end()) {
     std::set<int> nodes;
     for (const auto& g : it->second.groups)

@@ -183,11 +183,19 @@ std::optional<SheetAxes> Reader::parse_axes(const Node& a, const std::string& p)
       auto id = integer(pts[i], item(pp, i), "node id or [x, y, z]");
       if (!id) return std::nullopt;
       auto it = in_.model.node_index.find(*id);
-      if (it == in_.model.node_index.end()) {
+      const Vec3* at = nullptr;
+      if (it != in_.model.node_index.end()) {
+        P[i] = in_.model.X.col(it->second);
+        continue;
+      }
+      if (part_)  // a part read: another part's node, its coordinates given by the split
+        for (const auto& [pid, x] : part_->points)
+          if (pid == *id) at = &x;
+      if (!at) {
         error(pts[i], item(pp, i), fmt::format("undefined node {}", *id));
         return std::nullopt;
       }
-      P[i] = in_.model.X.col(it->second);
+      P[i] = *at;
     }
   }
   try {
@@ -205,7 +213,8 @@ void Reader::build_blocks(const std::string& set, const ElementSet& es, const Ma
   // A panel of a cutting pattern measures strain from its own flat reference.
   const std::optional<NodePositions> panel = panel_reference_of(set, es, at, p);
   const NodePositions& X = panel ? *panel : in_.model.X;
-  for (const auto& g : es.groups) {
+  for (size_t gi = 0; gi < es.groups.size(); ++gi) {
+    const ElementGroup& g = es.groups[gi];
     std::vector<int> conn;
     conn.reserve(g.node_ids.size());
     bool ok = true;
@@ -273,7 +282,16 @@ void Reader::build_blocks(const std::string& set, const ElementSet& es, const Ma
                        set, g.ids[static_cast<size_t>(report.poor_axes_element)],
                        report.poor_axes_quality));
     set_blocks_[set].push_back(static_cast<int>(in_.model.blocks.size()));
-    in_.element_ids.push_back(g.ids);
+    if (part_) {  // a part read: the block spread to the whole block's numbering
+      const auto& [whole, own] = part_groups_.at(set).at(gi);
+      block->spread(whole, own);
+      std::vector<long> ids(static_cast<size_t>(whole), 0);
+      for (size_t k = 0; k < own.size(); ++k) ids[static_cast<size_t>(own[k])] = g.ids[k];
+      in_.element_ids.push_back(std::move(ids));
+      part_own_.push_back(own);
+    } else {
+      in_.element_ids.push_back(g.ids);
+    }
     in_.model.blocks.push_back(std::move(block));
   }
 }

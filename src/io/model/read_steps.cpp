@@ -131,12 +131,15 @@ ModelInput Reader::read_steps(const Node& root) {
   };
   std::vector<std::string> errors, warnings;
   std::set<std::string> seen_errors, seen_warnings;
+  std::vector<ModelInput::NamedId> part_ids;  // (a part read: every step's)
   std::vector<AnalysisStep> out_steps;
   bool fields = true;
   for (size_t i = 0; i < plans.size(); ++i) {
     Reader r(name_, base_dir_);
+    r.step_ = i;  // (a part read: the step's numbering)
     try {
       ModelInput si = r.read_one(model_of(i));
+      part_ids.insert(part_ids.end(), si.part_ids.begin(), si.part_ids.end());
       for (const auto& w : si.warnings)
         add_unique(warnings, seen_warnings, placed(w, name_, plans[i].origins));
       AnalysisStep& st = out_steps.emplace_back();
@@ -181,6 +184,7 @@ ModelInput Reader::read_steps(const Node& root) {
   ModelInput in = first.read_one(model_of(0));
   in.warnings = std::move(warnings);
   in.steps = std::move(out_steps);
+  in.part_ids.insert(in.part_ids.end(), part_ids.begin(), part_ids.end());
   return in;
 }
 

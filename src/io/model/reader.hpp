@@ -6,6 +6,7 @@
 // gas), read_analysis.cpp (analysis and output) and read_steps.cpp (analysis steps).
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -16,6 +17,7 @@
 
 #include "reader_context.hpp"
 #include "velum/io/mesh_data.hpp"
+#include "velum/io/mesh_part.hpp"
 #include "velum/load/contact_load.hpp"
 
 namespace velum::io::model_file {
@@ -74,6 +76,21 @@ class Reader : public ReaderContext {
   /// A row [id, x, y, z] of a node list at `p` (mesh.nodes, positions, references); nullopt,
   /// the error reported, when it is not one.
   std::optional<std::pair<long, Vec3>> node_row(const Node& n, const std::string& p);
+  // read_parts.cpp: mesh.parts, a model split by `velum partition` (io/mesh_part.hpp): this
+  // process's part only, as nodes, element groups of its own elements and node sets cut to it.
+  void parse_parts(const Node& mesh);
+  /// Once the blocks are built (build_blocks spread them, part_own_): the piece
+  /// (model.piece), the edge loads' edges and the nodes in no element, from the part.
+  void finish_part();
+  /// Where a history entry's point or element is (the split found it on the whole mesh).
+  bool place_from_part(HistoryEntry& he, size_t index) const;
+  std::unique_ptr<MeshPart> part_;          ///< the part read (mesh.parts), or null
+  bool parts_given_ = false;                ///< mesh.parts given (read or not: ids are not checked)
+  size_t step_ = 0;                         ///< the analysis step read (its numbering in the part)
+  std::vector<std::vector<int>> part_own_;  ///< per block: its elements of this part
+  /// Per element set: its groups' elements of this part and their whole count, in order.
+  std::map<std::string, std::vector<std::pair<int, std::vector<int>>>> part_groups_;
+  std::map<std::string, std::vector<int>> part_set_nodes_;  ///< element sets' nodes here
   // read_panel_references.cpp: stress-free flat panels per element set (a pattern's round trip)
   void parse_panel_references(const Node& list);
   /// X with the set's panel reference, or null when the set has none (reports missing nodes).
@@ -185,9 +202,10 @@ class Reader : public ReaderContext {
   void parse_explicit_step(const Node& integrator, const std::string& path);
   void parse_path(const Node& pa);
   void parse_output(const Node& o, const Node& root);
-  bool locate(HistoryEntry& he) const;
+  bool locate(HistoryEntry& he, size_t index) const;
+  /// (`index`: the entry's place in the history, for a part read.)
   bool locate_cable(const Node& e, const std::string& p, HistoryEntry& he,
-                    const char* quantity = "force");
+                    const char* quantity = "force", size_t index = SIZE_MAX);
   // read_sliding.cpp: `slip` (element: a sliding_cable's id, node: one of its interior nodes).
   bool parse_slip_history(const Node& e, const std::string& p, HistoryEntry& he);
 
