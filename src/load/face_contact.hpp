@@ -117,12 +117,10 @@ struct PairResult {
 /// The penalty on a gap function g(X) (its gradient and, when asked, Hessian): G = side·g − c,
 /// p = max(0, −k G), f = p side ∇g, ∂f/∂X = −k ∇g ∇gᵀ + p side ∇∇g (symmetric: the energy
 /// ½ k G²). Node to face (plane_gap) and edge to edge (edge_gap) alike.
-template <class Gap>
-bool penalty_pair_force(Gap&& gap, const Vec12& X, double side, double thickness, double k,
-                        bool tangent, PairResult& r) {
-  Vec12 grad;
-  Mat12 H;
-  const double g = gap(X, grad, tangent ? &H : nullptr);
+/// The normal penalty's part shared by every pair kind: r.gap, r.p and r.f from the gap g and
+/// its gradient; false (r.p = 0) when the pair does not press.
+inline bool normal_penalty(double g, const Vec12& grad, double side, double thickness, double k,
+                           PairResult& r) {
   r.gap = side * g - thickness;
   r.p = -k * r.gap;
   if (r.p <= 0) {
@@ -130,6 +128,16 @@ bool penalty_pair_force(Gap&& gap, const Vec12& X, double side, double thickness
     return false;
   }
   r.f = (r.p * side) * grad;
+  return true;
+}
+
+template <class Gap>
+bool penalty_pair_force(Gap&& gap, const Vec12& X, double side, double thickness, double k,
+                        bool tangent, PairResult& r) {
+  Vec12 grad;
+  Mat12 H;
+  const double g = gap(X, grad, tangent ? &H : nullptr);
+  if (!normal_penalty(g, grad, side, thickness, k, r)) return false;
   if (tangent) r.D = -k * grad * grad.transpose() + (r.p * side) * H;
   return true;
 }
@@ -142,13 +150,7 @@ inline bool pair_force(const Vec12& X, double side, double thickness, double k, 
                        PairResult& r, bool face_held = false) {
   Vec12 grad;
   const double g = plane_gap(X, grad, nullptr);
-  r.gap = side * g - thickness;
-  r.p = -k * r.gap;
-  if (r.p <= 0) {
-    r.p = 0;
-    return false;
-  }
-  r.f = (r.p * side) * grad;
+  if (!normal_penalty(g, grad, side, thickness, k, r)) return false;
   if (!tangent) return true;
   r.D = -k * grad * grad.transpose();
   if (!face_held) add_plane_gap_hessian(X, g, r.p * side, r.D);

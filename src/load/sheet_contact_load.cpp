@@ -221,14 +221,17 @@ contact::Box SheetContactTerm::face_box(const NodePositions& x, const Face& f, d
   return b;
 }
 
-void SheetContactTerm::fit_boxes(const NodePositions& x) {
-  for (size_t w = 0; w < 2; ++w) {
-    const auto& fs = load_.faces[w];
-    const long faces = static_cast<long>(fs.size());
+void SheetContactTerm::fit_boxes(const NodePositions& x, size_t w, double skin,
+                                 std::vector<contact::Box>& out) const {
+  const auto& fs = load_.faces[w];
+  const long faces = static_cast<long>(fs.size());
 #pragma omp parallel for schedule(static) if (faces > kParallelSearch)
-    for (long f = 0; f < faces; ++f)
-      boxes_[w][static_cast<size_t>(f)] = face_box(x, fs[static_cast<size_t>(f)], 0.0);
-  }
+  for (long f = 0; f < faces; ++f)
+    out[static_cast<size_t>(f)] = face_box(x, fs[static_cast<size_t>(f)], skin);
+}
+
+void SheetContactTerm::fit_boxes(const NodePositions& x) {
+  for (size_t w = 0; w < 2; ++w) fit_boxes(x, w, 0.0, boxes_[w]);
 }
 
 bool SheetContactTerm::moved_past_skin(const NodePositions& x) const {
@@ -247,11 +250,7 @@ bool SheetContactTerm::moved_past_skin(const NodePositions& x) const {
 
 void SheetContactTerm::find_candidates(const NodePositions& x) {
   for (size_t w = 0; w < 2; ++w) {
-    const auto& fs = load_.faces[w];
-    const long faces = static_cast<long>(fs.size());
-#pragma omp parallel for schedule(static) if (faces > kParallelSearch)
-    for (long f = 0; f < faces; ++f)
-      search_boxes_[w][static_cast<size_t>(f)] = face_box(x, fs[static_cast<size_t>(f)], skin_);
+    fit_boxes(x, w, skin_, search_boxes_[w]);
     if (!tree_[w].empty()) tree_[w].refit(search_boxes_[w]);
   }
   // Two sweeps of queries, in parallel: each slot's count, then (after their running sum) its

@@ -238,6 +238,9 @@ class SheetContactTerm final : public LoadTerm {
   contact::Box face_box(const NodePositions& x, const Face& f, double skin) const;
   // The faces' boxes at x (no skin) into boxes_, for the exact test of every evaluation.
   void fit_boxes(const NodePositions& x);
+  // Side w's face boxes at x grown by `skin` into out (sized to the faces).
+  void fit_boxes(const NodePositions& x, size_t w, double skin,
+                 std::vector<contact::Box>& out) const;
   // The candidates at x: the trees refitted to the faces' boxes grown by skin_, each slot's
   // faces (outside its excluded rings) into candidates_, and x kept as x_candidates_.
   void find_candidates(const NodePositions& x);
