@@ -2,7 +2,8 @@
 // faces): two n x n quad4 sheets, the upper one resting on the lower one (every upper node in
 // contact), one Newton iteration = assembling the residual and tangent, factorising, one
 // solve, with the contact term and without it (the same sheets apart). Counters, seconds per
-// iteration (CPU, all threads): `with_s`, `without_s`, and of the iteration with contact
+// iteration (CPU, all threads; medians of up to 9 iterations each): `with_s`, `without_s`,
+// and of the iteration with contact
 // `contact_share`; the contact term alone (`term_s`: search, the couplings' check, pairs and
 // their matrix blocks) and its share of the iteration with contact (`term_share`); the
 // assembly (`assembly_with_s`, `assembly_without_s`: residual and tangent) and the
@@ -14,7 +15,10 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <memory>
+#include <tuple>
+#include <vector>
 
 #include "velum/analysis/mechanical_system.hpp"
 #include "velum/load/contact_load.hpp"
@@ -80,29 +84,50 @@ struct Iteration {
   double total = 0, assembly = 0, factor = 0, entries = 0;
 };
 
-// One Newton iteration's parts, the symbolic analysis done before.
-Iteration iterate(MechanicalSystem& sys, int reps) {
-  auto sparse = make_linear_solver(SolverKind::kAuto);
-  LowRankCorrectedSolver solver(*sparse, sys);
-  const VecX zero = VecX::Zero(sys.size());
-  VecX r, du;
-  SparseMatrix J;
-  sys.evaluate(0, zero, zero, zero, 1, 0, 0, r, &J);
-  solver.refactorize(J, sys.pattern_revision());
-  Iteration it;
-  for (int k = 0; k < reps; ++k) {
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+// Newton iterations on one system, the symbolic analysis done before: each iteration's
+// parts appended to the lists.
+struct Newton {
+  explicit Newton(MechanicalSystem& s)
+      : sys(s),
+        sparse(make_linear_solver(SolverKind::kAuto)),
+        solver(*sparse, sys),
+        zero(VecX::Zero(sys.size())) {
+    sys.evaluate(0, zero, zero, zero, 1, 0, 0, r, &J);
+    solver.refactorize(J, sys.pattern_revision());
+  }
+  void iterate() {
     const double t0 = cpu();
     sys.evaluate(0, zero, zero, zero, 1, 0, 0, r, &J);
     const double t1 = cpu();
     solver.refactorize(J, sys.pattern_revision());
     solver.solve(-r, du);
     const double t2 = cpu();
-    it.total += (t2 - t0) / reps;
-    it.assembly += (t1 - t0) / reps;
-    it.factor += (t2 - t1) / reps;
+    total.push_back(t2 - t0), assembly.push_back(t1 - t0), factor.push_back(t2 - t1);
   }
-  it.entries = static_cast<double>(J.nonZeros());
-  return it;
+  Iteration medians() const {
+    return {median(total), median(assembly), median(factor), static_cast<double>(J.nonZeros())};
+  }
+  MechanicalSystem& sys;
+  std::unique_ptr<LinearSolver> sparse;
+  LowRankCorrectedSolver solver;
+  VecX zero, r, du;
+  SparseMatrix J;
+  std::vector<double> total, assembly, factor;
+};
+
+// The medians of `reps` iterations with and without contact, taken in turn (one iteration's
+// CPU time varies by a fifth on a shared machine, and the share is a difference of two such
+// times: alternating, a slow minute slows both).
+std::pair<Iteration, Iteration> iterate(MechanicalSystem& with, MechanicalSystem& without,
+                                        int reps) {
+  Newton a(with), b(without);
+  for (int k = 0; k < reps; ++k) a.iterate(), b.iterate();
+  return {a.medians(), b.medians()};
 }
 
 void BM_ContactShareOfNewtonIteration(benchmark::State& state) {
@@ -120,19 +145,25 @@ void BM_ContactShareOfNewtonIteration(benchmark::State& state) {
   SparseMatrix K;
   LowRankJacobian L;
   const NodePositions V = NodePositions::Zero(3, with->num_nodes());
+  // Medians of 9 at 10k faces, fewer on larger sheets (at least 2).
+  const int reps = std::max(2, static_cast<int>(90000 / (2.0 * n * n)));
   for (auto _ : state) {
-    a = iterate(sys_with, 2);
-    b = iterate(sys_without, 2);
+    std::tie(a, b) = iterate(sys_with, sys_without, reps);
     sys_with.assembler().make_matrix(K);
-    F.setZero();
-    LoadOutput out{.F = F, .K = &K, .low_rank = &L, .column = 0};
     LoadTerm& contact = *sys_with.loads().back();
-    const double t0 = cpu();
-    const bool changed = contact.update_couplings(with->X);
-    state.counters["search_s"] = cpu() - t0;
-    contact.add(LoadState{.t = 0, .x = with->X, .V = V}, out);
-    term = (cpu() - t0);
-    if (changed) state.SkipWithError("the couplings changed at the state already evaluated");
+    std::vector<double> search, whole;
+    for (int k = 0; k < reps; ++k) {
+      F.setZero();
+      LoadOutput out{.F = F, .K = &K, .low_rank = &L, .column = 0};
+      const double t0 = cpu();
+      const bool changed = contact.update_couplings(with->X);
+      search.push_back(cpu() - t0);
+      contact.add(LoadState{.t = 0, .x = with->X, .V = V}, out);
+      whole.push_back(cpu() - t0);
+      if (changed) state.SkipWithError("the couplings changed at the state already evaluated");
+    }
+    state.counters["search_s"] = median(search);
+    term = median(whole);
   }
   state.counters["faces"] = 2.0 * n * n;
   state.counters["with_s"] = a.total;

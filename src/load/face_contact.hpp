@@ -145,15 +145,20 @@ bool penalty_pair_force(Gap&& gap, const Vec12& X, double side, double thickness
 /// The node-to-face pair (x pushed to its side, the face the other way): penalty_pair_force on
 /// the plane gap, its Hessian computed only for a pair that presses. `face_held`: the face's
 /// corners have no equations, so of ∂f/∂X only the node's block is assembled, which needs no
-/// Hessian (g is linear in x: ∂²g/∂x² = 0); D is then −k ∇g ∇gᵀ, exact in that block only.
+/// Hessian (g is linear in x: ∂²g/∂x² = 0): D is then that block, −k n nᵀ, and zeros.
 inline bool pair_force(const Vec12& X, double side, double thickness, double k, bool tangent,
                        PairResult& r, bool face_held = false) {
   Vec12 grad;
   const double g = plane_gap(X, grad, nullptr);
   if (!normal_penalty(g, grad, side, thickness, k, r)) return false;
   if (!tangent) return true;
+  if (face_held) {
+    r.D.setZero();
+    r.D.topLeftCorner<3, 3>() = -k * grad.head<3>() * grad.head<3>().transpose();
+    return true;
+  }
   r.D = -k * grad * grad.transpose();
-  if (!face_held) add_plane_gap_hessian(X, g, r.p * side, r.D);
+  add_plane_gap_hessian(X, g, r.p * side, r.D);
   return true;
 }
 

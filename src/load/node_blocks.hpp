@@ -71,10 +71,14 @@ void prefetch_node_columns(const DofMap& dofs, const std::array<int, N>& nodes,
 // column gives it in the others (checked, else searched); its equations are consecutive
 // rows there. Nodes with a frame of their own, and a matrix not compressed, take
 // subtract_node_block. The entries added are the same in the same order, so K's bits are
-// too.
+// too. `guesses` (per pair of nodes, row node a and column node b at a N + b): where each
+// row sat in its column the last time, tried before searching (one comparison checks it: a
+// column holds a row once) and kept for the next call; a pair of the same nodes on the same
+// pattern then needs no search (the caller's, e.g. per contact slot; -1: unknown).
 template <int N>
 void subtract_node_blocks(const DofMap& dofs, const std::array<int, N>& nodes,
-                          const Eigen::Matrix<double, 3 * N, 3 * N>& D, SparseMatrix& K) {
+                          const Eigen::Matrix<double, 3 * N, 3 * N>& D, SparseMatrix& K,
+                          std::array<int, N * N>* guesses = nullptr) {
   bool framed = false;
   for (int n : nodes) framed = framed || dofs.frame(n) >= 0;
   if (framed || !K.isCompressed()) {
@@ -108,7 +112,8 @@ void subtract_node_blocks(const DofMap& dofs, const std::array<int, N>& nodes,
       if (first == 3) continue;  // no row
       const int* rows = eq + 3 * nodes[static_cast<size_t>(a)];
       const bool whole = wholes[static_cast<size_t>(a)];
-      int offset = -1;  // where that row sits from the start of the node's columns
+      // Where that row sits from the start of the node's columns.
+      int offset = guesses ? (*guesses)[static_cast<size_t>(a * N + b)] : -1;
       for (int cb = 0; cb < 3; ++cb) {
         const int cj = cols[cb];
         if (cj < 0) continue;
@@ -146,6 +151,7 @@ void subtract_node_blocks(const DofMap& dofs, const std::array<int, N>& nodes,
           }
         }
       }
+      if (guesses) (*guesses)[static_cast<size_t>(a * N + b)] = offset;
     }
   }
 }

@@ -137,6 +137,11 @@ SheetContactTerm::SheetContactTerm(const SheetContact& load, const LoadSite& sit
     k_max_ = *std::max_element(k_.begin(), k_.end());
   }
   pairs_.assign(slots, Pair{});
+  block_guesses_.assign(slots, [] {
+    std::array<int, 16> unknown;
+    unknown.fill(-1);
+    return unknown;
+  }());
   offset_.assign(slots, 0.0);
   gap_accepted_.assign(slots, std::numeric_limits<double>::quiet_NaN());
   transmitted_.assign(static_cast<size_t>(site.model.num_nodes()), 0.0);
@@ -149,7 +154,7 @@ SheetContactTerm::SheetContactTerm(const SheetContact& load, const LoadSite& sit
     for (size_t i = 0; i < load.passes[p].nodes.size(); ++i)
       last_x_[slot(p, i)] = site.model.X.col(load.passes[p].nodes[i]);
   coupled_.resize(static_cast<size_t>(site.model.num_nodes()));
-  for (int w = 0; w < 2; ++w) boxes_[static_cast<size_t>(w)].resize(load.faces[w].size());
+  for (int w = 0; w < 2; ++w) frames_[static_cast<size_t>(w)].resize(load.faces[w].size());
   if (load.edges) {
     const auto& B = load.edge_lists[load.self ? 0 : 1];
     edge_boxes_.resize(B.size());
@@ -230,8 +235,28 @@ void SheetContactTerm::fit_boxes(const NodePositions& x, size_t w, double skin,
     out[static_cast<size_t>(f)] = face_box(x, fs[static_cast<size_t>(f)], skin);
 }
 
-void SheetContactTerm::fit_boxes(const NodePositions& x) {
-  for (size_t w = 0; w < 2; ++w) fit_boxes(x, w, 0.0, boxes_[w]);
+void SheetContactTerm::fit_frames(const NodePositions& x) {
+  for (size_t w = 0; w < 2; ++w) {
+    const auto& fs = load_.faces[w];
+    const long faces = static_cast<long>(fs.size());
+#pragma omp parallel for schedule(static) if (faces > kParallelSearch)
+    for (long f = 0; f < faces; ++f) {
+      const Face& face = fs[static_cast<size_t>(f)];
+      FaceFrame& fr = frames_[w][static_cast<size_t>(f)];
+      const Vec3 a = x.col(face.n[0]), u = x.col(face.n[1]) - a, v = x.col(face.n[2]) - a;
+      const Vec3 m = u.cross(v);
+      const double mm = m.squaredNorm();  // = |u|² |v|² − (u·v)², the metric's determinant
+      if (!(mm > 0)) {
+        fr.a = fr.d1 = fr.d2 = fr.n = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+        continue;
+      }
+      const double inv = 1 / mm;
+      fr.a = a;
+      fr.d1 = inv * v.cross(m);
+      fr.d2 = inv * m.cross(u);
+      fr.n = std::sqrt(inv) * m;
+    }
+  }
 }
 
 bool SheetContactTerm::moved_past_skin(const NodePositions& x) const {
@@ -297,7 +322,7 @@ void SheetContactTerm::search(const NodePositions& x) {
   // since (they hold every face the search below can keep), else new ones; the exact tests
   // (the face's box at x, the projection, the reach) run on them at every evaluation.
   if (!have_candidates_ || moved_past_skin(x)) find_candidates(x);
-  fit_boxes(x);
+  fit_frames(x);
   hits_.resize(pairs_.size());
   for (size_t p = 0; p < load_.passes.size(); ++p) {
     const Pass& pass = load_.passes[p];
@@ -316,25 +341,21 @@ void SheetContactTerm::search(const NodePositions& x) {
       // The side at the last accepted state, carried to the faces about it by their normals:
       // a node that a Newton iteration (or a step) took through the face stays on its side.
       const Pair& was = pairs_[k];
-      Vec3 was_normal = Vec3::Zero();
-      if (was.face >= 0) {
-        const Face& wf = fs[static_cast<size_t>(was.face)];
-        was_normal = (x.col(wf.n[1]) - x.col(wf.n[0])).cross(x.col(wf.n[2]) - x.col(wf.n[0]));
-      }
-      const auto& boxes = boxes_[static_cast<size_t>(pass.faces)];
+      const auto& frames = frames_[static_cast<size_t>(pass.faces)];
+      const Vec3 was_normal =
+          was.face >= 0 ? frames[static_cast<size_t>(was.face)].n : Vec3::Zero().eval();
       for (int q = candidate_start_[k]; q < candidate_start_[k + 1]; ++q) {
         const int f = candidates_[static_cast<size_t>(q)];
-        if (!boxes[static_cast<size_t>(f)].contains(y)) continue;
-        const Face& face = fs[static_cast<size_t>(f)];
-        const Vec3 a = x.col(face.n[0]), b = x.col(face.n[1]), c = x.col(face.n[2]);
-        const Vec2 xi = contact::plane_coordinates(y, a, b, c);
-        if (xi[0] < -kInside || xi[1] < -kInside || xi.sum() > 1 + kInside) continue;
-        const Vec3 m = (b - a).cross(c - a);
-        const double g = (y - a).dot(m) / m.norm();
+        const FaceFrame& fr = frames[static_cast<size_t>(f)];
+        const Vec3 r = y - fr.a;
+        const double xi0 = r.dot(fr.d1), xi1 = r.dot(fr.d2);
+        // Written so that a NaN (a degenerate face) fails.
+        if (!(xi0 >= -kInside && xi1 >= -kInside && xi0 + xi1 <= 1 + kInside)) continue;
+        const double g = r.dot(fr.n);
         double side = g >= 0 ? 1.0 : -1.0;
-        if (was.face >= 0) side = m.dot(was_normal) >= 0 ? was.side : -was.side;
+        if (was.face >= 0) side = fr.n.dot(was_normal) < 0 ? -was.side : was.side;
         // Within reach: the contact distance and, behind the face, an element more.
-        const double reach = pass.half[i] + face.half + margin_;
+        const double reach = pass.half[i] + fs[static_cast<size_t>(f)].half + margin_;
         if (std::abs(g) >= reach) continue;
         // The face of the last accepted state while it still holds the node's projection
         // (the residual then stays smooth through a step), else the nearest, of two as near
@@ -403,9 +424,14 @@ void SheetContactTerm::add(const LoadState& s, LoadOutput& out) {
     const double c = pass.half[i] + face.half - relaxed(k);
     const contact::Vec12 X = coordinates(s.x, node, face);
     const std::array<int, 4> nodes = {node, face.n[0], face.n[1], face.n[2]};
-    if (out.K) prefetch_node_columns(site_.dofs, nodes, *out.K);
     // A face held in full (a held sheet's): only the node's block is assembled, no Hessian.
     const bool face_held = held(face.n[0]) && held(face.n[1]) && held(face.n[2]);
+    if (out.K) {
+      if (face_held)
+        prefetch_node_columns(site_.dofs, std::array<int, 1>{node}, *out.K);
+      else
+        prefetch_node_columns(site_.dofs, nodes, *out.K);
+    }
     if (!contact::pair_force(X, pair.side, c, k_[k], out.K != nullptr, r, face_held)) return;
     if (load_.friction > 0) {
       Vec3 slip;
@@ -415,7 +441,14 @@ void SheetContactTerm::add(const LoadState& s, LoadOutput& out) {
     for (int a = 0; a < 4; ++a) out.F.col(nodes[static_cast<size_t>(a)]) += r.f.segment<3>(3 * a);
     // K −= ∂f/∂X: the node's and the face's blocks (the mesh's pattern) and those between
     // them (the couplings).
-    if (out.K) add_blocks(nodes, r.D, *out.K);
+    if (!out.K) return;
+    if (!face_held)
+      add_blocks(nodes, r.D, *out.K, &block_guesses_[k]);
+    else if (!held(node)) {
+      std::array<int, 1> guess = {block_guesses_[k][0]};
+      subtract_node_blocks<1>(site_.dofs, {node}, r.D.topLeftCorner<3, 3>(), *out.K, &guess);
+      block_guesses_[k][0] = guess[0];
+    }
   });
   if (load_.edges) {
     if (!searched) search_edges(s.x);

@@ -236,8 +236,8 @@ class SheetContactTerm final : public LoadTerm {
   // vector), so the faces it finds are candidates for every evaluation until a node has moved
   // more than δ/2.
   contact::Box face_box(const NodePositions& x, const Face& f, double skin) const;
-  // The faces' boxes at x (no skin) into boxes_, for the exact test of every evaluation.
-  void fit_boxes(const NodePositions& x);
+  // Each face's plane at x into frames_, for the exact test of every evaluation.
+  void fit_frames(const NodePositions& x);
   // Side w's face boxes at x grown by `skin` into out (sized to the faces).
   void fit_boxes(const NodePositions& x, size_t w, double skin,
                  std::vector<contact::Box>& out) const;
@@ -294,7 +294,8 @@ class SheetContactTerm final : public LoadTerm {
   void search_edges(const NodePositions& x);
   // Couples nodes n and m in the Jacobian's pattern (update_couplings); true when new.
   bool couple(int n, int m) {
-    if (n == m) return false;
+    // A node held in every direction has no equations: no entry to make room for.
+    if (n == m || held(n) || held(m)) return false;
     if (n > m) std::swap(n, m);
     auto& list = coupled_[static_cast<size_t>(n)];
     if (std::find(list.begin(), list.end(), m) != list.end()) return false;
@@ -327,9 +328,11 @@ class SheetContactTerm final : public LoadTerm {
     const int* e = site_.dofs.equations() + 3 * static_cast<size_t>(n);
     return e[0] < 0 && e[1] < 0 && e[2] < 0;
   }
-  // K −= D (a pair's 12 x 12 matrix ∂f/∂X over its four nodes) as sixteen node blocks.
-  void add_blocks(const std::array<int, 4>& nodes, const contact::Mat12& D, SparseMatrix& K) const {
-    subtract_node_blocks<4>(site_.dofs, nodes, D, K);
+  // K −= D (a pair's 12 x 12 matrix ∂f/∂X over its four nodes) as sixteen node blocks;
+  // `guesses`: where the blocks were for this pair's slot the last time (subtract_node_blocks).
+  void add_blocks(const std::array<int, 4>& nodes, const contact::Mat12& D, SparseMatrix& K,
+                  std::array<int, 16>* guesses = nullptr) const {
+    subtract_node_blocks<4>(site_.dofs, nodes, D, K, guesses);
   }
 
   const SheetContact& load_;
@@ -343,6 +346,9 @@ class SheetContactTerm final : public LoadTerm {
     double side = 1, g = 0;
   };
   std::vector<Hit> hits_;
+  // Per slot: where its pair's node blocks were in K at the last evaluation (the pair keeps
+  // its face and K its pattern over most evaluations: then the scatter searches nothing).
+  std::vector<std::array<int, 16>> block_guesses_;
   std::vector<double> offset_, gap_accepted_;
   std::vector<double> transmitted_;  ///< per model node: the contact force it carries
   std::vector<int> anchor_face_;     ///< friction, per slot: the face of the anchor (-1: none)
@@ -374,7 +380,15 @@ class SheetContactTerm final : public LoadTerm {
   const double* searched_at_ = nullptr;
   std::vector<double> node_status_;  ///< per model node: 0 open, 1 stick, 2 slip (accepted)
   std::array<contact::FaceTree, 2> tree_;
-  std::array<std::vector<contact::Box>, 2> boxes_;  ///< the faces' boxes at the evaluation
+  // A face's plane at the evaluation: its first corner a, the dual basis d1, d2 of its sides
+  // b − a, c − a (a point's barycentric coordinates of b and c are (y − a)·d1, (y − a)·d2)
+  // and its unit normal: the exact test of a candidate is three dot products, where solving
+  // the face's 2 x 2 metric per candidate made most of the search's time (a node meets
+  // about six faces about it). A degenerate face's frame is NaN: no test accepts it.
+  struct FaceFrame {
+    Vec3 a, d1, d2, n;
+  };
+  std::array<std::vector<FaceFrame>, 2> frames_;
   // The candidates (a Verlet list): the trees' boxes grown by the skin, per slot its faces
   // (slot k's: candidates_[candidate_start_[k]] up to candidate_start_[k + 1]) and the nodes'
   // positions at the last candidate search (per slot).
