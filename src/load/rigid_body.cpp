@@ -73,4 +73,22 @@ double RigidBody::gap(const Vec3& x, double s, Vec3& n, Mat3& H) const {
   return g;
 }
 
+bool RigidBody::lies_inside(const RigidBody& other) const {
+  if (other.shape == Shape::kMesh && !other.mesh->closed()) return false;
+  Vec3 n;
+  Mat3 H;
+  switch (shape) {
+    case Shape::kSphere:
+      return other.gap(point, 0, n, H) <= -radius;
+    case Shape::kMesh:
+      for (const Vec3& v : mesh->vertices())
+        if (!(other.gap(v, 0, n, H) < 0)) return false;
+      return true;
+    case Shape::kPlane:
+    case Shape::kCylinder:
+      break;  // unbounded
+  }
+  return false;
+}
+
 }  // namespace velum

@@ -100,7 +100,9 @@ RigidMesh::RigidMesh(std::vector<Vec3> vertices, std::vector<std::array<int, 3>>
       faces[std::minmax(t[static_cast<size_t>(k)], t[static_cast<size_t>((k + 1) % 3)])].push_back(
           {f, t[static_cast<size_t>((k + 2) % 3)]});
     }
+  closed_ = true;
   for (const auto& [e, fs] : faces) {
+    closed_ = closed_ && fs.size() == 2;
     if (fs.size() != 2) continue;
     const Vec3& n0 = normal_[fs[0].first];
     const Vec3& n1 = normal_[fs[1].first];

@@ -31,6 +31,9 @@ class RigidMesh {
   };
   const std::vector<SharpEdge>& sharp_edges() const { return sharp_; }
   size_t size() const { return triangles_.size(); }
+  /// Every edge between exactly two triangles: the surface encloses a solid (its negative
+  /// side is an inside, not only a side).
+  bool closed() const { return closed_; }
 
  private:
   std::vector<Vec3> vertices_;
@@ -41,6 +44,7 @@ class RigidMesh {
   std::vector<contact::Box> boxes_;
   contact::FaceTree tree_;
   std::vector<SharpEdge> sharp_;
+  bool closed_ = false;
 };
 
 }  // namespace velum

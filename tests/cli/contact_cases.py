@@ -243,6 +243,12 @@ BAD = [
      "relax_steps applies", "contact[0].relax_steps"),
     ("edges_with_body", lambda m: m["contact"][0].update(edges=True),
      "edges applies", "contact[0].edges"),
+    ("body_inside_body", lambda m: m["rigid_bodies"].append(
+        {"name": "shell", "shape": "sphere", "center": [0, 0, 0.3], "radius": 0.5}),
+     "rigid body 'ball' lies inside rigid body 'shell'", "rigid_bodies[0].name"),
+    ("body_behind_plane", lambda m: m["rigid_bodies"].append(
+        {"name": "ceiling", "shape": "plane", "point": [0, 0, 2], "normal": [0, 0, 1]}),
+     "lies inside rigid body 'ceiling'", "rigid_bodies[0].name"),
     ("area_component", lambda m: m["output"]["history"][5].update(component="z"),
      "contact_area has no component", "output.history[5].component"),
 ]

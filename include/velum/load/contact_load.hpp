@@ -55,6 +55,12 @@ struct RigidBody {
   Vec3 moved(const Vec3& Y, double s) const;
   /// Back from the body moved by s to its place at s = 0.
   Vec3 unmoved(const Vec3& y, double s) const;
+  /// Whether this body lies wholly inside `other` at s = 0 (bad input: no sheet can reach
+  /// it). Only a bounded body (sphere, mesh) can, and only inside a body with an inside (a
+  /// plane's half-space, a sphere, a cylinder, a closed mesh): a sphere whose centre is at
+  /// least its radius deep (the signed distance changes no faster than the point moves), a
+  /// mesh whose every vertex is inside.
+  bool lies_inside(const RigidBody& other) const;
 };
 
 struct ContactLoad {

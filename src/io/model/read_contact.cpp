@@ -73,6 +73,12 @@ void Reader::parse_rigid_bodies(const Node& bs) {
     error(bs, "rigid_bodies", "expected a list of {name, shape: plane | sphere | cylinder, ...}");
     return;
   }
+  struct Read {
+    std::string name;
+    Node at;
+    std::string path;
+  };
+  std::vector<Read> read;
   for (size_t i = 0; i < bs.size(); ++i) {
     const Node b = bs[i];
     const std::string p = item("rigid_bodies", i);
@@ -202,6 +208,7 @@ void Reader::parse_rigid_bodies(const Node& bs) {
     }
     if (!ok) continue;
     rigid_bodies_.emplace(*name, body);
+    read.push_back({*name, b["name"], sub(p, "name")});
     if (mass && mesh_ok_) {
       // A free body is a node of its own at its point, with its mass: its displacement is the
       // body's translation, moved by the contact forces, gravity and its initial velocity.
@@ -213,6 +220,17 @@ void Reader::parse_rigid_bodies(const Node& bs) {
       free_bodies_[*name] = {node, b["mass"], sub(p, "mass")};
     }
   }
+  // A body wholly inside another at the start: no sheet can reach it (a misplaced body).
+  for (const Read& inner : read)
+    for (const Read& outer : read)
+      if (inner.name != outer.name &&
+          rigid_bodies_.at(inner.name).lies_inside(rigid_bodies_.at(outer.name))) {
+        error(inner.at, inner.path,
+              fmt::format("rigid body '{}' lies inside rigid body '{}' at the start: no sheet "
+                          "can reach it (move it out of '{}')",
+                          inner.name, outer.name, outer.name));
+        break;
+      }
 }
 
 bool Reader::read_rigid_mesh(const Node& b, const std::string& p, RigidBody& body) {

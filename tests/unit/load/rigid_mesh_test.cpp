@@ -1,7 +1,8 @@
 // Rigid meshes (shape: mesh): the signed distance of a box of twelve triangles against the
 // box's closed form, inside and outside; its normal and curvature against central differences
 // of the distance and the normal; the top face moved by a turn and a translation against the
-// plane moved the same way; degenerate meshes refused.
+// plane moved the same way; degenerate meshes refused; which bodies lie inside which (a bad
+// model's check).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -110,6 +111,40 @@ TEST(RigidMesh, DegenerateTriangleRefused) {
     EXPECT_NE(std::string(e.what()).find("degenerate"), std::string::npos);
   }
   EXPECT_THROW(make_rigid_mesh(v, {}), std::invalid_argument);
+}
+
+// A body inside another is bad input (the reader refuses it): spheres, a closed box and an
+// open one, a plane's half-space.
+TEST(RigidMesh, WhichBodyLiesInsideWhich) {
+  const RigidBody box = box_body();  // [-1, 1] x [-1, 1] x [-1, 0]
+  auto sphere = [](const Vec3& c, double r) {
+    RigidBody s;
+    s.shape = RigidBody::Shape::kSphere;
+    s.point = c, s.radius = r;
+    return s;
+  };
+  EXPECT_TRUE(box.mesh->closed());
+  EXPECT_TRUE(sphere(Vec3(0, 0, -0.5), 0.4).lies_inside(box));
+  EXPECT_FALSE(sphere(Vec3(0, 0, -0.5), 0.6).lies_inside(box));  // through the top and bottom
+  EXPECT_FALSE(sphere(Vec3(0, 0, 1), 0.4).lies_inside(box));
+  EXPECT_TRUE(box.lies_inside(sphere(Vec3(0, 0, -0.5), 1.6)));  // corners at 1.5
+  EXPECT_FALSE(box.lies_inside(sphere(Vec3(0, 0, -0.5), 1.4)));
+  EXPECT_FALSE(box.lies_inside(box));  // not strictly: its vertices are on it
+  RigidBody floor;                     // the half-space z < 0.5
+  floor.shape = RigidBody::Shape::kPlane;
+  floor.point = Vec3(0, 0, 0.5), floor.direction = Vec3::UnitZ();
+  EXPECT_TRUE(box.lies_inside(floor));
+  EXPECT_TRUE(sphere(Vec3(0, 0, 0), 0.5).lies_inside(floor));
+  EXPECT_FALSE(sphere(Vec3(0, 0, 0), 0.6).lies_inside(floor));
+  EXPECT_FALSE(floor.lies_inside(box));  // unbounded
+  // The box without its top: a side, not an inside.
+  std::vector<Vec3> v = box.mesh->vertices();
+  RigidBody open = box;
+  std::vector<std::array<int, 3>> t = {{0, 2, 3}, {0, 3, 1}, {0, 1, 5}, {0, 5, 4}, {2, 6, 7},
+                                       {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  open.mesh = make_rigid_mesh(v, t);
+  EXPECT_FALSE(open.mesh->closed());
+  EXPECT_FALSE(sphere(Vec3(0, 0, -0.5), 0.4).lies_inside(open));
 }
 
 }  // namespace
