@@ -60,7 +60,9 @@ std::map<std::string, int> elements_per_type(const Model& m) {
 }  // namespace
 
 int check_command(const std::filesystem::path& file) {
-  say(stdout, "velum {} check: {}\n{}\n", VELUM_VERSION, file.string(), kUnitsNote);
+  // Once: the first process, and not again after a relaunch into velum-mpi (a PETSc model).
+  if (processes::rank() == 0 && !processes::relaunched())
+    say(stdout, "velum {} check: {}\n{}\n", VELUM_VERSION, file.string(), kUnitsNote);
   auto in = load(file);
   // Under mpirun (a model read in parts): every process goes on only if every one read it.
   if (processes::count() > 1 && !processes::all(in.has_value())) return kExitBadInput;
@@ -74,24 +76,43 @@ int check_command(const std::filesystem::path& file) {
     say(stderr, "error: {}: {}\n", file.string(), e.what());
     return kExitBadInput;
   }
-  if (!in->title.empty()) say(stdout, "title:      {}\n", in->title);
-  say(stdout, "nodes:      {}\n", m.num_nodes());
-  std::string per_type;
-  for (const auto& [t, n] : elements_per_type(m)) per_type += fmt::format(" {} {}", t, n);
-  say(stdout, "elements:   {} ({})\n", m.num_elements(),
-      per_type.empty() ? "" : per_type.substr(1));
-  say(stdout, "blocks:     {}\n", m.blocks.size());
-  if (m.piece) {  // a part read (mesh.parts): this process's piece
-    size_t own = 0;
-    for (const auto& o : m.piece->own) own += o.size();
-    say(stdout,
-        "part:       {} of {}: {} of the model's {} nodes, {} own elements, {} of {} "
-        "equations here\n",
-        processes::rank(), processes::count(), m.num_nodes(), m.piece->global_nodes, own, dofs,
-        m.piece->global_equations);
+  // A model read in parts (mesh.parts): the model's totals and a line per part, printed by
+  // the first process (the others' lines would interleave).
+  const bool in_parts = m.piece != nullptr;
+  std::vector<double> parts;  // per process: its nodes, own elements, equations
+  if (in_parts) {
+    long own = 0;
+    for (const auto& o : m.piece->own) own += static_cast<long>(o.size());
+    parts.assign(3 * static_cast<size_t>(processes::count()), 0.0);
+    const size_t at = 3 * static_cast<size_t>(processes::rank());
+    parts[at] = m.num_nodes(), parts[at + 1] = static_cast<double>(own), parts[at + 2] = dofs;
+    processes::sum(parts.data(), static_cast<long>(parts.size()));
+    if (processes::rank() != 0) return kExitOk;
   }
-  say(stdout, "dofs:       {} equations ({} fixed or prescribed components)\n", dofs,
-      3 * m.num_nodes() - dofs);
+  auto total = [&](size_t column) {
+    long n = 0;
+    for (size_t k = column; k < parts.size(); k += 3) n += static_cast<long>(parts[k]);
+    return n;
+  };
+  const long nodes = in_parts ? m.piece->global_nodes : m.num_nodes();
+  const long equations = in_parts ? m.piece->global_equations : dofs;
+  if (!in->title.empty()) say(stdout, "title:      {}\n", in->title);
+  say(stdout, "nodes:      {}\n", nodes);
+  if (in_parts) {
+    say(stdout, "elements:   {}\n", total(1));
+  } else {
+    std::string per_type;
+    for (const auto& [t, n] : elements_per_type(m)) per_type += fmt::format(" {} {}", t, n);
+    say(stdout, "elements:   {} ({})\n", m.num_elements(),
+        per_type.empty() ? "" : per_type.substr(1));
+  }
+  say(stdout, "blocks:     {}\n", m.blocks.size());
+  for (size_t k = 0; k < parts.size(); k += 3)
+    say(stdout, "part {}:     {} nodes (with the shared ones), {} own elements, {} equations\n",
+        k / 3, static_cast<long>(parts[k]), static_cast<long>(parts[k + 1]),
+        static_cast<long>(parts[k + 2]));
+  say(stdout, "dofs:       {} equations ({} fixed or prescribed components)\n", equations,
+      3 * nodes - equations);
   std::string mats;
   for (const auto& mt : in->materials)
     mats += fmt::format("{}{} ({})", mats.empty() ? "" : ", ", mt.name, mt.type);

@@ -21,6 +21,7 @@ file and the key.
 """
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -106,6 +107,20 @@ def main():
     errors += e
     e, _ = case(velum, "hypar", hypar(examples, out), out, env)
     errors += e
+
+    # `velum check` on the parts: one report (the first process's), the model's totals, a line
+    # per part whose own elements add up to them.
+    p = subprocess.run(["mpirun", "-np", "2", velum, "check", parts], env=env,
+                       capture_output=True, text=True, timeout=300)
+    whole = subprocess.run([velum, "check", parts.replace("parts.yaml", "whole.yaml")], env=env,
+                           capture_output=True, text=True, timeout=300).stdout
+    own = [int(m) for m in re.findall(r"^part \d+: .*?, (\d+) own elements", p.stdout, re.M)]
+    total = re.search(r"^elements: +(\d+)", whole, re.M)
+    nodes = [re.search(r"^nodes: +(\d+)", t, re.M) for t in (p.stdout, whole)]
+    if (p.returncode != 0 or p.stdout.count("check:") != 1 or len(own) != 2 or not total
+            or sum(own) != int(total.group(1)) or not all(nodes)
+            or nodes[0].group(1) != nodes[1].group(1)):
+        errors.append(f"velum check on parts (exit {p.returncode}):\n{p.stdout}{p.stderr}")
 
     # Bad input.
     d = yaml.safe_load(open(parts))
