@@ -320,7 +320,8 @@ void SheetContactTerm::search(const NodePositions& x) {
   searched_at_ = nullptr;  // hits_ now from x
   // The candidates of the last candidate search while no node has moved past half the skin
   // since (they hold every face the search below can keep), else new ones; the exact tests
-  // (the face's box at x, the projection, the reach) run on them at every evaluation.
+  // (the projection inside the face by its frame at x, the reach) run on them at every
+  // evaluation.
   if (!have_candidates_ || moved_past_skin(x)) find_candidates(x);
   fit_frames(x);
   hits_.resize(pairs_.size());

@@ -127,6 +127,14 @@ for kind in ("static", "relaxation", "dynamic", "explicit"):
     check(b'Name="contact_pressure"' in text and b'Name="contact_gap"' in text
           and b'Name="contact_status"' in text,
           f"{kind}: frames carry contact_pressure, contact_gap and contact_status")
+    if kind == "static":  # velum plot colours the last frame by the contact pressure
+        pl = subprocess.run([VELUM, "plot", out, "--field", "contact_pressure", "--nodal",
+                             "--history", "none", "-o", os.path.join(out, "plots")],
+                            capture_output=True, text=True, timeout=300)
+        pngs = pl.stdout.split()
+        check(pl.returncode == 0 and len(pngs) == 1 and "contact_pressure" in pngs[0]
+              and os.path.getsize(pngs[0]) > 10_000,
+              f"velum plot by contact_pressure: {pl.stdout} {pl.stderr[-300:]}")
     # The area in contact: a cap of the sphere, under the area of the sheet, the same by body
     # and by contact index, and growing as the ball goes down.
     area, a0 = float(last["area"]), float(last["a0"])
