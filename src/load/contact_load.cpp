@@ -74,6 +74,7 @@ ContactTerm::ContactTerm(const Contact& load, const LoadSite& site) : load_(load
   if (site.model.piece) lo = -processes::max(-lo), hi = processes::max(hi);
   if (sums[2] > 0) k_min_ = lo, k_max_ = hi;
   lambda_.assign(N, 0.0);
+  offset_.assign(N, 0.0);
   anchor_.resize(N);
   f_accepted_.assign(N, Vec3::Zero());
   status_accepted_.assign(N, contact::Status::kOpen);
@@ -107,7 +108,7 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers, bool star
     }
     Vec3 n;
     Mat3 H;
-    const double g = load_.body.gap(x, sf, n, H) - load_.node_thickness[i];
+    const double g = load_.body.gap(x, sf, n, H) - load_.node_thickness[i] + relaxed(i);
     const double tol = std::max(0.01 * 2 * load_.node_thickness[i], 1e-3 * load_.node_size[i]);
     if (tol > 0) penetration_ratio_ = std::max(penetration_ratio_, -g / tol);
     if (update_multipliers) lambda_[i] = r.p;
@@ -128,6 +129,22 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers, bool star
     sp.rot.commit(s.t, fr.R, sp.moment);
   }
   sp.moment.setZero(), sp.turning = 0, sp.added = 0;
+}
+
+void ContactTerm::find_initial_penetrations(const LoadState& s) {
+  started_ = true;
+  const double sf = site_.model.function_value(load_.body.function, s.t);
+  const Frame fr = frame(s.t, s.x);
+  for (size_t i = 0; i < load_.nodes.size(); ++i) {
+    Vec3 n;
+    Mat3 H;
+    const double g =
+        load_.body.gap(to_body(fr, s.x.col(load_.nodes[i])), sf, n, H) - load_.node_thickness[i];
+    if (!(g < 0)) continue;
+    ++initial_count_;
+    initial_depth_ = std::max(initial_depth_, -g);
+    if (load_.relax_steps > 0) offset_[i] = -g;
+  }
 }
 
 std::unique_ptr<LoadTerm> Contact::bind(const LoadSite& site) const {

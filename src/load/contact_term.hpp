@@ -39,6 +39,7 @@ class Contact final : public Load, public ContactLoad {
   std::unique_ptr<Load> held(double t, const Model& owner, Model&) const override {
     // A later step goes on with the body where it is at t.
     auto h = std::make_unique<Contact>(*this);
+    h->relax_steps = 0;  // a later step starts from the state the first one left
     const double s = owner.function_value(body.function, t);
     h->body.displacement = s * body.displacement;
     h->body.rotation = s * body.rotation;
@@ -143,9 +144,13 @@ class ContactTerm final : public LoadTerm {
 
   void start(const LoadState& s) override {
     if (owner_) spin_->rot.start(s.t, Vec3::Zero());  // the orientation at s.t: the committed one
+    if (!started_) find_initial_penetrations(s);
     move_on(s, false, true);
   }
-  void commit(const LoadState& s) override { move_on(s, load_.augmented, false); }
+  void commit(const LoadState& s) override {
+    move_on(s, load_.augmented, false);
+    ++steps_;
+  }
   void save_state(std::vector<double>& out) const override {
     out.push_back(static_cast<double>(lambda_.size()));
     for (size_t i = 0; i < lambda_.size(); ++i) {
@@ -154,6 +159,12 @@ class ContactTerm final : public LoadTerm {
     }
     if (owner_) spin_->rot.save(out);
     if (edge_friction()) save_edges(out);
+    // The steps taken and the initial penetrations with their relaxation offsets (a restart
+    // inside the relaxation goes on shrinking the same offsets).
+    out.push_back(steps_);
+    out.push_back(initial_count_);
+    out.push_back(initial_depth_);
+    out.insert(out.end(), offset_.begin(), offset_.end());
   }
   size_t restore_state(const std::vector<double>& in, size_t at) override {
     const size_t rotation = owner_ ? rigid::Rotation::kSaved : 0;
@@ -167,6 +178,13 @@ class ContactTerm final : public LoadTerm {
     }
     if (owner_) at = spin_->rot.restore(in, at);
     if (edge_friction()) at = restore_edges(in, at);
+    if (in.size() < at + 3 + offset_.size())
+      throw std::invalid_argument("the contact's saved state does not fit its nodes");
+    steps_ = static_cast<int>(in[at++]);
+    initial_count_ = static_cast<int>(in[at++]);
+    initial_depth_ = in[at++];
+    for (double& o : offset_) o = in[at++];
+    started_ = true;  // the state is the saved one, not a new start's
     return at;
   }
 
@@ -199,6 +217,15 @@ class ContactTerm final : public LoadTerm {
   // Contact not kept: past its tolerance a warning; past the contact thickness the sheet is
   // through the body.
   std::string end_check(const std::function<void(std::string)>& warn) const override {
+    double initial[1] = {static_cast<double>(initial_count_)};
+    processes::sum(initial, 1);
+    const double deepest = processes::max(initial_depth_);
+    if (initial[0] > 0)
+      warn(fmt::format("contact {} with '{}': {} initial penetrations, the deepest {:.4g}{}",
+                       load_.index, load_.body.name, static_cast<long>(initial[0]), deepest,
+                       load_.relax_steps > 0
+                           ? fmt::format(" (relaxed over the first {} steps)", load_.relax_steps)
+                           : std::string(" (pushed out at the first step)")));
     if (owner_ && spin_->step_ratio > 1)
       warn(fmt::format(
           "contact {}: the rotation of '{}' is advanced explicitly and a step was {:.3g} times "
@@ -212,15 +239,16 @@ class ContactTerm final : public LoadTerm {
   std::string account_json() const override {
     return fmt::format(
         "{{\"contact\": {}, \"body\": \"{}\", \"penalty\": [{:.6g}, {:.6g}], "
-        "\"max_penetration_ratio\": {:.6g}, \"kept\": {}}}",
+        "\"max_penetration_ratio\": {:.6g}, \"kept\": {}, \"initial_penetrations\": {}, "
+        "\"initial_max_depth\": {:.6g}}}",
         load_.index, load_.body.name, k_min_, k_max_, penetration_ratio_,
-        penetration_ratio_ <= 1 ? "true" : "false");
+        penetration_ratio_ <= 1 ? "true" : "false", initial_count_, initial_depth_);
   }
 
  private:
   contact::NodeResult evaluate(size_t i, const Vec3& x, double sf, bool tangent) const {
     contact::NodeInput in;
-    in.g = load_.body.gap(x, sf, in.n, in.H) - load_.node_thickness[i];
+    in.g = load_.body.gap(x, sf, in.n, in.H) - load_.node_thickness[i] + relaxed(i);
     in.w = x - load_.body.moved(anchor_[i], sf);
     in.lambda = lambda_[i];
     in.k = k_[i];
@@ -232,6 +260,14 @@ class ContactTerm final : public LoadTerm {
     subtract_node_block(site_.dofs, n, n, D, K);
   }
   void move_on(const LoadState& s, bool update_multipliers, bool starting);
+  // The nodes inside the contact distance at the start: counted, the deepest kept, and with
+  // relax_steps each one's depth an offset on its gap that shrinks to zero over the first
+  // steps (docs/contact.md, "Initial penetrations").
+  void find_initial_penetrations(const LoadState& s);
+  double relaxed(size_t i) const {
+    if (offset_[i] <= 0 || load_.relax_steps <= 0) return 0.0;
+    return offset_[i] * std::max(0.0, 1.0 - static_cast<double>(steps_ + 1) / load_.relax_steps);
+  }
   // A free body's translation at positions x (0 for a fixed or moved one).
   Vec3 translation(const NodePositions& x) const {
     const int b = load_.body_node;
@@ -318,6 +354,10 @@ class ContactTerm final : public LoadTerm {
   std::vector<contact::Status> status_accepted_;  // and its status there
   double k_min_ = 0, k_max_ = 0;
   double penetration_ratio_ = 0;  // the largest penetration / tolerance at the last accepted step
+  std::vector<double> offset_;    // per node: its initial depth, relaxed (relax_steps)
+  int steps_ = 0, initial_count_ = 0;
+  double initial_depth_ = 0;
+  bool started_ = false;
   std::shared_ptr<rigid::Spin> spin_;  // a free body that rotates: its rotation (shared)
   bool owner_ = false;                 // the first of the body's entries: it saves the rotation
 };

@@ -212,6 +212,38 @@ check(p.returncode == 0 and len(entries) == 1 and entries[0]["initial_penetratio
       and entries[0].get("active_edge_pairs") == 0,
       f"self contact runs (exit {p.returncode}: {p.stderr.strip()[-200:]}; {entries})")
 
+# Initial penetration of a rigid body: the held ball's bottom 1 mm inside the sheet's contact
+# distance at the start (its centre node alone: the next nodes lie 27 mm below the sphere).
+# Reported (count, depth, warning); pushed out at the first step, or with relax_steps: 4 its
+# depth taken off the gap and given back over four steps: a gentler first step and, once the
+# offset is gone, the same answer (without the augmented multipliers, which would remember the
+# path).
+ends = {}
+for relax in (0, 4):
+    m = copy.deepcopy(BASE)
+    m["rigid_bodies"][0].update(center=[0, 0, 0.2995])
+    m["rigid_bodies"][0].pop("motion")
+    m["contact"][0]["augmented"] = False  # the pure penalty: the end states then the same
+    if relax:
+        m["contact"][0]["relax_steps"] = relax
+    p, out, _ = run(f"initial_penetration_{relax}", m)
+    summary = json.load(open(os.path.join(out, "summary.json"))) if p.returncode == 0 else {}
+    entry = (summary.get("contact") or [{}])[0]
+    warned = any("1 initial penetrations" in w for w in summary.get("warnings", []))
+    check(p.returncode == 0 and entry.get("initial_penetrations") == 1
+          and abs(entry.get("initial_max_depth", 0) - 1e-3) < 1e-12 and warned
+          and entry.get("kept") is True,
+          f"initial penetration, relax_steps {relax}: reported ({entry}, warned {warned}; "
+          f"{p.stderr.strip()[-200:]})")
+    steps = list(csv.DictReader(open(os.path.join(out, "steps.csv")))) if p.returncode == 0 else []
+    last = list(csv.DictReader(open(os.path.join(out, "history.csv"))))[-1] if steps else {}
+    ends[relax] = (float(steps[0]["residuals"].split()[0]) if steps else float("nan"),
+                   float(last.get("fz", "nan")))
+(r0, f0), (r4, f4) = ends[0], ends[4]
+check(r4 < r0 and abs(f4 - f0) <= 1e-6 * abs(f0) and f0 > 0,
+      f"relaxed over 4 steps: first residual {r4:.4g} against {r0:.4g}; end force {f4:.8g} "
+      f"against {f0:.8g} N")
+
 # Bad input: exit 1, the file, the line and the key named.
 BAD = [
     ("unknown_body", lambda m: m["contact"][0].update(surfaces=["sheet", "bal"]),
@@ -247,8 +279,8 @@ BAD = [
     ("sheet_negative_friction", lambda m: m["contact"].append(
         {"surfaces": ["sheet"], "self": True, "friction": -0.2}),
      "friction", "contact[1].friction"),
-    ("relax_with_body", lambda m: m["contact"][0].update(relax_steps=2),
-     "relax_steps applies", "contact[0].relax_steps"),
+    ("negative_relax_steps", lambda m: m["contact"][0].update(relax_steps=-1),
+     "expected a number of steps >= 0", "contact[0].relax_steps"),
     ("edges_with_body", lambda m: m["contact"][0].update(edges=True),
      "edges applies", "contact[0].edges"),
     ("body_inside_body", lambda m: m["rigid_bodies"].append(

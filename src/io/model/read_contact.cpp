@@ -386,12 +386,8 @@ void Reader::parse_contact(const Node& cs) {
       }
     }
     if (has(c, "relax_steps")) {
-      if (!sheets) {
-        error(c["relax_steps"], sub(p, "relax_steps"),
-              "relax_steps applies to contact between element sets (or self contact)");
-        ok = false;
-      } else if (auto n = integer(c["relax_steps"], sub(p, "relax_steps"), "a number of steps");
-                 n && *n >= 0) {
+      if (auto n = integer(c["relax_steps"], sub(p, "relax_steps"), "a number of steps");
+          n && *n >= 0) {
         load.relax_steps = static_cast<int>(*n);
       } else {
         if (n) error(c["relax_steps"], sub(p, "relax_steps"), "expected a number of steps >= 0");
