@@ -265,8 +265,7 @@ class ContactTerm final : public LoadTerm {
   // steps (docs/contact.md, "Initial penetrations").
   void find_initial_penetrations(const LoadState& s);
   double relaxed(size_t i) const {
-    if (offset_[i] <= 0 || load_.relax_steps <= 0) return 0.0;
-    return offset_[i] * std::max(0.0, 1.0 - static_cast<double>(steps_ + 1) / load_.relax_steps);
+    return contact::relaxed_offset(offset_[i], steps_, load_.relax_steps);
   }
   // A free body's translation at positions x (0 for a fixed or moved one).
   Vec3 translation(const NodePositions& x) const {

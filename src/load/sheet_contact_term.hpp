@@ -304,8 +304,7 @@ class SheetContactTerm final : public LoadTerm {
     return true;
   }
   double relaxed(size_t k) const {
-    if (offset_[k] <= 0 || load_.relax_steps <= 0) return 0.0;
-    return offset_[k] * std::max(0.0, 1.0 - static_cast<double>(steps_ + 1) / load_.relax_steps);
+    return contact::relaxed_offset(offset_[k], steps_, load_.relax_steps);
   }
   // Friction: slot k's anchor on `face` (barycentric coordinates of its b and c): the anchor's
   // face point carried to a new face, or the node's accepted position for a new pair, both

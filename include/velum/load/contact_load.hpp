@@ -88,7 +88,8 @@ struct ContactLoad {
   /// Edges against edges too (where they cross between nodes), besides node to face: the
   /// sheets' sides against each other's, or against a rigid mesh's sharp edges.
   bool edges = false;
-  /// Initial penetrations (sheets): relaxed over this many accepted steps (0: pushed out at once).
+  /// Initial penetrations (sheets and rigid bodies): relaxed over this many accepted steps
+  /// (0: pushed out at once).
   int relax_steps = 0;
 };
 
