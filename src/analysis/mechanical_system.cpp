@@ -432,7 +432,6 @@ void MechanicalSystem::update_couplings() {
   if (assembler_.pattern_revision() == was) return;
   // The matrices on the old pattern: made again when next needed.
   K_ = SparseMatrix();
-  T_ = SparseMatrix();
   M_ = SparseMatrix();
   M_entries_ = SparseMatrix();
   have_mass_ = false;
@@ -711,19 +710,22 @@ bool MechanicalSystem::stiffen_stress_free(SparseMatrix& J) const {
   for (int e = 0; e < owned_size(); ++e) dmin = std::min(dmin, d[e]);
   dmin = -max_over_processes(-dmin);
   if (!(dmax > 0) || !(dmin < kSoft * dmax)) return false;
-  if (T_.nonZeros() != assembler_.nonzeros()) {
-    assembler_.make_matrix(T_);
-    assembler_.tension_stiffness(T_);
-  }
+  // Built here and freed on return, not kept: a stress-free start needs it once (again only
+  // after a cut-back), and a matrix held for the run would add one matrix's memory to the
+  // factorisation's peak (Hencky n = 130: 435 MB resident with it, 387 MB without; each MB
+  // first touched costs about a millisecond on the development machine: docs/performance.md).
+  SparseMatrix T;
+  assembler_.make_matrix(T);
+  assembler_.tension_stiffness(T);
   // A tension kTension times the largest stiffness: small beside the sheet's own stiffness
   // in its plane, so the correction keeps the in-plane response of the untensioned sheet;
   // its shape normal to it does not depend on the tension, its size (inversely proportional)
   // is the line search's. On a stress-free dome any value from 1e-5 to 1e-2 gave the same
   // first step, with fewer factorisations than without the borrowed tension.
   constexpr double kTension = 1e-3;
-  const double tmax = max_abs(abs_diagonal(T_));
+  const double tmax = max_abs(abs_diagonal(T));
   if (!(tmax > 0)) return false;  // no membrane or cable
-  combine_values(J, 1.0, &T_, kTension * dmax / tmax);
+  combine_values(J, 1.0, &T, kTension * dmax / tmax);
   return true;
 }
 

@@ -169,7 +169,8 @@ class MechanicalSystem final : public SecondOrderSystem {
   // `at_supports`: LoadState::at_supports (the reactions' forces).
   void assemble_external(double t, const VecX& v, SparseMatrix* Kload, bool fused = false,
                          bool at_supports = false);
-  // |diagonal| of a matrix on the assembler's pattern (J, T_), whole (the shares summed).
+  // |diagonal| of a matrix on the assembler's pattern (J, the tension stiffness), whole (the
+  // shares summed).
   VecX abs_diagonal(const SparseMatrix& J) const;
   const SparseMatrix& mass_entries() const;  ///< mass_matrix() without its pattern's zeros
   double distributed_force_scale();
@@ -183,7 +184,6 @@ class MechanicalSystem final : public SecondOrderSystem {
   mutable SparseMatrix M_;
   mutable SparseMatrix M_entries_;  ///< M_ without the zeros of its pattern (products)
   mutable bool have_mass_ = false;
-  mutable SparseMatrix T_;  ///< tension stiffness (stiffen_stress_free), built on first use
   SparseMatrix K_;
   VecX lumped_nodes_, lumped_eq_;
   VecX added_nodes_;                              ///< add_node_mass (empty: none)
