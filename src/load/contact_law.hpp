@@ -6,7 +6,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -91,14 +90,6 @@ inline NodeResult node_force(const NodeInput& in, bool tangent) {
     r.D += -in.mu * in.k * t * in.n.transpose() -
            (limit / en) * (Mat3::Identity() - t * t.transpose()) * De;
   return r;
-}
-
-/// What is left of an initial penetration's depth (the offset on its gap) during accepted step
-/// steps + 1 of a relaxation over relax_steps steps (docs/contact.md, "Initial penetrations"):
-/// shrinking linearly to zero; none without a relaxation.
-inline double relaxed_offset(double offset, int steps, int relax_steps) {
-  if (offset <= 0 || relax_steps <= 0) return 0.0;
-  return offset * std::max(0.0, 1.0 - static_cast<double>(steps + 1) / relax_steps);
 }
 
 }  // namespace velum::contact

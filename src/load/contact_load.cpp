@@ -74,7 +74,7 @@ ContactTerm::ContactTerm(const Contact& load, const LoadSite& site) : load_(load
   if (site.model.piece) lo = -processes::max(-lo), hi = processes::max(hi);
   if (sums[2] > 0) k_min_ = lo, k_max_ = hi;
   lambda_.assign(N, 0.0);
-  offset_.assign(N, 0.0);
+  initial_.resize(N);
   anchor_.resize(N);
   f_accepted_.assign(N, Vec3::Zero());
   status_accepted_.assign(N, contact::Status::kOpen);
@@ -140,10 +140,7 @@ void ContactTerm::find_initial_penetrations(const LoadState& s) {
     Mat3 H;
     const double g =
         load_.body.gap(to_body(fr, s.x.col(load_.nodes[i])), sf, n, H) - load_.node_thickness[i];
-    if (!(g < 0)) continue;
-    ++initial_count_;
-    initial_depth_ = std::max(initial_depth_, -g);
-    if (load_.relax_steps > 0) offset_[i] = -g;
+    initial_.note(i, g, load_.relax_steps, site_.assembler.keeps_node(load_.nodes[i]));
   }
 }
 

@@ -17,6 +17,7 @@
 #include "contact_law.hpp"
 #include "face_contact.hpp"
 #include "face_tree.hpp"
+#include "initial_penetrations.hpp"
 #include "node_blocks.hpp"
 #include "rigid_mesh.hpp"
 #include "rigid_rotation.hpp"
@@ -149,7 +150,7 @@ class ContactTerm final : public LoadTerm {
   }
   void commit(const LoadState& s) override {
     move_on(s, load_.augmented, false);
-    ++steps_;
+    initial_.commit();
   }
   void save_state(std::vector<double>& out) const override {
     out.push_back(static_cast<double>(lambda_.size()));
@@ -159,12 +160,7 @@ class ContactTerm final : public LoadTerm {
     }
     if (owner_) spin_->rot.save(out);
     if (edge_friction()) save_edges(out);
-    // The steps taken and the initial penetrations with their relaxation offsets (a restart
-    // inside the relaxation goes on shrinking the same offsets).
-    out.push_back(steps_);
-    out.push_back(initial_count_);
-    out.push_back(initial_depth_);
-    out.insert(out.end(), offset_.begin(), offset_.end());
+    initial_.save(out);
   }
   size_t restore_state(const std::vector<double>& in, size_t at) override {
     const size_t rotation = owner_ ? rigid::Rotation::kSaved : 0;
@@ -178,12 +174,7 @@ class ContactTerm final : public LoadTerm {
     }
     if (owner_) at = spin_->rot.restore(in, at);
     if (edge_friction()) at = restore_edges(in, at);
-    if (in.size() < at + 3 + offset_.size())
-      throw std::invalid_argument("the contact's saved state does not fit its nodes");
-    steps_ = static_cast<int>(in[at++]);
-    initial_count_ = static_cast<int>(in[at++]);
-    initial_depth_ = in[at++];
-    for (double& o : offset_) o = in[at++];
+    at = initial_.restore(in, at);
     started_ = true;  // the state is the saved one, not a new start's
     return at;
   }
@@ -217,15 +208,8 @@ class ContactTerm final : public LoadTerm {
   // Contact not kept: past its tolerance a warning; past the contact thickness the sheet is
   // through the body.
   std::string end_check(const std::function<void(std::string)>& warn) const override {
-    double initial[1] = {static_cast<double>(initial_count_)};
-    processes::sum(initial, 1);
-    const double deepest = processes::max(initial_depth_);
-    if (initial[0] > 0)
-      warn(fmt::format("contact {} with '{}': {} initial penetrations, the deepest {:.4g}{}",
-                       load_.index, load_.body.name, static_cast<long>(initial[0]), deepest,
-                       load_.relax_steps > 0
-                           ? fmt::format(" (relaxed over the first {} steps)", load_.relax_steps)
-                           : std::string(" (pushed out at the first step)")));
+    initial_.warn(fmt::format("contact {} with '{}'", load_.index, load_.body.name),
+                  load_.relax_steps, warn);
     if (owner_ && spin_->step_ratio > 1)
       warn(fmt::format(
           "contact {}: the rotation of '{}' is advanced explicitly and a step was {:.3g} times "
@@ -242,7 +226,7 @@ class ContactTerm final : public LoadTerm {
         "\"max_penetration_ratio\": {:.6g}, \"kept\": {}, \"initial_penetrations\": {}, "
         "\"initial_max_depth\": {:.6g}}}",
         load_.index, load_.body.name, k_min_, k_max_, penetration_ratio_,
-        penetration_ratio_ <= 1 ? "true" : "false", initial_count_, initial_depth_);
+        penetration_ratio_ <= 1 ? "true" : "false", initial_.count(), initial_.depth());
   }
 
  private:
@@ -260,13 +244,9 @@ class ContactTerm final : public LoadTerm {
     subtract_node_block(site_.dofs, n, n, D, K);
   }
   void move_on(const LoadState& s, bool update_multipliers, bool starting);
-  // The nodes inside the contact distance at the start: counted, the deepest kept, and with
-  // relax_steps each one's depth an offset on its gap that shrinks to zero over the first
-  // steps (docs/contact.md, "Initial penetrations").
+  // The nodes inside the contact distance at the start, noted in initial_.
   void find_initial_penetrations(const LoadState& s);
-  double relaxed(size_t i) const {
-    return contact::relaxed_offset(offset_[i], steps_, load_.relax_steps);
-  }
+  double relaxed(size_t i) const { return initial_.relaxed(i, load_.relax_steps); }
   // A free body's translation at positions x (0 for a fixed or moved one).
   Vec3 translation(const NodePositions& x) const {
     const int b = load_.body_node;
@@ -353,9 +333,7 @@ class ContactTerm final : public LoadTerm {
   std::vector<contact::Status> status_accepted_;  // and its status there
   double k_min_ = 0, k_max_ = 0;
   double penetration_ratio_ = 0;  // the largest penetration / tolerance at the last accepted step
-  std::vector<double> offset_;    // per node: its initial depth, relaxed (relax_steps)
-  int steps_ = 0, initial_count_ = 0;
-  double initial_depth_ = 0;
+  contact::InitialPenetrations initial_;  // per node
   bool started_ = false;
   std::shared_ptr<rigid::Spin> spin_;  // a free body that rotates: its rotation (shared)
   bool owner_ = false;                 // the first of the body's entries: it saves the rotation

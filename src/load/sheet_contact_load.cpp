@@ -104,11 +104,7 @@ void SheetContactTerm::start(const LoadState& s) {
   scan(s.x, [&](size_t p, size_t i, const Pair& pair, double gap) {
     const size_t k = slot(p, i);
     pairs_[k] = pair;
-    if (gap < 0) {
-      ++initial_count_;
-      initial_depth_ = std::max(initial_depth_, -gap);
-      if (load_.relax_steps > 0) offset_[k] = -gap;
-    }
+    initial_.note(k, gap, load_.relax_steps);
   });
 }
 
@@ -142,7 +138,7 @@ SheetContactTerm::SheetContactTerm(const SheetContact& load, const LoadSite& sit
     unknown.fill(-1);
     return unknown;
   }());
-  offset_.assign(slots, 0.0);
+  initial_.resize(slots);
   gap_accepted_.assign(slots, std::numeric_limits<double>::quiet_NaN());
   transmitted_.assign(static_cast<size_t>(site.model.num_nodes()), 0.0);
   node_status_.assign(static_cast<size_t>(site.model.num_nodes()), 0.0);
@@ -520,7 +516,7 @@ void SheetContactTerm::commit(const LoadState& s) {
   });
   commit_edges(s.x);
   if (load_.friction > 0 || load_.edges) x_accepted_ = s.x;
-  ++steps_;
+  initial_.commit();
   // The couplings kept while pairs come and go, dropped (at the next Jacobian: a new
   // pattern) once they are four times those of the pairs within reach now and more than a
   // few hundred: the pattern changes rarely and stays within a small multiple of the need.

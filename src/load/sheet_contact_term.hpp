@@ -18,6 +18,7 @@
 #include "edge_contact.hpp"
 #include "face_contact.hpp"
 #include "face_tree.hpp"
+#include "initial_penetrations.hpp"
 #include "node_blocks.hpp"
 #include "sheet_contact.hpp"
 #include "velum/assembly/assembler.hpp"
@@ -117,36 +118,31 @@ class SheetContactTerm final : public LoadTerm {
   void save_state(std::vector<double>& out) const override {
     out.push_back(static_cast<double>(pairs_.size()));
     for (size_t k = 0; k < pairs_.size(); ++k)
-      out.push_back(pairs_[k].face), out.push_back(pairs_[k].side), out.push_back(offset_[k]);
+      out.push_back(pairs_[k].face), out.push_back(pairs_[k].side);
     if (load_.friction > 0)  // the friction anchors
       for (size_t k = 0; k < pairs_.size(); ++k) {
         out.push_back(anchor_face_[k]);
         out.insert(out.end(), anchor_xi_[k].data(), anchor_xi_[k].data() + 2);
         out.insert(out.end(), last_x_[k].data(), last_x_[k].data() + 3);
       }
-    out.push_back(steps_);
-    out.push_back(initial_count_);
-    out.push_back(initial_depth_);
+    initial_.save(out);
     if (load_.edges) save_edges(out);
   }
   size_t restore_state(const std::vector<double>& in, size_t at) override {
-    const size_t per = load_.friction > 0 ? 9 : 3;
+    const size_t per = load_.friction > 0 ? 8 : 2;
     if (at >= in.size() || in[at] != static_cast<double>(pairs_.size()) ||
-        in.size() < at + 4 + per * pairs_.size())
+        in.size() < at + 1 + per * pairs_.size())
       throw std::invalid_argument("the sheet contact's saved state does not fit its nodes");
     ++at;
-    for (size_t k = 0; k < pairs_.size(); ++k, at += 3)
-      pairs_[k].face = static_cast<int>(in[at]), pairs_[k].side = in[at + 1],
-      offset_[k] = in[at + 2];
+    for (size_t k = 0; k < pairs_.size(); ++k, at += 2)
+      pairs_[k].face = static_cast<int>(in[at]), pairs_[k].side = in[at + 1];
     if (load_.friction > 0)
       for (size_t k = 0; k < pairs_.size(); ++k, at += 6) {
         anchor_face_[k] = static_cast<int>(in[at]);
         anchor_xi_[k] = Vec2(in[at + 1], in[at + 2]);
         last_x_[k] = Vec3(in[at + 3], in[at + 4], in[at + 5]);
       }
-    steps_ = static_cast<int>(in[at++]);
-    initial_count_ = static_cast<int>(in[at++]);
-    initial_depth_ = in[at++];
+    at = initial_.restore(in, at);
     if (load_.edges) at = restore_edges(in, at);
     started_ = true;  // the state is the saved one, not a new start's
     return at;
@@ -177,12 +173,7 @@ class SheetContactTerm final : public LoadTerm {
     return most;
   }
   std::string end_check(const std::function<void(std::string)>& warn) const override {
-    if (initial_count_ > 0)
-      warn(fmt::format("contact {}: {} initial penetrations, the deepest {:.4g}{}", load_.index,
-                       initial_count_, initial_depth_,
-                       load_.relax_steps > 0
-                           ? fmt::format(" (relaxed over the first {} steps)", load_.relax_steps)
-                           : std::string(" (pushed out at the first step)")));
+    initial_.warn(fmt::format("contact {}", load_.index), load_.relax_steps, warn);
     return contact::penetration_check(penetration_ratio_, fmt::format("contact {}", load_.index),
                                       "through a face, past the contact thickness", warn);
   }
@@ -196,7 +187,7 @@ class SheetContactTerm final : public LoadTerm {
         "\"initial_max_depth\": {:.6g}, \"active_pairs\": {}, \"coupled_node_pairs\": {}, "
         "\"pattern_changes\": {}{}}}",
         load_.index, load_.self ? "true" : "false", k_min_, k_max_, penetration_ratio_,
-        penetration_ratio_ <= 1 ? "true" : "false", initial_count_, initial_depth_,
+        penetration_ratio_ <= 1 ? "true" : "false", initial_.count(), initial_.depth(),
         active_accepted_, coupled_count_, pattern_changes_,
         load_.edges ? fmt::format(", \"active_edge_pairs\": {}", edge_active_) : std::string());
   }
@@ -303,9 +294,7 @@ class SheetContactTerm final : public LoadTerm {
     ++coupled_count_;
     return true;
   }
-  double relaxed(size_t k) const {
-    return contact::relaxed_offset(offset_[k], steps_, load_.relax_steps);
-  }
+  double relaxed(size_t k) const { return initial_.relaxed(k, load_.relax_steps); }
   // Friction: slot k's anchor on `face` (barycentric coordinates of its b and c): the anchor's
   // face point carried to a new face, or the node's accepted position for a new pair, both
   // by the faces' accepted positions (so the anchor holds within a step: the tangent stays
@@ -348,12 +337,13 @@ class SheetContactTerm final : public LoadTerm {
   // Per slot: where its pair's node blocks were in K at the last evaluation (the pair keeps
   // its face and K its pattern over most evaluations: then the scatter searches nothing).
   std::vector<std::array<int, 16>> block_guesses_;
-  std::vector<double> offset_, gap_accepted_;
-  std::vector<double> transmitted_;  ///< per model node: the contact force it carries
-  std::vector<int> anchor_face_;     ///< friction, per slot: the face of the anchor (-1: none)
-  std::vector<Vec2> anchor_xi_;      ///< its barycentric coordinates of b and c
-  std::vector<Vec3> last_x_;         ///< the node's accepted position (a new pair's anchor)
-  NodePositions x_accepted_;         ///< friction, edges: the positions at the last accepted state
+  std::vector<double> gap_accepted_;
+  contact::InitialPenetrations initial_;  // per slot
+  std::vector<double> transmitted_;       ///< per model node: the contact force it carries
+  std::vector<int> anchor_face_;          ///< friction, per slot: the face of the anchor (-1: none)
+  std::vector<Vec2> anchor_xi_;           ///< its barycentric coordinates of b and c
+  std::vector<Vec3> last_x_;              ///< the node's accepted position (a new pair's anchor)
+  NodePositions x_accepted_;  ///< friction, edges: the positions at the last accepted state
   // Edge pairs (edges: true): a tree over the second list's edges, and each pair (first
   // list's edge, second's) at the last accepted state.
   contact::FaceTree edge_tree_;
@@ -399,9 +389,9 @@ class SheetContactTerm final : public LoadTerm {
   double skin_ = 0;    ///< δ: the least node contact thickness, at most a tenth of an element
   double reach_ = 0;   ///< the largest node contact thickness
   double margin_ = 0;  ///< how far a node is followed past its contact distance (an element)
-  int steps_ = 0, initial_count_ = 0, active_accepted_ = 0;
+  int active_accepted_ = 0;
   bool started_ = false;
-  double initial_depth_ = 0, penetration_ratio_ = 0, k_min_ = 0, k_max_ = 0;
+  double penetration_ratio_ = 0, k_min_ = 0, k_max_ = 0;
   Vec3 force_on_other_ = Vec3::Zero();
 };
 
