@@ -1,5 +1,6 @@
 // A contact term's forces and matrix on their own, for the finite-difference checks of the
-// contact tests: the load term `i` of `sys` (kLastTerm: the last one) at displacements u.
+// contact tests: the load term `i` of `sys` (kLastTerm: the last one) at displacements u; and
+// the residuals of a system and of one restored from its saved load state.
 #pragma once
 
 #include <cstddef>
@@ -50,6 +51,16 @@ inline double term_matrix_error(MechanicalSystem& sys, size_t i, const VecX& u, 
         (term_forces(sys, i, u + e, nullptr, t) - term_forces(sys, i, u - e, nullptr, t)) / (2 * h);
   }
   return (J + fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
+}
+
+// The residuals at rest of `a`, started at t = 0, and of `b`, restored from a's saved load
+// state (the checkpoint tests: b must go on where a is).
+inline void residuals_after_restore(MechanicalSystem& a, MechanicalSystem& b, VecX& ra, VecX& rb) {
+  const VecX zero = VecX::Zero(a.size());
+  a.start_loads(0.0, zero, zero);
+  b.restore_load_state(a.save_load_state());
+  a.evaluate(0.0, zero, zero, zero, 1, 0, 0, ra, nullptr);
+  b.evaluate(0.0, zero, zero, zero, 1, 0, 0, rb, nullptr);
 }
 
 }  // namespace velum
