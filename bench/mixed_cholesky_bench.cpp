@@ -116,6 +116,8 @@ void BM_MixedCholesky(benchmark::State& state) {
   state.counters["fallbacks"] = static_cast<double>(chol.mixed_counts().double_fallbacks);
   state.counters["float_factor"] = chol.float_factor();
   state.counters["dofs"] = static_cast<double>(A.rows());
+  state.counters["float_factor_mb"] = chol.structure().values * 4e-6;
+  state.counters["supernodes"] = chol.structure().supernodes();
   state.counters["gflops"] = benchmark::Counter(chol.structure().flops * 1e-9,
                                                 benchmark::Counter::kIsIterationInvariantRate);
   omp_set_num_threads(omp_get_num_procs());

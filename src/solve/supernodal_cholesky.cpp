@@ -198,7 +198,7 @@ bool SupernodalCholesky::factorize_in(Panels<T>& p, const SparseMatrix& A) {
     factorize_split(p, A.valuePtr());
   } else {
     Work<T>& w = p.work[0];
-    w.make(st_.most_below);
+    w.make(st_.most_below, st_.widest);
     for (int s = 0; s < st_.supernodes() && !w.failed; ++s) {
       start_panels(p, s, A.valuePtr());
       if (!factor_diagonal(p, s, w)) break;
@@ -414,7 +414,7 @@ void SupernodalCholesky::factorize_split(Panels<T>& p, const double* a) {
   {
     const int me = omp_get_thread_num(), team = omp_get_num_threads();
     Work<T>& work = p.work[me];
-    work.make(st_.most_below);
+    work.make(st_.most_below, st_.widest);
 #pragma omp for schedule(static)
     for (std::ptrdiff_t c = 0; c < nc; c += kClearChunk)
       std::fill(copy + c, copy + std::min(nc, c + kClearChunk), T(0));

@@ -116,16 +116,19 @@ class SupernodalCholesky final : public LinearSolver {
   template <class T>
   struct Work {  ///< one thread's
     std::vector<T> update, gather;
+    std::vector<T> column;  ///< the solves' one supernode's rows (its own, then those below)
     std::vector<int> runs;  ///< a scatter's runs of contiguous rows
     double smallest = 0, largest = 0;
     bool failed = false;
     std::string status;
-    /// Sized for updates of up to `most_below` rows (first call after an analysis only).
-    void make(int most_below) {
+    /// Sized for updates of up to `most_below` rows and supernodes of up to `widest` columns
+    /// (first call after an analysis only).
+    void make(int most_below, int widest) {
       const std::size_t mb = static_cast<std::size_t>(std::max(most_below, 1));
-      if (runs.size() == mb + 1) return;
+      if (runs.size() == mb + 1 && column.size() == mb + static_cast<std::size_t>(widest)) return;
       update.assign(mb * mb, T(0));
       gather.assign(mb, T(0));
+      column.assign(mb + static_cast<std::size_t>(widest), T(0));
       runs.assign(mb + 1, 0);
     }
   };

@@ -19,6 +19,8 @@ template <class T>
 using ConstPanel = Eigen::Map<const Matrix<T>, 0, Eigen::OuterStride<>>;
 template <class T>
 using Segment = Eigen::Map<Eigen::Matrix<T, Eigen::Dynamic, 1>>;
+template <class T>
+using ConstSegment = Eigen::Map<const Eigen::Matrix<T, Eigen::Dynamic, 1>>;
 
 // The threads that share a factorisation or a solve: two groups of subtrees, more help with
 // the top.
