@@ -25,11 +25,11 @@ class HugePageBuffer {
 
   /// n zeros (the old contents released): fresh anonymous pages, touched first where the
   /// caller first writes them (where each page is first touched decides where the host keeps
-  /// it: supernodal_cholesky.cpp's first_touch). With `huge` false no huge pages are asked
-  /// for: on one thread they made whole runs slower or no faster (the element kernels' memory
-  /// traffic as well as the factorisation's, and more system time on large models), while the
-  /// split factorisation on two threads gained (docs/performance.md).
-  void assign(std::size_t n, bool huge = true) {
+  /// it: supernodal_cholesky.cpp's first_touch). On one thread as on two: the panels on 4 kB
+  /// pages had cost one thread 3 to 7 % of a Hencky run since the heap itself moved to huge
+  /// pages (src/run/huge_page_heap.cpp), in page faults and in the solves' TLB misses
+  /// (docs/performance.md); before that, huge pages had made one-thread runs slower.
+  void assign(std::size_t n) {
     release();
     size_ = n;
     if (n == 0) return;
@@ -47,7 +47,7 @@ class HugePageBuffer {
     if (base + span > p + bytes)
       munmap(p + bytes, static_cast<std::size_t>(base + span - (p + bytes)));
 #ifdef MADV_HUGEPAGE
-    if (huge) madvise(p, bytes, MADV_HUGEPAGE);  // advice only: ignored where THP is off
+    madvise(p, bytes, MADV_HUGEPAGE);  // advice only: ignored where THP is off
 #endif
     data_ = reinterpret_cast<T*>(p);
     bytes_ = bytes;

@@ -117,17 +117,15 @@ void SupernodalCholesky::release(Panels<T>& p) {
 template <class T>
 void SupernodalCholesky::allocate(Panels<T>& p) {
   if (p.allocated) return;
-  // Huge pages only for a split factorisation that will run on several threads (huge_pages.hpp).
-  const bool huge = splits_ && omp_get_max_threads() > 1;
   // Two threads' work spaces at least, whatever the count now (it may grow before factorize).
   // Sized before first_touch, which shares the panels out by it. Each work space is made by
   // the thread that uses it, at its first factorisation (Work::make): its first touches then
   // run on that thread, not all on this one.
   p.work.assign(splits_ ? std::max(2, omp_get_max_threads()) : 1, Work<T>{});
-  p.values.assign(static_cast<std::size_t>(st_.values), huge);
+  p.values.assign(static_cast<std::size_t>(st_.values));
   if (splits_) first_touch(p);
   // Not cleared here: factorize_split clears it before each use.
-  p.top_copy.assign(static_cast<std::size_t>(split_.top_values), huge);
+  p.top_copy.assign(static_cast<std::size_t>(split_.top_values));
   p.y.assign(static_cast<std::size_t>(st_.n), T(0));
   p.top_y.assign(splits_ ? static_cast<std::size_t>(st_.n) : 0, T(0));
   p.allocated = true;
