@@ -142,6 +142,7 @@ void ContactTerm::find_initial_penetrations(const LoadState& s) {
         load_.body.gap(to_body(fr, s.x.col(load_.nodes[i])), sf, n, H) - load_.node_thickness[i];
     initial_.note(i, g, load_.relax_steps, site_.assembler.keeps_node(load_.nodes[i]));
   }
+  if (site_.model.piece) initial_.total_over_processes();
 }
 
 std::unique_ptr<LoadTerm> Contact::bind(const LoadSite& site) const {

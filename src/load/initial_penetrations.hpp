@@ -35,20 +35,24 @@ class InitialPenetrations {
     if (offset_[k] <= 0 || relax_steps <= 0) return 0.0;
     return offset_[k] * std::max(0.0, 1.0 - static_cast<double>(steps_ + 1) / relax_steps);
   }
+  /// The count and the deepest made the whole model's, on every process (a collective call,
+  /// once, after the last note): the account and the warning then need no reduction.
+  void total_over_processes() {
+    double count[1] = {static_cast<double>(count_)};
+    processes::sum(count, 1);
+    count_ = static_cast<int>(count[0]);
+    depth_ = processes::max(depth_);
+  }
   /// An accepted step.
   void commit() { ++steps_; }
   int count() const { return count_; }
   double depth() const { return depth_; }
 
-  /// A warning naming `what` ("contact 0 with 'ball'") where any were found on any process.
+  /// A warning naming `what` ("contact 0 with 'ball'") where any were found.
   void warn(const std::string& what, int relax_steps,
             const std::function<void(std::string)>& warn) const {
-    double count[1] = {static_cast<double>(count_)};
-    processes::sum(count, 1);
-    const double deepest = processes::max(depth_);
-    if (count[0] > 0)
-      warn(fmt::format("{}: {} initial penetrations, the deepest {:.4g}{}", what,
-                       static_cast<long>(count[0]), deepest,
+    if (count_ > 0)
+      warn(fmt::format("{}: {} initial penetrations, the deepest {:.4g}{}", what, count_, depth_,
                        relax_steps > 0
                            ? fmt::format(" (relaxed over the first {} steps)", relax_steps)
                            : std::string(" (pushed out at the first step)")));

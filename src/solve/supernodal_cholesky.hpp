@@ -115,7 +115,7 @@ class SupernodalCholesky final : public LinearSolver {
  private:
   template <class T>
   struct Work {  ///< one thread's
-    std::vector<T> update, gather;
+    std::vector<T> update;
     std::vector<T> column;  ///< the solves' one supernode's rows (its own, then those below)
     std::vector<int> runs;  ///< a scatter's runs of contiguous rows
     double smallest = 0, largest = 0;
@@ -127,7 +127,6 @@ class SupernodalCholesky final : public LinearSolver {
       const std::size_t mb = static_cast<std::size_t>(std::max(most_below, 1));
       if (runs.size() == mb + 1 && column.size() == mb + static_cast<std::size_t>(widest)) return;
       update.assign(mb * mb, T(0));
-      gather.assign(mb, T(0));
       column.assign(mb + static_cast<std::size_t>(widest), T(0));
       runs.assign(mb + 1, 0);
     }

@@ -162,6 +162,15 @@ TEST(Contact, RelaxationOffsetsGoThroughTheSavedState) {
   residuals_after_restore(a, b, ra, rb);
   ASSERT_GT(ra.norm(), 0);
   EXPECT_LT((ra - rb).norm(), 1e-12 * ra.norm());
+  // One accepted step later (a quarter of the offsets relaxed more): the restored system
+  // counts the steps from the same place.
+  {
+    MechanicalSystem a1(*relaxed), b1(*relaxed);
+    VecX ra1, rb1;
+    residuals_after_restore(a1, b1, ra1, rb1, 1);
+    EXPECT_GT((ra1 - ra).norm(), 1e-3 * ra.norm());  // the step moved the offsets
+    EXPECT_LT((ra1 - rb1).norm(), 1e-12 * ra1.norm());
+  }
   // The count and the deepest (the end of the account; the penetration ratio before them is
   // the last accepted state's, which a restored system has not evaluated yet).
   auto initial = [](const MechanicalSystem& sys) {

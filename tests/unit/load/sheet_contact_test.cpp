@@ -432,6 +432,15 @@ TEST(SheetContact, RelaxationOffsetsGoThroughTheSavedState) {
   residuals_after_restore(a, b, ra, rb);
   ASSERT_GT(ra.norm(), 0);
   EXPECT_LT((ra - rb).norm(), 1e-12 * ra.norm());
+  // One accepted step later (a quarter of the offsets relaxed more): the restored system
+  // counts the steps from the same place.
+  {
+    MechanicalSystem a1(*ts.m), b1(*ts.m);
+    VecX ra1, rb1;
+    residuals_after_restore(a1, b1, ra1, rb1, 1);
+    EXPECT_GT((ra1 - ra).norm(), 1e-3 * ra.norm());  // the step moved the offsets
+    EXPECT_LT((ra1 - rb1).norm(), 1e-12 * ra1.norm());
+  }
   // Pushed out at once, the same overlap gives a larger force: the offsets matter here.
   TwoSheets at_once = two_sheets(3e-4, 0);
   MechanicalSystem c(*at_once.m);

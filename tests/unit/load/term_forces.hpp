@@ -53,11 +53,13 @@ inline double term_matrix_error(MechanicalSystem& sys, size_t i, const VecX& u, 
   return (J + fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
 }
 
-// The residuals at rest of `a`, started at t = 0, and of `b`, restored from a's saved load
-// state (the checkpoint tests: b must go on where a is).
-inline void residuals_after_restore(MechanicalSystem& a, MechanicalSystem& b, VecX& ra, VecX& rb) {
+// The residuals at rest of `a`, started at t = 0 and `accepted` steps accepted there, and of
+// `b`, restored from a's saved load state (the checkpoint tests: b must go on where a is).
+inline void residuals_after_restore(MechanicalSystem& a, MechanicalSystem& b, VecX& ra, VecX& rb,
+                                    int accepted = 0) {
   const VecX zero = VecX::Zero(a.size());
   a.start_loads(0.0, zero, zero);
+  for (int k = 0; k < accepted; ++k) a.accept(0.0, zero, zero);
   b.restore_load_state(a.save_load_state());
   a.evaluate(0.0, zero, zero, zero, 1, 0, 0, ra, nullptr);
   b.evaluate(0.0, zero, zero, zero, 1, 0, 0, rb, nullptr);
