@@ -81,7 +81,9 @@ bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   splits_ = st_.flops >= split_flops_;
   split_ = splits_ ? split_tree(st_) : TreeSplit{};
   if (!plan_panels()) {
-    status_ = "supernodal Cholesky: a supernode's panel holds more than 2^31 values";
+    status_ =
+        "supernodal Cholesky: a supernode's panel holds more than 2^31 values, or A's pattern "
+        "is not symmetric";
     return false;
   }
   release(double_);
@@ -92,16 +94,31 @@ bool SupernodalCholesky::analyze(const SparseMatrix& A) {
   counts_ = MixedCounts{};
   float_pass_accuracy_ = std::numeric_limits<double>::quiet_NaN();
   double_pause_ = pause_length_ = 0;
-  if (mixed_) {
+  if (mixed_)
     allocate(float_);
-    a_ = A;  // its pattern; the values are copied at each factorisation
-    a_.makeCompressed();
-  } else {
+  else
     allocate(double_);
-    a_ = SparseMatrix();
-  }
+  make_lower(A);
   status_.clear();
   return true;
+}
+
+// lower_'s pattern: A's rows at or below the diagonal, where the loads read them (its values
+// are copied at each factorisation).
+void SupernodalCholesky::make_lower(const SparseMatrix& A) {
+  const int n = st_.n;
+  std::vector<int>& begin = st_.lower_begin;
+  lower_.resize(n, n);
+  lower_.resizeNonZeros(begin[n]);
+  std::copy(begin.begin(), begin.end(), lower_.outerIndexPtr());
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  int* rows = lower_.innerIndexPtr();
+  for (int j = 0; j < n; ++j) {
+    const int m = begin[j + 1] - begin[j];
+    std::copy(inner + outer[j + 1] - m, inner + outer[j + 1], rows + begin[j]);
+  }
+  begin = {};
 }
 
 template <class T>
@@ -140,38 +157,39 @@ bool SupernodalCholesky::factorize(const SparseMatrix& A) {
   }
   SerialEigen serial;
   SerialOpenBlas serial_blas(OpenBlasKernels::loaded());
-  if (mixed_) {
-    if (!A.isCompressed()) {
-      a_ = A;
-      a_.makeCompressed();
-    }
-    // A's values copied (kept as factorised, for the refinement's residuals) and ‖A‖∞ summed
-    // in the same pass: A is symmetric, its rows' sums are its columns'.
-    // On the threads a split factorisation runs on (a maximum is exact in any order): on one,
-    // this serial pass held the second thread idle for a visible share of a two-thread run.
-    const double* from = A.isCompressed() ? A.valuePtr() : a_.valuePtr();
-    double* to = a_.valuePtr();
-    const int* start = a_.outerIndexPtr();
-    const int columns = static_cast<int>(a_.outerSize());
+  // A's lower triangle copied (kept as factorised: the loads read it, and the refinement's
+  // residuals and a fallback to double), with ‖A‖∞ summed in the same pass over A's columns
+  // (A is symmetric: its rows' sums are its columns'). On the threads a split factorisation
+  // runs on (a maximum is exact in any order): on one, this serial pass held the second
+  // thread idle for a visible share of a two-thread run.
+  {
+    const int* outer = A.outerIndexPtr();
+    const int* stored = A.innerNonZeroPtr();  // an uncompressed A's counts
+    const double* from = A.valuePtr();
+    double* to = lower_.valuePtr();
+    const int* begin = lower_.outerIndexPtr();
+    const int columns = st_.n;
     const int threads = splits_ ? omp_get_max_threads() : 1;
     double norm = 0;
 #pragma omp parallel for schedule(static) reduction(max : norm) num_threads(threads)
     for (int j = 0; j < columns; ++j) {
+      const int end = stored ? outer[j] + stored[j] : outer[j + 1];
       double sum = 0;
-      for (int k = start[j]; k < start[j + 1]; ++k) {
-        to[k] = from[k];
-        sum += std::abs(from[k]);
-      }
+      for (int k = outer[j]; k < end; ++k) sum += std::abs(from[k]);
+      const int m = begin[j + 1] - begin[j];
+      std::copy(from + end - m, from + end, to + begin[j]);
       norm = std::max(norm, sum);
     }
     a_norm_ = norm;
+  }
+  if (mixed_) {
     if (double_pause_ > 0) {
       --double_pause_;
     } else {
       // One precision's panels in memory at a time (a switch costs their first touches).
       release(double_);
       allocate(float_);
-      if (factorize_in(float_, A)) {
+      if (factorize_in(float_)) {
         ++counts_.float_factorizations;
         return factorized_ = float_factor_ = true;
       }
@@ -181,11 +199,11 @@ bool SupernodalCholesky::factorize(const SparseMatrix& A) {
     release(float_);
   }
   allocate(double_);
-  return factorized_ = factorize_in(double_, A);
+  return factorized_ = factorize_in(double_);
 }
 
 template <class T>
-bool SupernodalCholesky::factorize_in(Panels<T>& p, const SparseMatrix& A) {
+bool SupernodalCholesky::factorize_in(Panels<T>& p) {
   for (Work<T>& w : p.work) {
     w.smallest = std::numeric_limits<double>::infinity();
     w.largest = 0;
@@ -193,12 +211,12 @@ bool SupernodalCholesky::factorize_in(Panels<T>& p, const SparseMatrix& A) {
     w.status.clear();
   }
   if (splits_) {
-    factorize_split(p, A.valuePtr());
+    factorize_split(p, lower_.valuePtr());
   } else {
     Work<T>& w = p.work[0];
     w.make(st_.most_below, st_.widest);
     for (int s = 0; s < st_.supernodes() && !w.failed; ++s) {
-      start_panels(p, s, A.valuePtr());
+      start_panels(p, s, lower_.valuePtr());
       if (!factor_diagonal(p, s, w)) break;
       solve_below(p, s, 0, st_.below(s));
       scatter_update(p, s, w, static_cast<T*>(nullptr));
@@ -458,7 +476,7 @@ void SupernodalCholesky::factorize_split(Panels<T>& p, const double* a) {
 }
 
 // The solves (supernodal_cholesky_solve.cpp) use these with either panel scalar.
-template bool SupernodalCholesky::factorize_in(Panels<double>&, const SparseMatrix&);
+template bool SupernodalCholesky::factorize_in(Panels<double>&);
 template void SupernodalCholesky::allocate(Panels<double>&);
 template void SupernodalCholesky::release(Panels<float>&);
 

@@ -71,7 +71,8 @@ class SupernodalCholesky final : public LinearSolver {
   std::string_view name() const override { return "supernodal-cholesky"; }
   bool symmetric_only() const override { return true; }
   bool analyze(const SparseMatrix& A) override;
-  /// Reads the lower triangle of A (and the upper within diagonal blocks: A must be symmetric).
+  /// Reads A's lower triangle only (A stored whole: its pattern symmetric) and keeps a copy of
+  /// it, the matrix as factorised (the mixed refinement's residuals, a fallback to double).
   bool factorize(const SparseMatrix& A) override;
   bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
   /// With float panels, the refinement stops as soon as ‖b − A x‖₂ <= `residual` (or at the
@@ -148,8 +149,10 @@ class SupernodalCholesky final : public LinearSolver {
   void release(Panels<T>& p);
   template <class T>
   void first_touch(Panels<T>& p);
+  void make_lower(const SparseMatrix& A);
+  /// The factorisation of lower_ into p.
   template <class T>
-  bool factorize_in(Panels<T>& p, const SparseMatrix& A);
+  bool factorize_in(Panels<T>& p);
   template <class T>
   void start_panel(Panels<T>& p, int t, const double* a);
   template <class T>
@@ -195,9 +198,12 @@ class SupernodalCholesky final : public LinearSolver {
   Panels<float> float_;
   bool float_factor_ = false;
   double float_pass_accuracy_ = std::numeric_limits<double>::quiet_NaN();
-  SparseMatrix a_;  ///< mixed: A as last factorised (the refinement's residuals), and ‖A‖∞
+  /// A's lower triangle as last factorised (the panels' loads, the mixed refinement's residuals,
+  /// a fallback to double), and ‖A‖∞
+  SparseMatrix lower_;
   double a_norm_ = 0;
-  Eigen::VectorXd r_, dx_;  ///< mixed: a residual and a correction
+  Eigen::VectorXd second_half_;  ///< backward_error's sums over the second half of the columns
+  Eigen::VectorXd r_, dx_;       ///< mixed: a residual and a correction
   bool mixed_ = false;
   int double_pause_ = 0, pause_length_ = 0;  ///< factorisations left in double; the next pause's
   MixedCounts counts_;

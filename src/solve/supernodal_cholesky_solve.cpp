@@ -116,20 +116,41 @@ void SupernodalCholesky::solve_with(Panels<T>& p, const Eigen::VectorXd& b, Eige
 // whatever the threads, which share the columns.
 double SupernodalCholesky::backward_error(const Eigen::VectorXd& b, const Eigen::VectorXd& x,
                                           Eigen::VectorXd& r) {
+  // r = b − A x from A's lower triangle: column j gives r_j its dot product with x (the
+  // diagonal and, by symmetry, A's row j right of it) and spreads x_j down its rows. With a
+  // split, the columns are cut in two halves, one per thread, the second half's sums kept in
+  // a vector of its own and added after: the same sums in the same order on one thread or
+  // two, so that both give the same bits.
   const int n = st_.n;
-  r.resize(n);
-  const int* start = a_.outerIndexPtr();
-  const int* row = a_.innerIndexPtr();
-  const double* value = a_.valuePtr();
-  double rn = 0;
-  const int threads = splits_ ? omp_get_max_threads() : 1;
-#pragma omp parallel for schedule(static) reduction(max : rn) num_threads(threads)
-  for (int i = 0; i < n; ++i) {
-    double sum = 0;
-    for (int k = start[i]; k < start[i + 1]; ++k) sum += value[k] * x[row[k]];
-    r[i] = b[i] - sum;
-    rn = std::max(rn, std::abs(r[i]));
+  r = b;
+  const int* start = lower_.outerIndexPtr();
+  const int* row = lower_.innerIndexPtr();
+  const double* value = lower_.valuePtr();
+  const int halves = splits_ ? 2 : 1;
+  second_half_.setZero(halves == 2 ? n : 0);
+  auto columns = [&](int begin, int end, double* sums) {
+    for (int j = begin; j < end; ++j) {
+      const double xj = x[j];
+      double dot = 0;
+      int k = start[j];
+      if (k < start[j + 1] && row[k] == j) dot = value[k++] * xj;
+      for (; k < start[j + 1]; ++k) {
+        const int i = row[k];
+        dot += value[k] * x[i];
+        sums[i] -= value[k] * xj;
+      }
+      sums[j] -= dot;
+    }
+  };
+  if (halves == 1) {
+    columns(0, n, r.data());
+  } else {
+#pragma omp parallel for schedule(static) num_threads(std::min(2, omp_get_max_threads()))
+    for (int h = 0; h < 2; ++h)
+      columns(h * (n / 2), h == 0 ? n / 2 : n, h == 0 ? r.data() : second_half_.data());
+    r += second_half_;
   }
+  const double rn = r.lpNorm<Eigen::Infinity>();
   if (!r.allFinite()) return std::numeric_limits<double>::quiet_NaN();
   return rn == 0 ? 0 : rn / (a_norm_ * x.lpNorm<Eigen::Infinity>());
 }
@@ -177,7 +198,7 @@ bool SupernodalCholesky::solve_refined(const Eigen::VectorXd& b, Eigen::VectorXd
   release(float_);
   allocate(double_);
   SerialOpenBlas serial_blas(OpenBlasKernels::loaded());
-  if (!factorize_in(double_, a_)) {
+  if (!factorize_in(double_)) {
     factorized_ = false;
     return false;
   }

@@ -361,6 +361,27 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
     loads = std::ptrdiff_t(st.width(t) + st.below(t)) * st.width(t) <=
             std::ptrdiff_t(std::numeric_limits<int>::max()) + 1;
   if (lu) st.entry.resize(A.nonZeros());
+  // Cholesky: the loads read A's lower triangle, stored apart (half of A's bytes, and exactly
+  // symmetric): column j's rows at or below j are the last of its stored ones (rows sorted),
+  // lower_begin[j] .. [j + 1] there. An entry above the diagonal that a diagonal block takes
+  // is read at its transposed place; a pattern without it is not symmetric: no loads.
+  std::vector<int> lower_first;  // A's position of column j's first row at or below j
+  if (loads) {
+    lower_first.resize(n);
+    st.lower_begin.assign(n + 1, 0);
+    for (int j = 0; j < n; ++j) {
+      lower_first[j] =
+          static_cast<int>(std::lower_bound(inner + outer[j], inner + outer[j + 1], j) - inner);
+      st.lower_begin[j + 1] = st.lower_begin[j] + (outer[j + 1] - lower_first[j]);
+    }
+  }
+  auto lower_place = [&](int k, int i, int j) {
+    if (i >= j) return st.lower_begin[j] + (k - lower_first[j]);
+    const int* end = inner + outer[i + 1];
+    const int* at = std::lower_bound(inner + lower_first[i], end, j);
+    return at != end && *at == j ? st.lower_begin[i] + static_cast<int>(at - inner - lower_first[i])
+                                 : -1;
+  };
   if (loads) {
     st.load_begin.assign(ns + 1, 0);
     st.loads.reserve(static_cast<std::size_t>(A.nonZeros() + n) / 2);
@@ -373,9 +394,15 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
       for (int k = outer[j]; k < outer[j + 1]; ++k) {
         const int r = pos[inner[k]];
         if (!lu) {
-          if (loads && (r >= c || snode_of[r] == t))
+          if (loads && (r >= c || snode_of[r] == t)) {
+            const int a = lower_place(k, inner[k], j);
+            if (a < 0) {
+              loads = false;
+              break;
+            }
             st.loads.push_back(
-                {k, static_cast<int>(where[r] + std::ptrdiff_t(c - st.first[t]) * ld)});
+                {a, static_cast<int>(where[r] + std::ptrdiff_t(c - st.first[t]) * ld)});
+          }
         } else if (r >= c || snode_of[r] == t) {
           st.entry[k] = st.l_panel[t] + where[r] + std::ptrdiff_t(c - st.first[t]) * ld;
         } else {
@@ -386,6 +413,11 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
       }
     }
     if (loads) st.load_begin[t + 1] = static_cast<int>(st.loads.size());
+  }
+  if (!loads) {
+    st.load_begin = {};
+    st.loads = {};
+    st.lower_begin = {};
   }
   // Update targets: the rows below s, in runs that fall in one supernode each; their places
   // in each target found target by target.

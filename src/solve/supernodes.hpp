@@ -44,9 +44,12 @@ struct SupernodalStructure {
   std::ptrdiff_t values = 0;            ///< size of the panels together
   std::vector<std::ptrdiff_t> entry;    ///< LU: A's k-th stored value -> its place in the
                                         ///< panels
-  struct Load {                         ///< Cholesky: A's stored value a, at its place in
-    int a, at;                          ///< its supernode's L panel
-  };
+  struct Load {                         ///< Cholesky: the value at `a` in A's lower triangle
+    int a, at;                          ///< (lower_begin), at its place in its supernode's L
+  };                                    ///< panel
+  /// Cholesky: A's lower triangle apart, column by column: column j's rows at or below j (the
+  /// last ones it stores: rows sorted) at [lower_begin[j], lower_begin[j + 1]).
+  std::vector<int> lower_begin;
   std::vector<int> load_begin;    ///< Cholesky: A's values in t's panel: loads[load_begin[t] ..
   std::vector<Load> loads;        ///< [t + 1]) (A's values above the diagonal blocks in none;
                                   ///< both empty when a panel holds more than 2^31 values)
