@@ -363,8 +363,10 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
   if (lu) st.entry.resize(A.nonZeros());
   // Cholesky: the loads read A's lower triangle, stored apart (half of A's bytes, and exactly
   // symmetric): column j's rows at or below j are the last of its stored ones (rows sorted),
-  // lower_begin[j] .. [j + 1] there. An entry above the diagonal that a diagonal block takes
-  // is read at its transposed place; a pattern without it is not symmetric: no loads.
+  // lower_begin[j] .. [j + 1] there. Each entry of the permuted matrix's lower triangle is
+  // loaded once (the dense kernels read the diagonal blocks' lower triangles only), from its
+  // place there or, where the order put it below the diagonal from above, from its
+  // transposed place; a pattern without that place is not symmetric: no loads.
   std::vector<int> lower_first;  // A's position of column j's first row at or below j
   if (loads) {
     lower_first.resize(n);
@@ -394,7 +396,7 @@ SupernodalStructure analyse_supernodes(const SparseMatrix& A, const std::vector<
       for (int k = outer[j]; k < outer[j + 1]; ++k) {
         const int r = pos[inner[k]];
         if (!lu) {
-          if (loads && (r >= c || snode_of[r] == t)) {
+          if (loads && r >= c) {
             const int a = lower_place(k, inner[k], j);
             if (a < 0) {
               loads = false;

@@ -51,8 +51,9 @@ struct SupernodalStructure {
   /// last ones it stores: rows sorted) at [lower_begin[j], lower_begin[j + 1]).
   std::vector<int> lower_begin;
   std::vector<int> load_begin;    ///< Cholesky: A's values in t's panel: loads[load_begin[t] ..
-  std::vector<Load> loads;        ///< [t + 1]) (A's values above the diagonal blocks in none;
-                                  ///< both empty when a panel holds more than 2^31 values)
+  std::vector<Load> loads;        ///< [t + 1]) (the permuted lower triangle's, each once; both
+                                  ///< empty when a panel holds more than 2^31 values or A's
+                                  ///< pattern is not symmetric)
   std::ptrdiff_t entries = 0;     ///< A's stored values
   std::vector<int> target_begin;  ///< targets of s: targets[target_begin[s] .. [s+1])
   std::vector<Target> targets;
