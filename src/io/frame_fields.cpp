@@ -55,13 +55,49 @@ void put(CellArray& a, size_t k, const Vec3& v) {
   for (int c = 0; c < 3; ++c) a.values[3 * k + c] = v[c];
 }
 
+// The arrays the summary's extremes read, the others left empty: what a run without frames
+// needs at each output (at Hencky n = 130, 1.2 MB of arrays instead of 15 MB).
+FrameFields evaluate_extremes(const Model& model, const NodePositions& x,
+                              const std::vector<std::vector<int>>& own, size_t ne) {
+  FrameFields f;
+  for (const Spec& s : kSpecs) {
+    const bool read =
+        s.field == kTrueStressMax || s.field == kForcePerLengthMax || s.field == kCableForce;
+    if (s.field != kWrinkleDir)
+      f.cells.push_back(
+          {s.name, s.components, std::vector<double>(read ? ne : 0, kAbsent), s.averaged});
+  }
+  auto& c = f.cells;
+  size_t base = 0;
+  for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
+    const ElementBlock& blk = *model.blocks[bi];
+    const std::vector<int>& mine = own[bi];
+    const int count = static_cast<int>(mine.size());
+    const bool cable = blk.kind() == ElementKind::kCable;
+#pragma omp parallel for schedule(static)
+    for (int i = 0; i < count; ++i) {
+      const ElementOutput o = blk.output(mine[i], x);
+      const size_t k = base + static_cast<size_t>(i);
+      if (cable) {
+        c[kCableForce].values[k] = o.cable_force;
+      } else {
+        c[kTrueStressMax].values[k] = o.stress.max;
+        c[kForcePerLengthMax].values[k] = o.thickness * o.stress.max;
+      }
+    }
+    base += static_cast<size_t>(count);
+  }
+  return f;
+}
+
 }  // namespace
 
 FrameFields evaluate_cells(const Model& model, const NodePositions& x,
-                           const std::vector<std::vector<int>>& own) {
+                           const std::vector<std::vector<int>>& own, bool extremes_only) {
   // One value per listed cell (compact: a process holds no whole-mesh array for its piece).
   size_t ne = 0;
   for (const auto& mine : own) ne += mine.size();
+  if (extremes_only) return evaluate_extremes(model, x, own, ne);
   const bool wrinkling = std::any_of(model.blocks.begin(), model.blocks.end(), [](const auto& b) {
     return b->surface() && b->surface()->tension_field();
   });

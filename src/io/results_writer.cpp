@@ -200,7 +200,7 @@ void ResultsWriter::write(const StepSnapshot& snap) {
     }
   const std::vector<double> row = history_row(snap, U, V, x, R);
   const std::vector<std::vector<int>>& own = assembler.own_by_block();
-  const FrameFields f = evaluate_cells(input_.model, x, own);
+  const FrameFields f = evaluate_cells(input_.model, x, own, !input_.output.fields);
   // The extremes: not of the initial state (often unloaded).
   if (snap.step.step > 0) update_extremes(t, U, f, own);
   std::vector<std::vector<double>> averaged;

@@ -241,3 +241,18 @@ assert abs(x["min_cable_force"]["value"] - F_CABLE * TIMES[1]) <= 1e-9, x
 assert x["min_cable_force"]["time"] == TIMES[1] and x["min_cable_force"]["element"] in (21, 22)
 assert abs(x["max_cable_force"]["value"] - F_CABLE) <= 1e-9 and x["max_cable_force"]["time"] == 1
 print(f"checked {checked} frames: sigma = {sigma:.6g}, lam1 = {lam1:.6g}, lam2 = {lam2:.6g}")
+
+# Without frames (output.fields: false) the cells are evaluated for the extremes alone: the
+# summary's extremes must be the same, to the bit.
+quiet_model = model.replace("output:\n  interval: 0.25", "output:\n  interval: 0.25\n  fields: false")
+assert quiet_model != model
+quiet_path = os.path.join(WORK, "model-no-fields.yaml")
+open(quiet_path, "w").write(quiet_model)
+quiet_out = os.path.join(WORK, "out-no-fields")
+p = subprocess.run([VELUM, "run", quiet_path, "-o", quiet_out, "--threads", "1", "--quiet"],
+                   capture_output=True, text=True)
+assert p.returncode == 0, f"velum failed ({p.returncode}):\n{p.stdout}{p.stderr}"
+assert not any(f.endswith(".vtu") for f in os.listdir(quiet_out)), os.listdir(quiet_out)
+q = json.load(open(os.path.join(quiet_out, "summary.json")))
+assert q["extremes"] == x, (q["extremes"], x)
+print("the extremes without frames are the same")

@@ -61,8 +61,10 @@ struct FrameFields {
 /// those of the elements `own` lists (per block, ascending: every element on one process),
 /// one after the other in that order (no entry for the others: under mpirun a process holds
 /// arrays of its own cells only). A field that does not apply to a cell's kind is NaN there.
+/// `extremes_only`: only the arrays the summary's extremes read (kTrueStressMax,
+/// kForcePerLengthMax, kCableForce) hold values, the others are empty (a run without frames).
 FrameFields evaluate_cells(const Model& model, const NodePositions& x,
-                           const std::vector<std::vector<int>>& own);
+                           const std::vector<std::vector<int>>& own, bool extremes_only = false);
 
 /// The labels of the integer cell fields `element_set` and `material`: each block's value is
 /// an index into these names (model order of first appearance).
