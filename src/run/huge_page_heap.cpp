@@ -8,6 +8,10 @@
 
 #include <unistd.h>
 
+#if defined(__linux__)
+#include <sys/prctl.h>
+#endif
+
 #if defined(__GLIBC__)
 #include <gnu/libc-version.h>
 #endif
@@ -28,6 +32,14 @@ std::string huge_page_tunables(const char* tunables, std::string_view thp_mode,
 }
 
 bool request_huge_page_heap() {
+  // VELUM_HUGE_PAGES=0: no huge pages anywhere in the process, the panels' own advice
+  // (huge_pages.hpp) included (the kernel then ignores MADV_HUGEPAGE; kept across exec).
+  if (const char* said = std::getenv("VELUM_HUGE_PAGES"); said && std::strcmp(said, "0") == 0) {
+#if defined(__linux__)
+    prctl(PR_SET_THP_DISABLE, 1, 0, 0, 0);
+#endif
+    return false;
+  }
 #if defined(__GLIBC__)
   int major = 0, minor = 0;
   if (std::sscanf(gnu_get_libc_version(), "%d.%d", &major, &minor) != 2 ||

@@ -19,6 +19,8 @@ std::string huge_page_tunables(const char* tunables, std::string_view thp_mode,
 
 /// Sets GLIBC_TUNABLES as huge_page_tunables says for this process (glibc 2.35 or later, where
 /// the tunable exists); true when it changed it, and the program must start again to apply it.
+/// With VELUM_HUGE_PAGES=0 it turns transparent huge pages off for the process instead
+/// (PR_SET_THP_DISABLE: its own advice for the Cholesky's panels is then ignored too).
 bool request_huge_page_heap();
 
 /// Executes this program again with the same arguments and the environment as it now is;

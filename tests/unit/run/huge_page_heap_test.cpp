@@ -4,6 +4,9 @@
 #include "velum/run/huge_page_heap.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/prctl.h>
+
+#include <cstdlib>
 
 namespace velum::run {
 namespace {
@@ -29,6 +32,26 @@ TEST(HugePageHeap, KeepsTheUsersTunablesAndChoice) {
 TEST(HugePageHeap, NotAskedAgainAfterTheRestart) {
   const std::string once = huge_page_tunables(nullptr, "[always] madvise never", nullptr);
   EXPECT_EQ(huge_page_tunables(once.c_str(), "[always] madvise never", nullptr), "");
+}
+
+// VELUM_HUGE_PAGES=0 means none at all: the process's transparent huge pages are turned off,
+// so that the panels' MADV_HUGEPAGE is ignored too (in a child: the flag stays for a process's
+// life).
+TEST(HugePageHeap, NoneAtAllWhenTheUserSaysZero) {
+  EXPECT_EXIT(
+      {
+        setenv("VELUM_HUGE_PAGES", "0", 1);
+        const bool restart = request_huge_page_heap();
+        std::exit(!restart && prctl(PR_GET_THP_DISABLE, 0, 0, 0, 0) == 1 ? 0 : 1);
+      },
+      testing::ExitedWithCode(0), "");
+  EXPECT_EXIT(
+      {
+        unsetenv("VELUM_HUGE_PAGES");
+        request_huge_page_heap();
+        std::exit(prctl(PR_GET_THP_DISABLE, 0, 0, 0, 0) == 0 ? 0 : 1);
+      },
+      testing::ExitedWithCode(0), "");
 }
 
 }  // namespace
