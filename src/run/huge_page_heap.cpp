@@ -18,9 +18,17 @@
 
 namespace velum::run {
 
+namespace {
+
+bool refused(const char* velum_huge_pages) {
+  return velum_huge_pages && std::strcmp(velum_huge_pages, "0") == 0;
+}
+
+}  // namespace
+
 std::string huge_page_tunables(const char* tunables, std::string_view thp_mode,
                                const char* velum_huge_pages) {
-  if (velum_huge_pages && std::strcmp(velum_huge_pages, "0") == 0) return {};
+  if (refused(velum_huge_pages)) return {};
   // "always [madvise] never": the bracketed word is the mode; madvise and always both honour
   // the advice glibc gives.
   if (thp_mode.find("[madvise]") == std::string_view::npos &&
@@ -34,7 +42,7 @@ std::string huge_page_tunables(const char* tunables, std::string_view thp_mode,
 bool request_huge_page_heap() {
   // VELUM_HUGE_PAGES=0: no huge pages anywhere in the process, the panels' own advice
   // (huge_pages.hpp) included (the kernel then ignores MADV_HUGEPAGE; kept across exec).
-  if (const char* said = std::getenv("VELUM_HUGE_PAGES"); said && std::strcmp(said, "0") == 0) {
+  if (refused(std::getenv("VELUM_HUGE_PAGES"))) {
 #if defined(__linux__)
     prctl(PR_SET_THP_DISABLE, 1, 0, 0, 0);
 #endif

@@ -112,8 +112,6 @@ void SupernodalCholesky::solve_with(Panels<T>& p, const Eigen::VectorXd& b, Eige
   for (int k = 0; k < n; ++k) x[st_.order[k]] = static_cast<double>(y[k]) * scale;
 }
 
-// r = b − A x, r_i from A's column i (A is symmetric): each entry summed in the same order
-// whatever the threads, which share the columns.
 double SupernodalCholesky::backward_error(const Eigen::VectorXd& b, const Eigen::VectorXd& x,
                                           Eigen::VectorXd& r) {
   // r = b − A x from A's lower triangle: column j gives r_j its dot product with x (the
