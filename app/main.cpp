@@ -26,7 +26,8 @@ struct ProcessesGuard {
 
 int main(int argc, char** argv) {
   // First: it may re-execute the program with OPENBLAS_CORETYPE set (blas_kernels.hpp), and
-  // with a huge-page heap asked of glibc (huge_page_heap.hpp): one restart carries both.
+  // with a huge-page heap asked of glibc (huge_page_heap.hpp): one restart carries both. The
+  // `velum` launcher (launcher.cpp) has asked for the heap already: then only the kernels can.
   const bool huge_page_heap = velum::run::request_huge_page_heap();
   velum::choose_blas_kernels(argv);
   if (huge_page_heap) velum::run::start_again(argv);

@@ -710,22 +710,21 @@ bool MechanicalSystem::stiffen_stress_free(SparseMatrix& J) const {
   for (int e = 0; e < owned_size(); ++e) dmin = std::min(dmin, d[e]);
   dmin = -max_over_processes(-dmin);
   if (!(dmax > 0) || !(dmin < kSoft * dmax)) return false;
-  // Built here and freed on return, not kept: a stress-free start needs it once (again only
-  // after a cut-back), and a matrix held for the run would add one matrix's memory to the
-  // factorisation's peak (Hencky n = 130: 435 MB resident with it, 387 MB without; each MB
-  // first touched costs about a millisecond on the development machine: docs/performance.md).
-  SparseMatrix T;
-  assembler_.make_matrix(T);
-  assembler_.tension_stiffness(T);
+  // Added element by element, with no matrix of T: a stress-free start needs it once (again
+  // only after a cut-back), and a matrix of it, even one freed on return, is one matrix's
+  // memory more first touched (Hencky n = 130: 49 MB; each MB first touched costs about a
+  // millisecond on the development machine: docs/performance.md).
   // A tension kTension times the largest stiffness: small beside the sheet's own stiffness
   // in its plane, so the correction keeps the in-plane response of the untensioned sheet;
   // its shape normal to it does not depend on the tension, its size (inversely proportional)
   // is the line search's. On a stress-free dome any value from 1e-5 to 1e-2 gave the same
   // first step, with fewer factorisations than without the borrowed tension.
   constexpr double kTension = 1e-3;
-  const double tmax = max_abs(abs_diagonal(T));
+  VecX t = assembler_.tension_stiffness_diagonal();
+  complete(t);  // the shares' diagonals add up to T's
+  const double tmax = max_abs(t);
   if (!(tmax > 0)) return false;  // no membrane or cable
-  combine_values(J, 1.0, &T, kTension * dmax / tmax);
+  assembler_.add_tension_stiffness(J, kTension * dmax / tmax);
   return true;
 }
 

@@ -106,9 +106,12 @@ class Assembler {
   /// Consistent mass (values overwritten) and lumped nodal masses (row sum; HRZ for tri6 and
   /// quad8, whose row sums are not all positive), point masses included in both.
   void mass(SparseMatrix* M, VecX* lumped) const;  ///< either may be null
-  /// Geometric stiffness of a uniform unit tension in every membrane and cable
-  /// (ElementBlock::tension_stiffness), values overwritten: symmetric, constant.
-  void tension_stiffness(SparseMatrix& K) const;
+  /// K += scale T, T the geometric stiffness of a uniform unit tension in every membrane and
+  /// cable (ElementBlock::tension_stiffness: symmetric, constant), K on this assembler's
+  /// pattern. Added element by element: no matrix of T is made.
+  void add_tension_stiffness(SparseMatrix& K, double scale) const;
+  /// T's diagonal, one entry per equation (this process's share on several processes).
+  VecX tension_stiffness_diagonal() const;
   /// Nodal forces of gravity g: consistent mass times g (point masses included), summed at
   /// the shared nodes.
   NodePositions gravity_forces(const Vec3& g) const;

@@ -1,6 +1,7 @@
 // Transparent huge pages for the heap (docs/performance.md, "Huge pages for the heap"): glibc
 // advises the kernel to back the heap with 2 MiB pages when the tunable glibc.malloc.hugetlb is
-// 1, which is read only when the program starts; the command line sets it and starts itself
+// 1, which is read only when the program starts. The `velum` launcher (app/launcher.cpp) sets
+// it before it executes the program; the program started otherwise sets it and starts itself
 // again (as it does for OpenBLAS's kernels, blas_kernels.hpp).
 #pragma once
 
