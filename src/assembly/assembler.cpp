@@ -557,33 +557,42 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
   }
 }
 
-void Assembler::add_tension_stiffness(SparseMatrix& K, double scale) const {
-  for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
-    const auto& b = *model_.blocks[bi];
+namespace {
+
+// fn(block, k, element, Ke) with Ke the node matrix of element own[block][k]'s unit tension
+// (ElementBlock::tension_stiffness).
+template <class Fn>
+void for_each_tension_stiffness(const Model& model, const std::vector<std::vector<int>>& own,
+                                Fn&& fn) {
+  for (size_t bi = 0; bi < model.blocks.size(); ++bi) {
+    const auto& b = *model.blocks[bi];
     MatX Ke(b.nodes_per_element(), b.nodes_per_element());
-    for (size_t k = 0; k < own_[bi].size(); ++k) {
-      b.tension_stiffness(own_[bi][k], Ke.data());
-      Ke *= scale;
-      add_node_matrix(bi, k, Ke, K);
+    for (size_t k = 0; k < own[bi].size(); ++k) {
+      b.tension_stiffness(own[bi][k], Ke.data());
+      fn(bi, k, own[bi][k], Ke);
     }
   }
+}
+
+}  // namespace
+
+void Assembler::add_tension_stiffness(SparseMatrix& K, double scale) const {
+  for_each_tension_stiffness(model_, own_, [&](size_t bi, size_t k, int, MatX& Ke) {
+    Ke *= scale;
+    add_node_matrix(bi, k, Ke, K);
+  });
 }
 
 VecX Assembler::tension_stiffness_diagonal() const {
   // A node matrix (Ke(i, j) I₃, frames leave it so) puts Ke(i, i) on node i's three diagonal
   // entries.
   VecX d = VecX::Zero(dofs_.num_equations());
-  for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
-    const auto& b = *model_.blocks[bi];
-    MatX Ke(b.nodes_per_element(), b.nodes_per_element());
-    for (int e : own_[bi]) {
-      b.tension_stiffness(e, Ke.data());
-      const auto nodes = b.nodes(e);
-      for (int i = 0; i < Ke.rows(); ++i)
-        for (int c = 0; c < 3; ++c)
-          if (const int q = dofs_.equation(nodes[i], c); q >= 0) d[q] += Ke(i, i);
-    }
-  }
+  for_each_tension_stiffness(model_, own_, [&](size_t bi, size_t, int e, const MatX& Ke) {
+    const auto nodes = model_.blocks[bi]->nodes(e);
+    for (int i = 0; i < Ke.rows(); ++i)
+      for (int c = 0; c < 3; ++c)
+        if (const int q = dofs_.equation(nodes[i], c); q >= 0) d[q] += Ke(i, i);
+  });
   return d;
 }
 
