@@ -259,9 +259,9 @@ TubeResult tube_in_bending(const SheetLaw& law, double hub_rise, int around, int
 // differs from the Jacobian by κ Q at the wrinkled points, turns linear: measured at
 // M = 0.96 π p R³, corrections shrinking by 0.8 to 0.9 each with κ = 1e-6, 0.64 at 0.90 with
 // κ = 1e-4 (whose isotropic collapse took 18 minutes on two threads, 1e-6's 5 s on one,
-// which ctest's 900 s for this label allows); with κ = 1e-8 or 0
-// the iteration cycles between the points' states there. (κ = 1e-4 was chosen when the
-// stress was blended by κ too, and reached 0.982; docs/wrinkling.md, "E2".)
+// which ctest's 900 s for this label allows); with κ = 1e-8 or 0 the iteration cycles
+// between the points' states there. (κ = 1e-4 was chosen when the stress was blended by κ
+// too, and reached 0.982; docs/wrinkling.md, "E2".)
 TEST(Verification, E2InflatedTubeInBending) {
   const double Mc = std::numbers::pi * 1e4 * 1e-3;
   for (const auto& [label, elastic] :
