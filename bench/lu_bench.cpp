@@ -1,13 +1,17 @@
 // Factorisation of one unsymmetric Jacobian by the LU back-ends (KLU with its pivot order
 // reused, the supernodal LU, UMFPACK), CPU time per numeric factorisation and per solve. The
 // matrix is a Matrix Market file named by VELUM_LU_MATRIX (a Jacobian of the C9 canopy, for
-// instance); without it the benchmarks are skipped. Counters: `mflop` of the supernodal LU's
+// instance), or the first step's Jacobian of the model file it names when the name ends in
+// .yaml (out/bench/c9-profile/isotropic.yaml, written by bench/c9-profile); without it the
+// benchmarks are skipped. Counters: `mflop` of the supernodal LU's
 // panels, `gflops` = that over the CPU time.
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
+#include <string_view>
 #include <unsupported/Eigen/SparseExtra>
 
+#include "model_jacobian.hpp"
 #include "solve/supernodal_lu.hpp"
 #include "velum/solve/linear_solver.hpp"
 
@@ -19,6 +23,8 @@ const SparseMatrix* matrix() {
   static const SparseMatrix* A = [] {
     const char* file = std::getenv("VELUM_LU_MATRIX");
     if (!file) return static_cast<SparseMatrix*>(nullptr);
+    if (std::string_view(file).ends_with(".yaml"))
+      return new SparseMatrix(bench::model_jacobian(file));
     auto* M = new SparseMatrix;
     if (!Eigen::loadMarket(*M, file)) return static_cast<SparseMatrix*>(nullptr);
     M->makeCompressed();

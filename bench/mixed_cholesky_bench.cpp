@@ -19,47 +19,24 @@
 #include <cstdlib>
 #include <limits>
 
+#include "model_jacobian.hpp"
 #include "solve/supernodal_cholesky.hpp"
 #include "square_membrane.hpp"
-#include "velum/analysis/analysis.hpp"
-#include "velum/analysis/mechanical_system.hpp"
-#include "velum/io/model_reader.hpp"
-#include "velum/time/integrators.hpp"
 
 namespace {
 
 using namespace velum;
-using io::ModelInput;
-using io::read_model;
-
 // The matrix `which` (above), or an empty one when VELUM_MODEL is not set.
 SparseMatrix matrix(int which, int n) {
-  std::unique_ptr<Model> owned;
-  ModelInput input;
-  const Model* model = nullptr;
-  double stiffness = 1.0, mass = which == 0 ? 1.0 : 0.0;
   if (which == 2) {
     const char* file = std::getenv("VELUM_MODEL");
-    if (!file) return {};
-    input = read_model(file);
-    model = &input.model;
-    // A dynamic model: its first step's Jacobian, as its (implicit) integrator builds it.
-    if (!input.analysis.equilibrium()) {
-      const std::unique_ptr<TimeIntegrator> integrator = make_integrator(input.analysis);
-      if (const auto* implicit = dynamic_cast<const GeneralizedAlpha*>(integrator.get())) {
-        const Vec3 shift = implicit->shift(input.analysis.time.step);
-        stiffness = shift[0];
-        mass = shift[2];
-      }
-    }
-  } else {
-    owned = which == 0 ? pressurised_square(n) : clamped_square(n, 0.1);
-    model = owned.get();
+    return file ? bench::model_jacobian(file) : SparseMatrix();
   }
+  const std::unique_ptr<Model> model = which == 0 ? pressurised_square(n) : clamped_square(n, 0.1);
   MechanicalSystem sys(*model);
   VecX u = VecX::Zero(sys.size()), v = u, a = u, r;
   SparseMatrix J;
-  sys.evaluate(0.0, u, v, a, stiffness, 0.0, mass, r, &J);
+  sys.evaluate(0.0, u, v, a, 1.0, 0.0, which == 0 ? 1.0 : 0.0, r, &J);
   return J;
 }
 

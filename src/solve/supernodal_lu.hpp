@@ -41,7 +41,8 @@ class SupernodalLu final : public LinearSolver {
   Amalgamation relax_;
   SupernodalStructure st_;
   std::vector<double> values_, update_, gather_, y_;
-  std::vector<int> swap_;  ///< swap_[k]: the row exchanged with row k (same supernode)
+  std::vector<double> triangles_;  ///< a diagonal block's U11ᵀ and unit L11, apart
+  std::vector<int> swap_;          ///< swap_[k]: the row exchanged with row k (same supernode)
   bool factorized_ = false;
   double pivot_ratio_ = 0, largest_multiplier_ = 0, smallest_pivot_ = 0, largest_pivot_ = 0;
   std::string status_;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -131,6 +132,38 @@ TEST(SupernodalLu, RefusesAPivotOutsideItsBlockAndAutoFallsBackToKlu) {
     EXPECT_LE(relative_residual(good, x, b), 1e-13);
   }
   EXPECT_EQ(automatic->name(), "supernodal-lu");
+}
+
+// The top separators of a larger grid are supernodes wider than the triangular solves take
+// in one block (160 columns, dense_kernels.hpp): solved by column blocks, as accurate.
+TEST(SupernodalLu, WideSupernodesAreSolvedByColumnBlocks) {
+  const SparseMatrix A = membrane_matrix(70, 70, 17);
+  SupernodalLu lu;
+  ASSERT_TRUE(lu.refactorize(A)) << lu.status();
+  EXPECT_GT(lu.structure().widest, 160);
+  const Eigen::VectorXd b = rhs(A.rows());
+  Eigen::VectorXd x, y;
+  ASSERT_TRUE(lu.solve(b, x));
+  EXPECT_LE(relative_residual(A, x, b), 1e-13);
+  auto umfpack = make_linear_solver(SolverKind::kUmfpack);
+  ASSERT_TRUE(umfpack->refactorize(A) && umfpack->solve(b, y));
+  EXPECT_LE((x - y).norm(), 1e-11 * y.norm());
+}
+
+// A NaN in the matrix is refused, wherever it lands: never a factor that solves to NaNs.
+TEST(SupernodalLu, NotANumberIsRefused) {
+  const SparseMatrix good = membrane_matrix(9, 8, 19);
+  for (const int column : {0, 40, static_cast<int>(good.cols()) - 1}) {
+    SparseMatrix A = good;
+    A.valuePtr()[A.outerIndexPtr()[column]] = std::numeric_limits<double>::quiet_NaN();
+    SupernodalLu lu;
+    Eigen::VectorXd x;
+    const bool factorised = lu.refactorize(A);
+    EXPECT_FALSE(factorised && lu.solve(rhs(A.rows()), x)) << "column " << column;
+    if (!factorised) {
+      EXPECT_FALSE(lu.status().empty()) << "column " << column;
+    }
+  }
 }
 
 // Above 6,000 equations the factorisation with full pivoting is UMFPACK's.
