@@ -24,7 +24,8 @@ template <class T>
 using Panel = Eigen::Map<Matrix<T>, 0, Eigen::OuterStride<>>;
 
 // One call per iteration after the input is restored (`reset`): Velum's kernel (third argument
-// 1), Eigen's (0) or neither (2: the restoring copy alone, to subtract), on one thread.
+// 1, or 3 for a second form of it), Eigen's (0) or neither (2: the restoring copy alone, to
+// subtract), on one thread.
 template <class Reset, class Ours, class Eigens>
 void time_calls(benchmark::State& state, const Reset& reset, const Ours& ours,
                 const Eigens& eigens) {
@@ -32,7 +33,7 @@ void time_calls(benchmark::State& state, const Reset& reset, const Ours& ours,
   const auto variant = state.range(2);
   for (auto _ : state) {
     reset();
-    if (variant == 1)
+    if (variant == 1 || variant == 3)
       ours();
     else if (variant == 0)
       eigens();
@@ -90,16 +91,25 @@ void BM_DiagonalCholesky(benchmark::State& state) {
 
 // An update's lower triangle W += Lb Lbᵀ (Lb the m rows below a panel of width w, column
 // stride w + m), as SupernodalCholesky::scatter_update makes it where no OpenBLAS with AVX-512
-// kernels is loaded: dense_products.cpp's packed product (1) against Eigen's (0).
+// kernels is loaded: dense_products.cpp's packed product (third argument 1), its narrow
+// product without packing (3, up to kNarrowDepth columns) against Eigen's (0).
 template <class T>
 void BM_UpdateProduct(benchmark::State& state) {
   const int m = static_cast<int>(state.range(0)), w = static_cast<int>(state.range(1));
   const Matrix<T> panel = Matrix<T>::Random(w + m, w);
   Matrix<T> W = Matrix<T>::Zero(m, m);  // accumulates: nothing to restore
+  const bool narrow = state.range(2) == 3;
+  if (narrow && w > velum::dense::kNarrowDepth) {
+    state.SkipWithError("deeper than the narrow product takes");
+    return;
+  }
   time_calls(
       state, [] {},
       [&] {
-        velum::dense::syrk_lower<T>(m, w, T(1), panel.data() + w, w + m, W.data(), m);
+        if (narrow)
+          velum::dense::syrk_lower_narrow<T>(m, w, panel.data() + w, w + m, W.data(), m);
+        else
+          velum::dense::syrk_lower<T>(m, w, T(1), panel.data() + w, w + m, W.data(), m);
         benchmark::DoNotOptimize(W.data());
       },
       [&] {
@@ -121,6 +131,19 @@ void update_shapes(benchmark::internal::Benchmark* b) {
                              {2500, 600},
                              {1700, 1700}})
     for (const int ours : {0, 1}) b->Args({m, w, ours});
+  // The narrow supernodes of a membrane's factor (most of them 9 to 16 columns wide).
+  for (const auto& [m, w] : {std::pair{20, 3},
+                             {40, 9},
+                             {60, 12},
+                             {100, 15},
+                             {130, 24},
+                             {200, 48},
+                             {100, 64},
+                             {300, 64},
+                             {150, 96},
+                             {250, 150},
+                             {200, 250}})
+    for (const int ours : {0, 1, 3}) b->Args({m, w, ours});
 }
 
 void panel_shapes(benchmark::internal::Benchmark* b) {

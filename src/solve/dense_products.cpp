@@ -161,7 +161,111 @@ void product(int m, int n, int k, T alpha, const T* A, std::ptrdiff_t lda, const
   }
 }
 
+// The narrow products (depth at most kNarrowDepth): B's kColumns rows of a column block are
+// copied once (zero past its last column), A is read where it lies, its rows in micro-tiles of
+// kRows (or one packet, the last partial packet through a zero-padded copy). Every entry is
+// the same sum as tile()'s, from zero in k's order: its bits do not depend on m, n or where
+// the entry sits.
+template <class T, int P>
+inline void narrow_tile(int depth, const T* a, std::ptrdiff_t lda, const T* b,
+                        Packet<T> (&acc)[Shape<T>::kColumns][P]) {
+  using Eigen::internal::pmadd;
+  using Eigen::internal::pset1;
+  constexpr int L = Shape<T>::kLanes, N = Shape<T>::kColumns;
+  packets::clear<T>(acc);
+  for (int k = 0; k < depth; ++k) {
+    Packet<T> x[P];
+#pragma GCC unroll 3
+    for (int p = 0; p < P; ++p) x[p] = load(a + k * lda + p * L);
+#pragma GCC unroll 8
+    for (int c = 0; c < N; ++c) {
+      const Packet<T> y = pset1<Packet<T>>(b[k * N + c]);
+#pragma GCC unroll 3
+      for (int p = 0; p < P; ++p) acc[c][p] = pmadd(x[p], y, acc[c][p]);
+    }
+  }
+}
+
+// C(i, c) += acc(i, c) for rows [0, rows) and columns [0, cols) of a tile at (row0, col0),
+// with `lower` only where row0 + i >= col0 + c.
+template <class T, int P>
+inline void add_tile(const Packet<T> (&acc)[Shape<T>::kColumns][P], T* C, std::ptrdiff_t ldc,
+                     int rows, int cols, bool lower, int row0, int col0) {
+  constexpr int L = Shape<T>::kLanes, N = Shape<T>::kColumns;
+  if (rows == P * L && cols == N && (!lower || row0 >= col0 + N - 1)) {
+#pragma GCC unroll 8
+    for (int c = 0; c < N; ++c)
+#pragma GCC unroll 3
+      for (int p = 0; p < P; ++p) {
+        T* to = C + c * ldc + p * L;
+        store(to, Eigen::internal::padd(load(to), acc[c][p]));
+      }
+    return;
+  }
+  // Whole packets at or below the diagonal added as packets, the rest entry by entry.
+  alignas(64) T column[L];
+  for (int c = 0; c < cols; ++c) {
+    const int first = lower ? std::clamp(col0 + c - row0, 0, rows) : 0;
+    T* to = C + c * ldc;
+#pragma GCC unroll 3
+    for (int p = 0; p < P; ++p) {
+      const int begin = std::max(first, p * L), end = std::min(rows, (p + 1) * L);
+      if (begin >= end) continue;
+      if (begin == p * L && end == (p + 1) * L) {
+        store(to + p * L, Eigen::internal::padd(load(to + p * L), acc[c][p]));
+      } else {
+        store(column, acc[c][p]);
+        for (int i = begin; i < end; ++i) to[i] += column[i - p * L];
+      }
+    }
+  }
+}
+
+template <class T>
+void narrow_product(int m, int n, int k, const T* A, std::ptrdiff_t lda, const T* B,
+                    std::ptrdiff_t ldb, T* C, std::ptrdiff_t ldc, bool lower) {
+  using S = Shape<T>;
+  constexpr int L = S::kLanes, N = S::kColumns, P = S::kPackets;
+  if (m <= 0 || n <= 0 || k <= 0) return;
+  alignas(64) T b[kNarrowDepth * N];
+  alignas(64) T pad[kNarrowDepth * L];
+  Packet<T> acc[N][P];
+  Packet<T> one[N][1];
+  for (int j = 0; j < n; j += N) {
+    const int cols = std::min(N, n - j);
+    for (int q = 0; q < k; ++q)
+      for (int c = 0; c < N; ++c) b[q * N + c] = c < cols ? B[q * ldb + j + c] : T(0);
+    int i = lower ? j : 0;
+    for (; i + P * L <= m; i += P * L) {
+      narrow_tile<T, P>(k, A + i, lda, b, acc);
+      add_tile<T, P>(acc, C + j * ldc + i, ldc, P * L, cols, lower, i, j);
+    }
+    for (; i + L <= m; i += L) {
+      narrow_tile<T, 1>(k, A + i, lda, b, one);
+      add_tile<T, 1>(one, C + j * ldc + i, ldc, L, cols, lower, i, j);
+    }
+    if (i < m) {  // the last rows, fewer than a packet, through a zero-padded copy
+      const int rows = m - i;
+      for (int q = 0; q < k; ++q)
+        for (int r = 0; r < L; ++r) pad[q * L + r] = r < rows ? A[q * lda + i + r] : T(0);
+      narrow_tile<T, 1>(k, pad, L, b, one);
+      add_tile<T, 1>(one, C + j * ldc + i, ldc, rows, cols, lower, i, j);
+    }
+  }
+}
+
 }  // namespace
+
+template <class T>
+void gemm_abt_narrow(int m, int n, int k, const T* A, std::ptrdiff_t lda, const T* B,
+                     std::ptrdiff_t ldb, T* C, std::ptrdiff_t ldc) {
+  narrow_product(m, n, k, A, lda, B, ldb, C, ldc, false);
+}
+
+template <class T>
+void syrk_lower_narrow(int n, int k, const T* A, std::ptrdiff_t lda, T* C, std::ptrdiff_t ldc) {
+  narrow_product(n, n, k, A, lda, A, lda, C, ldc, true);
+}
 
 template <class T>
 void gemm_abt(int m, int n, int k, T alpha, const T* A, std::ptrdiff_t lda, const T* B,
@@ -180,5 +284,11 @@ template void gemm_abt(int, int, int, float, const float*, std::ptrdiff_t, const
                        std::ptrdiff_t, float*, std::ptrdiff_t);
 template void syrk_lower(int, int, double, const double*, std::ptrdiff_t, double*, std::ptrdiff_t);
 template void syrk_lower(int, int, float, const float*, std::ptrdiff_t, float*, std::ptrdiff_t);
+template void gemm_abt_narrow(int, int, int, const double*, std::ptrdiff_t, const double*,
+                              std::ptrdiff_t, double*, std::ptrdiff_t);
+template void gemm_abt_narrow(int, int, int, const float*, std::ptrdiff_t, const float*,
+                              std::ptrdiff_t, float*, std::ptrdiff_t);
+template void syrk_lower_narrow(int, int, const double*, std::ptrdiff_t, double*, std::ptrdiff_t);
+template void syrk_lower_narrow(int, int, const float*, std::ptrdiff_t, float*, std::ptrdiff_t);
 
 }  // namespace velum::dense

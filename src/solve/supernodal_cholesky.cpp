@@ -348,6 +348,8 @@ void SupernodalCholesky::scatter_update(Panels<T>& p, int s, Work<T>& work, T* t
     blas_->syrk_lower<T>(m, w, T(1), l + w, w + m, work.update.data(), m);  // work.update is zero
   } else if (w >= kBlasWidth && m >= kPackedRows) {
     dense::syrk_lower<T>(m, w, T(1), l + w, w + m, work.update.data(), m);
+  } else if (w <= dense::kNarrowDepth) {
+    dense::syrk_lower_narrow<T>(m, w, l + w, w + m, work.update.data(), m);
   } else {
     const Panel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
     Eigen::Map<Matrix<T>> W(work.update.data(), m, m);  // zero (subtract_runs)
@@ -377,6 +379,12 @@ void SupernodalCholesky::update_columns(Panels<T>& p, int s, int begin, int end,
     if (rows > cols)
       dense::gemm_abt<T>(rows - cols, cols, w, T(1), l + w + end, ld, l + w + begin, ld, W0 + cols,
                          rows);
+  } else if (w <= dense::kNarrowDepth) {
+    const int ld = w + m;
+    dense::syrk_lower_narrow<T>(cols, w, l + w + begin, ld, W0, rows);
+    if (rows > cols)
+      dense::gemm_abt_narrow<T>(rows - cols, cols, w, l + w + end, ld, l + w + begin, ld, W0 + cols,
+                                rows);
   } else {
     const ConstPanel<T> Lb(l + w, m, w, Eigen::OuterStride<>(w + m));
     const auto B = Lb.middleRows(begin, cols);

@@ -2,7 +2,8 @@
 // shapes that reach whole and partial tiles, several blocks of depth, rows and columns, and
 // strides larger than the rows; the lower-triangle form leaves the strict upper triangle and
 // the spare rows alone; an entry's bits do not depend on the call that holds it (the supernodal
-// Cholesky's one-thread and two-thread factorisations split the same update differently).
+// Cholesky's one-thread and two-thread factorisations split the same update differently); the
+// narrow products without packing likewise, to the packed products' bits.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -110,6 +111,63 @@ TEST(DenseProducts, EntriesIndependentOfTheCall) {
                              m);
     dense::gemm_abt<float>(below, cols, k, 1.0f, A.data() + end, m, A.data() + begin, m,
                            pieces.data() + begin * m + end, m);
+  }
+  EXPECT_TRUE(whole == pieces);
+}
+
+// The narrow products (no packing, depth up to kNarrowDepth) against their definitions, with
+// the same guarantees: spare rows and the strict upper triangle untouched, every packet tail;
+// and each entry the packed product's bits (alpha = 1), whole or cut as update_columns cuts.
+template <class T>
+void check_narrow(int m, int n, int k) {
+  SCOPED_TRACE(testing::Message() << "m = " << m << ", n = " << n << ", k = " << k << ", "
+                                  << (sizeof(T) == 4 ? "float" : "double"));
+  const Matrix<T> A_store = Matrix<T>::Random(m + 3, k), B_store = Matrix<T>::Random(n + 5, k);
+  Matrix<T> C_store = Matrix<T>::Random(m + 2, n);
+  const Matrix<T> C_before = C_store;
+  dense::gemm_abt_narrow<T>(m, n, k, A_store.data() + 1, m + 3, B_store.data() + 2, n + 5,
+                            C_store.data(), m + 2);
+  expect_close<T>(C_store.topRows(m), C_before.topRows(m), T(1), A_store.middleRows(1, m),
+                  B_store.middleRows(2, n), k);
+  EXPECT_TRUE(C_store.bottomRows(2) == C_before.bottomRows(2));
+  Matrix<T> packed = C_before;
+  dense::gemm_abt<T>(m, n, k, T(1), A_store.data() + 1, m + 3, B_store.data() + 2, n + 5,
+                     packed.data(), m + 2);
+  EXPECT_TRUE(packed == C_store);
+  // The lower-triangle form, n x n.
+  Matrix<T> L_store = Matrix<T>::Random(n + 3, n);
+  const Matrix<T> L_before = L_store;
+  dense::syrk_lower_narrow<T>(n, k, B_store.data() + 2, n + 5, L_store.data(), n + 3);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < j; ++i) ASSERT_EQ(L_store(i, j), L_before(i, j)) << i << ", " << j;
+  const Matrix<T> B = B_store.middleRows(2, n);
+  expect_close<T>(L_store.topRows(n), L_before.topRows(n), T(1), B, B, k, true);
+  EXPECT_TRUE(L_store.bottomRows(3) == L_before.bottomRows(3));
+  Matrix<T> L_packed = L_before;
+  dense::syrk_lower<T>(n, k, T(1), B_store.data() + 2, n + 5, L_packed.data(), n + 3);
+  EXPECT_TRUE(L_packed == L_store);
+}
+
+TEST(DenseProducts, NarrowProductsAgainstTheirDefinitionAndThePackedBits) {
+  const int shapes[][3] = {{1, 1, 1},     {5, 3, 3},      {15, 9, 9},
+                           {16, 8, 12},   {17, 7, 15},    {47, 16, 24},
+                           {48, 17, 48},  {49, 60, 64},   {100, 9, 1},
+                           {130, 33, 96}, {63, 200, 200}, {250, 100, dense::kNarrowDepth}};
+  for (const auto& s : shapes) {
+    check_narrow<float>(s[0], s[1], s[2]);
+    check_narrow<double>(s[0], s[1], s[2]);
+  }
+  // Cut as SupernodalCholesky::update_columns cuts an update: the whole call's bits.
+  const int m = 173, k = 24;
+  const Matrix<float> A = Matrix<float>::Random(m, k);
+  Matrix<float> whole = Matrix<float>::Zero(m, m), pieces = Matrix<float>::Zero(m, m);
+  dense::syrk_lower_narrow<float>(m, k, A.data(), m, whole.data(), m);
+  for (const auto& [begin, end] : {std::pair{0, 5}, {5, 53}, {53, 100}, {100, m}}) {
+    const int cols = end - begin, below = m - end;
+    dense::syrk_lower_narrow<float>(cols, k, A.data() + begin, m, pieces.data() + begin * m + begin,
+                                    m);
+    dense::gemm_abt_narrow<float>(below, cols, k, A.data() + end, m, A.data() + begin, m,
+                                  pieces.data() + begin * m + end, m);
   }
   EXPECT_TRUE(whole == pieces);
 }
