@@ -44,14 +44,14 @@ void syrk_lower(int n, int k, T alpha, const T* A, std::ptrdiff_t lda, T* C, std
 /// The deepest product the narrow forms below take.
 inline constexpr int kNarrowDepth = 256;
 
-/// C (m x n) += A Bᵀ with k <= kNarrowDepth, without packing A (dense_products.cpp): the
-/// updates of narrow supernodes, where packing A costs as much as the product. Each entry is
-/// the same sum as gemm_abt's with alpha = 1, bit for bit.
+/// C (m x n) += A Bᵀ without packing A (dense_products.cpp): the updates of narrow
+/// supernodes, where packing A costs as much as the product. Each entry is the same sum as
+/// gemm_abt's with alpha = 1, bit for bit; deeper than kNarrowDepth, gemm_abt itself.
 template <class T>
 void gemm_abt_narrow(int m, int n, int k, const T* A, std::ptrdiff_t lda, const T* B,
                      std::ptrdiff_t ldb, T* C, std::ptrdiff_t ldc);
 
-/// C's lower triangle (n x n, its diagonal included) += A Aᵀ, A n x k, k <= kNarrowDepth; the
+/// C's lower triangle (n x n, its diagonal included) += A Aᵀ, A n x k, the same way; the
 /// strict upper triangle is not touched.
 template <class T>
 void syrk_lower_narrow(int n, int k, const T* A, std::ptrdiff_t lda, T* C, std::ptrdiff_t ldc);

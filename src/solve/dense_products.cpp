@@ -227,6 +227,8 @@ void narrow_product(int m, int n, int k, const T* A, std::ptrdiff_t lda, const T
   using S = Shape<T>;
   constexpr int L = S::kLanes, N = S::kColumns, P = S::kPackets;
   if (m <= 0 || n <= 0 || k <= 0) return;
+  // Deeper than the work space below: the packed product (the same bits up to kDepth).
+  if (k > kNarrowDepth) return product(m, n, k, T(1), A, lda, B, ldb, C, ldc, lower);
   alignas(64) T b[kNarrowDepth * N];
   alignas(64) T pad[kNarrowDepth * L];
   Packet<T> acc[N][P];

@@ -72,7 +72,10 @@ bool SupernodalLu::factor_supernode(int s) {
     int p = k;
     double pivot = std::abs(dk[k]);
     for (int i = k + 1; i < w; ++i)
-      if (std::abs(dk[i]) > pivot) pivot = std::abs(dk[p = i]);
+      if (std::abs(dk[i]) > pivot) {
+        pivot = std::abs(dk[i]);
+        p = i;
+      }
     if (!(pivot > 0) || !std::isfinite(pivot)) {
       status_ = fmt::format("supernodal LU: zero pivot in column {} (supernode {})", f + k, s);
       return false;

@@ -149,10 +149,19 @@ void check_narrow(int m, int n, int k) {
 }
 
 TEST(DenseProducts, NarrowProductsAgainstTheirDefinitionAndThePackedBits) {
-  const int shapes[][3] = {{1, 1, 1},     {5, 3, 3},      {15, 9, 9},
-                           {16, 8, 12},   {17, 7, 15},    {47, 16, 24},
-                           {48, 17, 48},  {49, 60, 64},   {100, 9, 1},
-                           {130, 33, 96}, {63, 200, 200}, {250, 100, dense::kNarrowDepth}};
+  const int shapes[][3] = {{1, 1, 1},
+                           {5, 3, 3},
+                           {15, 9, 9},
+                           {16, 8, 12},
+                           {17, 7, 15},
+                           {47, 16, 24},
+                           {48, 17, 48},
+                           {49, 60, 64},
+                           {100, 9, 1},
+                           {130, 33, 96},
+                           {63, 200, 200},
+                           {250, 100, dense::kNarrowDepth},
+                           {70, 30, dense::kNarrowDepth + 5}};  // deeper: the packed product
   for (const auto& s : shapes) {
     check_narrow<float>(s[0], s[1], s[2]);
     check_narrow<double>(s[0], s[1], s[2]);
