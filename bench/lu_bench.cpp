@@ -3,8 +3,8 @@
 // matrix is a Matrix Market file named by VELUM_LU_MATRIX (a Jacobian of the C9 canopy, for
 // instance), or the first step's Jacobian of the model file it names when the name ends in
 // .yaml (out/bench/c9-profile/isotropic.yaml, written by bench/c9-profile); without it the
-// benchmarks are skipped. Counters: `mflop` of the supernodal LU's
-// panels, `gflops` = that over the CPU time.
+// benchmarks are skipped. Counters: `mflop` of the supernodal LU's panels, `gflops` = that over
+// the CPU time.
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>

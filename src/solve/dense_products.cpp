@@ -68,6 +68,28 @@ void pack(const T* X, std::ptrdiff_t ldx, int rows, int depth, int group, T* out
   }
 }
 
+// acc := Σ_k a_k b_kᵀ over `depth` (from zero, in k's order): P packets of rows of a (column k
+// at a + k lda) against kColumns entries of b (b + k kColumns), held in registers.
+template <class T, int P>
+inline void tile_sum(int depth, const T* a, std::ptrdiff_t lda, const T* b,
+                     Packet<T> (&acc)[Shape<T>::kColumns][P]) {
+  using Eigen::internal::pmadd;
+  using Eigen::internal::pset1;
+  constexpr int L = Shape<T>::kLanes, N = Shape<T>::kColumns;
+  packets::clear<T>(acc);
+  for (int k = 0; k < depth; ++k) {
+    Packet<T> x[P];
+#pragma GCC unroll 3
+    for (int p = 0; p < P; ++p) x[p] = load(a + k * lda + p * L);
+#pragma GCC unroll 8
+    for (int c = 0; c < N; ++c) {
+      const Packet<T> y = pset1<Packet<T>>(b[k * N + c]);
+#pragma GCC unroll 3
+      for (int p = 0; p < P; ++p) acc[c][p] = pmadd(x[p], y, acc[c][p]);
+    }
+  }
+}
+
 // acc := Σ_k a_k b_kᵀ over one block's depth (from zero, in k's order), then
 // C(i, c) += alpha acc(i, c) for the tile's rows [0, rows) and columns [0, cols), and with
 // `lower` only where row0 + i >= col0 + c. A whole tile in place; a partial one through a
@@ -80,18 +102,7 @@ void tile(int depth, const T* a, const T* b, T alpha, T* C, std::ptrdiff_t ldc, 
   using Eigen::internal::pset1;
   constexpr int L = S::kLanes, P = S::kPackets, N = S::kColumns;
   Packet<T> acc[N][P];
-  packets::clear<T>(acc);
-  for (int k = 0; k < depth; ++k) {
-    Packet<T> x[P];
-#pragma GCC unroll 3
-    for (int p = 0; p < P; ++p) x[p] = load(a + k * S::kRows + p * L);
-#pragma GCC unroll 8
-    for (int c = 0; c < N; ++c) {
-      const Packet<T> y = pset1<Packet<T>>(b[k * N + c]);
-#pragma GCC unroll 3
-      for (int p = 0; p < P; ++p) acc[c][p] = pmadd(x[p], y, acc[c][p]);
-    }
-  }
+  tile_sum<T, P>(depth, a, S::kRows, b, acc);
   const Packet<T> scale = pset1<Packet<T>>(alpha);
   const bool whole = rows == S::kRows && cols == N && (!lower || row0 >= col0 + N - 1);
   if (whole) {
@@ -164,28 +175,9 @@ void product(int m, int n, int k, T alpha, const T* A, std::ptrdiff_t lda, const
 // The narrow products (depth at most kNarrowDepth): B's kColumns rows of a column block are
 // copied once (zero past its last column), A is read where it lies, its rows in micro-tiles of
 // kRows (or one packet, the last partial packet through a zero-padded copy). Every entry is
-// the same sum as tile()'s, from zero in k's order: its bits do not depend on m, n or where
-// the entry sits.
-template <class T, int P>
-inline void narrow_tile(int depth, const T* a, std::ptrdiff_t lda, const T* b,
-                        Packet<T> (&acc)[Shape<T>::kColumns][P]) {
-  using Eigen::internal::pmadd;
-  using Eigen::internal::pset1;
-  constexpr int L = Shape<T>::kLanes, N = Shape<T>::kColumns;
-  packets::clear<T>(acc);
-  for (int k = 0; k < depth; ++k) {
-    Packet<T> x[P];
-#pragma GCC unroll 3
-    for (int p = 0; p < P; ++p) x[p] = load(a + k * lda + p * L);
-#pragma GCC unroll 8
-    for (int c = 0; c < N; ++c) {
-      const Packet<T> y = pset1<Packet<T>>(b[k * N + c]);
-#pragma GCC unroll 3
-      for (int p = 0; p < P; ++p) acc[c][p] = pmadd(x[p], y, acc[c][p]);
-    }
-  }
-}
-
+// tile()'s sum (tile_sum), from zero in k's order: its bits do not depend on m, n or where the
+// entry sits.
+//
 // C(i, c) += acc(i, c) for rows [0, rows) and columns [0, cols) of a tile at (row0, col0),
 // with `lower` only where row0 + i >= col0 + c.
 template <class T, int P>
@@ -239,18 +231,18 @@ void narrow_product(int m, int n, int k, const T* A, std::ptrdiff_t lda, const T
       for (int c = 0; c < N; ++c) b[q * N + c] = c < cols ? B[q * ldb + j + c] : T(0);
     int i = lower ? j : 0;
     for (; i + P * L <= m; i += P * L) {
-      narrow_tile<T, P>(k, A + i, lda, b, acc);
+      tile_sum<T, P>(k, A + i, lda, b, acc);
       add_tile<T, P>(acc, C + j * ldc + i, ldc, P * L, cols, lower, i, j);
     }
     for (; i + L <= m; i += L) {
-      narrow_tile<T, 1>(k, A + i, lda, b, one);
+      tile_sum<T, 1>(k, A + i, lda, b, one);
       add_tile<T, 1>(one, C + j * ldc + i, ldc, L, cols, lower, i, j);
     }
     if (i < m) {  // the last rows, fewer than a packet, through a zero-padded copy
       const int rows = m - i;
       for (int q = 0; q < k; ++q)
         for (int r = 0; r < L; ++r) pad[q * L + r] = r < rows ? A[q * lda + i + r] : T(0);
-      narrow_tile<T, 1>(k, pad, L, b, one);
+      tile_sum<T, 1>(k, pad, L, b, one);
       add_tile<T, 1>(one, C + j * ldc + i, ldc, rows, cols, lower, i, j);
     }
   }
