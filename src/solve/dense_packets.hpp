@@ -26,6 +26,39 @@ void store(T* p, const Packet<T>& x) {
   Eigen::internal::pstoreu(p, x);
 }
 
+/// The first n < kLanes<T> entries at p (the lanes past them zero), and stored back: one
+/// masked vector where Eigen's packets are AVX-512's, a short copy elsewhere.
+template <class T>
+Packet<T> load_first(const T* p, int n) {
+  alignas(64) T lanes[kLanes<T>] = {};
+  for (int i = 0; i < n; ++i) lanes[i] = p[i];
+  return Eigen::internal::ploadu<Packet<T>>(lanes);
+}
+template <class T>
+void store_first(T* p, const Packet<T>& x, int n) {
+  alignas(64) T lanes[kLanes<T>];
+  Eigen::internal::pstoreu(lanes, x);
+  for (int i = 0; i < n; ++i) p[i] = lanes[i];
+}
+#if defined(EIGEN_VECTORIZE_AVX512)
+template <>
+inline Packet<float> load_first<float>(const float* p, int n) {
+  return _mm512_maskz_loadu_ps(static_cast<__mmask16>((1u << n) - 1), p);
+}
+template <>
+inline void store_first<float>(float* p, const Packet<float>& x, int n) {
+  _mm512_mask_storeu_ps(p, static_cast<__mmask16>((1u << n) - 1), x);
+}
+template <>
+inline Packet<double> load_first<double>(const double* p, int n) {
+  return _mm512_maskz_loadu_pd(static_cast<__mmask8>((1u << n) - 1), p);
+}
+template <>
+inline void store_first<double>(double* p, const Packet<double>& x, int n) {
+  _mm512_mask_storeu_pd(p, static_cast<__mmask8>((1u << n) - 1), x);
+}
+#endif
+
 /// acc[c][p] = 0 for a block of C x P accumulators (kept in registers: the loops unrolled).
 template <class T, int C, int P>
 inline void clear(Packet<T> (&acc)[C][P]) {

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "solve/dense_kernels.hpp"
+#include "solve/dense_packets.hpp"
 
 namespace velum {
 namespace {
@@ -179,6 +180,28 @@ TEST(DenseProducts, NarrowProductsAgainstTheirDefinitionAndThePackedBits) {
                                   pieces.data() + begin * m + end, m);
   }
   EXPECT_TRUE(whole == pieces);
+}
+
+// A partial packet: its first n entries read and written, nothing past them (a masked vector on
+// AVX-512, where a stray lane would overwrite a neighbouring panel's values).
+template <class T>
+void check_partial_packets() {
+  namespace packets = dense::packets;
+  constexpr int L = packets::kLanes<T>;
+  for (int n = 1; n < L; ++n) {
+    T from[2 * L], to[2 * L], lanes[L];
+    for (int i = 0; i < 2 * L; ++i) from[i] = T(i + 1), to[i] = T(-7);
+    const auto x = packets::load_first(from, n);
+    packets::store(lanes, x);
+    packets::store_first(to, x, n);
+    for (int i = 0; i < L; ++i) EXPECT_EQ(lanes[i], i < n ? from[i] : T(0)) << n << " " << i;
+    for (int i = 0; i < 2 * L; ++i) EXPECT_EQ(to[i], i < n ? from[i] : T(-7)) << n << " " << i;
+  }
+}
+
+TEST(DensePackets, PartialPacketsReadAndWriteTheirEntriesOnly) {
+  check_partial_packets<float>();
+  check_partial_packets<double>();
 }
 
 }  // namespace
