@@ -244,7 +244,8 @@ void SeamCutter::cut(const std::vector<SurfacePoint>& in, int seam) {
   split_ = std::move(split);
   fixed_.resize(static_cast<size_t>(surface_.x().cols()), 0);
   // Corners the seam was moved to go onto the geodesic where they may and stay well shaped.
-  for (const auto& [v, target] : onto) {
+  for (const auto& [corner, target] : onto) {
+    const int v = corner;  // a plain variable: clang 14 (Debian 12) cannot capture a binding
     if (fixed_[static_cast<size_t>(v)] || surface_.on_boundary(v)) continue;
     const auto& xs = surface_.x();
     auto worst = [&](std::vector<Vec3>* normals) {
