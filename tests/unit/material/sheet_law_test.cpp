@@ -191,7 +191,7 @@ TEST(SheetLawInterface, FormFindingLawScalesTheReferenceStiffness) {
   const Vec3 S0(30, -12, 4);
   const SheetLaw law = SheetLaw(anisotropic()).with_prestress(S0).with_wrinkling();
   const SheetLaw ff = form_finding_law(law, 0.5);
-  const Mat3& Q = anisotropic().Q();
+  const Mat3 Q = anisotropic().Q();  // a copy: the law returned is a temporary
   EXPECT_EQ(ff.reference_stiffness(), ((0.5 * 30 / Q.diagonal().maxCoeff()) * Q).eval());
   EXPECT_EQ(ff.prestress(), S0);
   EXPECT_TRUE(ff.affine());
