@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "run_parts.hpp"
+#include "velum/config.hpp"
 #include "velum/io/run_control.hpp"
 
 namespace velum::run {
@@ -24,6 +25,15 @@ std::string build_tree_package_dir() {
 }  // namespace
 
 int fit_command(const std::vector<std::string>& args) {
+  // velum.fit is a module of Velum's Python package, which imports the compiled core: a build
+  // without it (VELUM_WITH_PYTHON off, or no pybind11) cannot fit.
+  if (!VELUM_HAVE_PYTHON) {
+    say(stderr,
+        "error: velum fit needs Velum's Python package, which this build does not have "
+        "(configure with VELUM_WITH_PYTHON=ON; Debian: apt-get install pybind11-dev "
+        "python3-dev)\n");
+    return kExitIo;
+  }
   if (access(kPython, X_OK) != 0) {
     say(stderr,
         "error: velum fit needs {} with numpy and matplotlib (Debian: apt-get install "

@@ -97,17 +97,25 @@ for kind in ("static", "relaxation", "dynamic", "explicit"):
                              f"(exit {p.returncode}: {p.stderr.strip()[-300:]})")
     if p.returncode != 0:
         continue
-    last = list(csv.DictReader(open(os.path.join(out, "history.csv"))))[-1]
+    rows = list(csv.DictReader(open(os.path.join(out, "history.csv"))))
+    last = rows[-1]
     fz, f0, rz = float(last["fz"]), float(last["f0"]), float(last["rz"])
-    check(fz > 0, f"{kind}: the sheet pushes the ball up ({fz:.4g} N)")
-    check(abs(f0 - abs(fz)) < 1e-6 * abs(fz), f"{kind}: magnitude by contact index = |fz|")
+    # The explicit run's last instant may fall in a chatter (below): it is judged over time.
+    if kind != "explicit":
+        check(fz > 0, f"{kind}: the sheet pushes the ball up ({fz:.4g} N)")
+    check(all(abs(float(r["f0"]) - abs(float(r["fz"]))) <= 1e-6 * abs(float(r["fz"]))
+              for r in rows), f"{kind}: magnitude by contact index = |fz| at every output")
     if kind != "explicit":
         check(abs(fz - rz) < 0.01 * fz, f"{kind}: the edges carry the ball's push (reaction {rz:.4g})")
     else:
         # The penalty chatters: at one instant the light sheet's inertia is part of the balance
         # (2.8 % of the push at t = 1, 55 % at t = 0.5). Over the last quarter, sampled every
         # 0.5 ms (no frames), the push and the sheet's weight (1 kg/m² over 1 m²) are carried
-        # by the edges: the sheet's momentum hardly changes.
+        # by the edges: the sheet's momentum hardly changes. Which of two regimes the run
+        # settles in hangs on round-off: the sheet following the ball, or bouncing on it (the
+        # elastic penalty dissipates nothing; gravity changed by 1e-13 gave 4 runs of 8 that
+        # still bounce at t = 1, the push 0 at half the instants and peaks to 3.4 kN); both
+        # carry the mean push to the edges.
         fine = copy.deepcopy(m)
         fine["output"].update(interval=5.0e-4, fields=False)
         pf, out_fine, _ = run("explicit-fine", fine)
@@ -115,11 +123,15 @@ for kind in ("static", "relaxation", "dynamic", "explicit"):
                 if pf.returncode == 0 and float(r["time"]) >= 0.75]
         push = sum(float(r["fz"]) for r in tail) / max(len(tail), 1)
         held = sum(float(r["rz"]) for r in tail) / max(len(tail), 1)
-        check(len(tail) > 400 and abs(push + 9.81 - held) < 0.01 * push,
+        check(len(tail) > 400 and push > 0 and abs(push + 9.81 - held) < 0.01 * push,
               f"{kind}: the edges carry the ball's push over the last quarter (mean push {push:.4g} N, "
               f"mean reaction {held:.4g} N, {len(tail)} samples)")
+        touching = [r for r in tail if float(r["fz"]) > 0]
+        check(len(touching) > 0.25 * len(tail) and
+              all(0 < float(r["area"]) == float(r["a0"]) < A * A for r in touching),
+              f"{kind}: in touch at {len(touching)} of {len(tail)} instants of the last quarter, "
+              "each with a contact area under the sheet's, the same by body and by index")
     check(abs(float(last["bz"]) - 0.2505) < 1e-12, "the ball's centre followed its motion")
-    rows = list(csv.DictReader(open(os.path.join(out, "history.csv"))))
     check(abs(float(rows[2]["vz"]) + (0.052 if kind == "explicit" else 0.05)) < 1e-6,
           "the ball's velocity")
     frames = sorted(os.listdir(os.path.join(out, "frames")))
@@ -138,8 +150,9 @@ for kind in ("static", "relaxation", "dynamic", "explicit"):
     # The area in contact: a cap of the sphere, under the area of the sheet, the same by body
     # and by contact index, and growing as the ball goes down.
     area, a0 = float(last["area"]), float(last["a0"])
-    check(0 < area < A * A and area == a0 and area >= float(rows[1]["area"]),
-          f"{kind}: contact area {area:.4g} m2 (by index {a0:.4g}, earlier {rows[1]['area']})")
+    if kind != "explicit":
+        check(0 < area < A * A and area == a0 and area >= float(rows[1]["area"]),
+              f"{kind}: contact area {area:.4g} m2 (by index {a0:.4g}, earlier {rows[1]['area']})")
     summary = json.load(open(os.path.join(out, "summary.json")))
     check(summary.get("contact", [{}])[0].get("kept") is True,
           f"{kind}: penetration within its tolerance ({summary.get('contact')})")

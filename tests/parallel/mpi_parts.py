@@ -30,7 +30,7 @@ import yaml
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mpi_cases import compare, frame_errors, fresh, history, model as quarter, run  # noqa: E402
 from mpi_pieces import SIGN_FREE  # noqa: E402
-from mpi_staged import floor, hypar  # noqa: E402
+from mpi_staged import floor_for, hypar  # noqa: E402
 
 
 def with_petsc(d):
@@ -80,7 +80,7 @@ def case(velum, name, d, out, env):
     one = os.path.join(folder, "whole-1")
     run([velum, "run", whole, "-q", "-o", one], env)
     if os.path.isdir(os.path.join(one, "frames")):
-        errors += [f"{name}, part read: {e}" for e in frame_errors(one, b, 2, SIGN_FREE, floor)]
+        errors += [f"{name}, part read: {e}" for e in frame_errors(one, b, 2, SIGN_FREE, floor_for(d))]
     if not errors:
         print(f"{name}: {len(ref[1])} rows, largest difference {worst(ref, got):.3g} of a "
               "column's largest value")
