@@ -35,6 +35,16 @@ inline std::string penetration_check(double ratio, const std::string& what, std:
   return {};
 }
 
+/// The largest penetration over its tolerance at any accepted step, and when: a contact whose
+/// last state is apart (a sheet bouncing on a body) may have gone deep on the way.
+/// Since the run's start or its restart (checkpoints do not carry it).
+struct PeakPenetration {
+  double ratio = 0, time = 0;
+  void note(double r, double t) {
+    if (r > ratio) ratio = r, time = t;
+  }
+};
+
 enum class Status : int { kOpen = 0, kStick = 1, kSlip = 2 };
 
 struct NodeInput {

@@ -115,6 +115,7 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers, bool star
     anchor_[i] = load_.body.unmoved(x - r.slip, sf);
   }
   if (!load_.sheet_edges.empty()) commit_edges(s, fr, sf, starting, moment, turning);
+  if (!starting) peak_.note(penetration_ratio_, s.t);  // accepted states, not the given start
   if (!spin_) return;
   // The body's other entries at the same state (connect): the last one moves it on.
   rigid::Spin& sp = *spin_;

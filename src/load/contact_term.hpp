@@ -224,9 +224,11 @@ class ContactTerm final : public LoadTerm {
     return fmt::format(
         "{{\"contact\": {}, \"body\": \"{}\", \"penalty\": [{:.6g}, {:.6g}], "
         "\"max_penetration_ratio\": {:.6g}, \"kept\": {}, \"initial_penetrations\": {}, "
-        "\"initial_max_depth\": {:.6g}}}",
+        "\"initial_max_depth\": {:.6g}, \"peak_penetration_ratio\": {:.6g}, "
+        "\"peak_penetration_time\": {:.6g}}}",
         load_.index, load_.body.name, k_min_, k_max_, penetration_ratio_,
-        penetration_ratio_ <= 1 ? "true" : "false", initial_.count(), initial_.depth());
+        penetration_ratio_ <= 1 ? "true" : "false", initial_.count(), initial_.depth(), peak_.ratio,
+        peak_.time);
   }
 
  private:
@@ -332,7 +334,8 @@ class ContactTerm final : public LoadTerm {
   std::vector<Vec3> f_accepted_;  // the force on each node at the state accepted last
   std::vector<contact::Status> status_accepted_;  // and its status there
   double k_min_ = 0, k_max_ = 0;
-  double penetration_ratio_ = 0;  // the largest penetration / tolerance at the last accepted step
+  double penetration_ratio_ = 0;   // the largest penetration / tolerance at the last accepted step
+  contact::PeakPenetration peak_;  // and over the accepted steps since the start
   contact::InitialPenetrations initial_;  // per node
   bool started_ = false;
   std::shared_ptr<rigid::Spin> spin_;  // a free body that rotates: its rotation (shared)

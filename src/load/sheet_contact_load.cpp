@@ -515,6 +515,7 @@ void SheetContactTerm::commit(const LoadState& s) {
     if (tol > 0) penetration_ratio_ = std::max(penetration_ratio_, (-gap - relaxed(k)) / tol);
   });
   commit_edges(s.x);
+  peak_.note(penetration_ratio_, s.t);
   if (load_.friction > 0 || load_.edges) x_accepted_ = s.x;
   initial_.commit();
   // The couplings kept while pairs come and go, dropped (at the next Jacobian: a new

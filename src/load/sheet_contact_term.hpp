@@ -185,10 +185,11 @@ class SheetContactTerm final : public LoadTerm {
         "{{\"contact\": {}, \"sheets\": true, \"self\": {}, \"penalty\": [{:.6g}, {:.6g}], "
         "\"max_penetration_ratio\": {:.6g}, \"kept\": {}, \"initial_penetrations\": {}, "
         "\"initial_max_depth\": {:.6g}, \"active_pairs\": {}, \"coupled_node_pairs\": {}, "
-        "\"pattern_changes\": {}{}}}",
+        "\"pattern_changes\": {}, \"peak_penetration_ratio\": {:.6g}, "
+        "\"peak_penetration_time\": {:.6g}{}}}",
         load_.index, load_.self ? "true" : "false", k_min_, k_max_, penetration_ratio_,
         penetration_ratio_ <= 1 ? "true" : "false", initial_.count(), initial_.depth(),
-        active_accepted_, coupled_count_, pattern_changes_,
+        active_accepted_, coupled_count_, pattern_changes_, peak_.ratio, peak_.time,
         load_.edges ? fmt::format(", \"active_edge_pairs\": {}", edge_active_) : std::string());
   }
 
@@ -392,6 +393,7 @@ class SheetContactTerm final : public LoadTerm {
   int active_accepted_ = 0;
   bool started_ = false;
   double penetration_ratio_ = 0, k_min_ = 0, k_max_ = 0;
+  contact::PeakPenetration peak_;  // the largest penetration_ratio_ since the start, and when
   Vec3 force_on_other_ = Vec3::Zero();
 };
 

@@ -156,6 +156,13 @@ for kind in ("static", "relaxation", "dynamic", "explicit"):
     summary = json.load(open(os.path.join(out, "summary.json")))
     check(summary.get("contact", [{}])[0].get("kept") is True,
           f"{kind}: penetration within its tolerance ({summary.get('contact')})")
+    # The largest penetration at any accepted step, and when: at least the last one's, and
+    # reached while the ball pushed (t in (0, 1]).
+    c0 = summary.get("contact", [{}])[0]
+    peak, when = c0.get("peak_penetration_ratio", -1), c0.get("peak_penetration_time", -1)
+    check(peak >= c0.get("max_penetration_ratio", 0) and peak > 0 and 0 < when <= 1,
+          f"{kind}: peak penetration {peak} of its tolerance at t = {when} (last "
+          f"{c0.get('max_penetration_ratio')})")
 
 # F5: a free ball (no gravity, no damping) dropped onto the prestressed sheet bounces back:
 # implicit generalized-alpha with rho_inf = 1 and explicit central differences.
@@ -222,7 +229,8 @@ p, out, _ = run("self_contact", m)
 summary = json.load(open(os.path.join(out, "summary.json"))) if p.returncode == 0 else {}
 entries = [c for c in summary.get("contact", []) if c.get("self")]
 check(p.returncode == 0 and len(entries) == 1 and entries[0]["initial_penetrations"] == 0
-      and entries[0].get("active_edge_pairs") == 0,
+      and entries[0].get("active_edge_pairs") == 0
+      and entries[0].get("peak_penetration_ratio") == 0,
       f"self contact runs (exit {p.returncode}: {p.stderr.strip()[-200:]}; {entries})")
 
 # Initial penetration of a rigid body: the held ball's bottom 1 mm inside the sheet's contact
