@@ -289,6 +289,18 @@ TEST(SheetContact, TwoSheetsPressedTogetherBalanceAndStayApart) {
   EXPECT_LE(area, ts.a * ts.a * (1 + 1e-9));
   const std::vector<double> st = sys.load_node_field("contact_status", 1, r.x);
   for (int n : ts.inner) EXPECT_EQ(st[static_cast<size_t>(n)], 2.0);
+  // The account: the last accepted step's penetration ratio, and the largest over the four
+  // steps, at least that, at an accepted step's time.
+  const std::string account = sys.loads().back()->account_json();
+  auto number = [&](const std::string& key) {
+    const size_t at = account.find("\"" + key + "\": ");
+    return at == std::string::npos ? -1.0 : std::stod(account.substr(at + key.size() + 4));
+  };
+  const double last = number("max_penetration_ratio"), peak = number("peak_penetration_ratio"),
+               when = number("peak_penetration_time");
+  EXPECT_GT(last, 0) << account;
+  EXPECT_GE(peak, last) << account;
+  EXPECT_TRUE(when == 0.25 || when == 0.5 || when == 0.75 || when == 1.0) << account;
 }
 
 // The term in a system: K and its low-rank part against central differences of its forces.
