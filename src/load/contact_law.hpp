@@ -45,6 +45,19 @@ struct PeakPenetration {
   }
 };
 
+/// After penetration_check passed the last step: a warning when a node went through the
+/// contact thickness at an earlier accepted step (`ratio` the largest over the run, `time`
+/// when, NaN where not known: another process's). A sheet a body passed through ends apart
+/// from it, on the wrong side, which the last step cannot tell from contact kept.
+inline void peak_check(double ratio, double time, const std::string& what, std::string_view where,
+                       const std::function<void(std::string)>& warn) {
+  if (!(ratio > kThroughRatio)) return;
+  warn(fmt::format(
+      "{}: a node went {:.3g} tolerances {}{}, apart again at the end: the penalty is too soft "
+      "there (raise penalty_scale)",
+      what, ratio, where, std::isnan(time) ? std::string() : fmt::format(" at t = {:.6g}", time)));
+}
+
 enum class Status : int { kOpen = 0, kStick = 1, kSlip = 2 };
 
 struct NodeInput {
