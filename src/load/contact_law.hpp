@@ -18,23 +18,6 @@ namespace velum::contact {
 /// tolerance is 1% of it): the answer is not one of contact.
 inline constexpr double kThroughRatio = 100;
 
-/// A contact's end-of-run check (LoadTerm::end_check) from its largest penetration over its
-/// tolerance at the last accepted step: past kThroughRatio why the run fails, past 1 a
-/// warning. `what` names the contact ("contact 0 with 'floor'"), `where` the penetration
-/// ("inside the body, through the contact thickness").
-inline std::string penetration_check(double ratio, const std::string& what, std::string_view where,
-                                     const std::function<void(std::string)>& warn) {
-  if (ratio > kThroughRatio)
-    return fmt::format(
-        "{} not kept: a node is {:.3g} tolerances {}: the penalty is too soft for the load "
-        "(raise penalty_scale)",
-        what, ratio, where);
-  if (ratio > 1)
-    warn(fmt::format("{} penetrates {:.3g} times its tolerance at the end (raise penalty_scale)",
-                     what, ratio));
-  return {};
-}
-
 /// The largest penetration over its tolerance at any accepted step, and when: a contact whose
 /// last state is apart (a sheet bouncing on a body) may have gone deep on the way.
 /// Since the run's start or its restart (checkpoints do not carry it).
@@ -45,17 +28,31 @@ struct PeakPenetration {
   }
 };
 
-/// After penetration_check passed the last step: a warning when a node went through the
-/// contact thickness at an earlier accepted step (`ratio` the largest over the run, `time`
-/// when, NaN where not known: another process's). A sheet a body passed through ends apart
-/// from it, on the wrong side, which the last step cannot tell from contact kept.
-inline void peak_check(double ratio, double time, const std::string& what, std::string_view where,
-                       const std::function<void(std::string)>& warn) {
-  if (!(ratio > kThroughRatio)) return;
-  warn(fmt::format(
-      "{}: a node went {:.3g} tolerances {}{}, apart again at the end: the penalty is too soft "
-      "there (raise penalty_scale)",
-      what, ratio, where, std::isnan(time) ? std::string() : fmt::format(" at t = {:.6g}", time)));
+/// A contact's end-of-run check (LoadTerm::end_check) from its largest penetration over its
+/// tolerance at the last accepted step (`ratio`): past kThroughRatio why the run fails, past 1
+/// a warning. Then the largest over the run (`peak`; its time NaN where not known: another
+/// process's): past kThroughRatio a warning, since a sheet a body passed through ends apart
+/// from it, on the wrong side, which the last step cannot tell from contact kept. `what` names
+/// the contact ("contact 0 with 'floor'"), `where` the penetration ("inside the body, through
+/// the contact thickness").
+inline std::string penetration_check(double ratio, const PeakPenetration& peak,
+                                     const std::string& what, std::string_view where,
+                                     const std::function<void(std::string)>& warn) {
+  if (ratio > kThroughRatio)
+    return fmt::format(
+        "{} not kept: a node is {:.3g} tolerances {}: the penalty is too soft for the load "
+        "(raise penalty_scale)",
+        what, ratio, where);
+  if (ratio > 1)
+    warn(fmt::format("{} penetrates {:.3g} times its tolerance at the end (raise penalty_scale)",
+                     what, ratio));
+  if (peak.ratio > kThroughRatio)
+    warn(fmt::format(
+        "{}: a node went {:.3g} tolerances {}{}, apart again at the end: the penalty is too soft "
+        "there (raise penalty_scale)",
+        what, peak.ratio, where,
+        std::isnan(peak.time) ? std::string() : fmt::format(" at t = {:.6g}", peak.time)));
+  return {};
 }
 
 enum class Status : int { kOpen = 0, kStick = 1, kSlip = 2 };

@@ -215,14 +215,11 @@ class ContactTerm final : public LoadTerm {
           "contact {}: the rotation of '{}' is advanced explicitly and a step was {:.3g} times "
           "its stable length for the contact's stiffness (take shorter steps)",
           load_.index, load_.body.name, spin_->step_ratio));
-    const std::string what = fmt::format("contact {} with '{}'", load_.index, load_.body.name);
-    const char* where = "inside the body, through the contact thickness";
-    const std::string last =
-        contact::penetration_check(processes::max(penetration_ratio_), what, where, warn);
-    if (!last.empty()) return last;
     const double peak = processes::max(peak_.ratio);
-    contact::peak_check(peak, peak_.ratio == peak ? peak_.time : NAN, what, where, warn);
-    return {};
+    return contact::penetration_check(
+        processes::max(penetration_ratio_), {peak, peak_.ratio == peak ? peak_.time : NAN},
+        fmt::format("contact {} with '{}'", load_.index, load_.body.name),
+        "inside the body, through the contact thickness", warn);
   }
   std::string account_json() const override {
     return fmt::format(

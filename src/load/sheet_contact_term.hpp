@@ -174,11 +174,9 @@ class SheetContactTerm final : public LoadTerm {
   }
   std::string end_check(const std::function<void(std::string)>& warn) const override {
     initial_.warn(fmt::format("contact {}", load_.index), load_.relax_steps, warn);
-    const std::string what = fmt::format("contact {}", load_.index);
-    const char* where = "through a face, past the contact thickness";
-    const std::string last = contact::penetration_check(penetration_ratio_, what, where, warn);
-    if (last.empty()) contact::peak_check(peak_.ratio, peak_.time, what, where, warn);
-    return last;
+    return contact::penetration_check(penetration_ratio_, peak_,
+                                      fmt::format("contact {}", load_.index),
+                                      "through a face, past the contact thickness", warn);
   }
   // The candidate searches (the trees' queries) made since construction; the other
   // evaluations reused the last one's candidates.
