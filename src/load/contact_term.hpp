@@ -61,14 +61,16 @@ class Contact final : public Load, public ContactLoad {
           fmt::format("contact {}: edge contact with a rigid mesh ({}) runs on one process only",
                       index, body.name));
     std::vector<int> kept;
-    std::vector<double> t, h;
+    std::vector<double> t, h, k;
     for (size_t i = 0; i < nodes.size(); ++i)
       if (const int l = local_of[static_cast<size_t>(nodes[i])]; l >= 0) {
         kept.push_back(l);
         t.push_back(node_thickness[i]);
         h.push_back(node_size[i]);
+        k.push_back(node_stiffness[i]);
       }
     nodes = std::move(kept), node_thickness = std::move(t), node_size = std::move(h);
+    node_stiffness = std::move(k);
     parts.clear();  // the areas of the contact pressure come from the whole set only
     return !nodes.empty();
   }
@@ -80,6 +82,9 @@ class Contact final : public Load, public ContactLoad {
 
   std::vector<double> node_thickness;  // contact thickness per node
   std::vector<double> node_size;       // element size about the node (penetration tolerance)
+  // The node's largest diagonal entry of the elements' tangent at the reference, unconstrained
+  // (reference_diagonal.hpp), summed over every element at the node: the penalty's scale.
+  std::vector<double> node_stiffness;
   std::vector<std::pair<int, int>> sheet_edges;  // edges: true: the membranes' sides (model nodes)
 };
 

@@ -5,6 +5,7 @@
 // penalty force of face_contact.hpp. Its 12 x 12 matrix goes into K as node blocks: the
 // node's and the face's are in the mesh's pattern, the node–face coupling in the couplings
 // the term declares (update_couplings), which the system adds to the pattern.
+#include "reference_diagonal.hpp"
 #include "sheet_contact_term.hpp"
 
 namespace velum {
@@ -15,8 +16,7 @@ void SheetContact::set_up(const Model& model, const ElementNamer&) {
   std::vector<std::vector<int>> near(N);
   std::array<std::vector<double>, 2> half, size;
   stiffness.assign(N, 0.0);
-  // The kernels store fixed-size Eigen blocks into these: aligned as Eigen wants.
-  std::vector<double, Eigen::aligned_allocator<double>> r, Ke;
+  ReferenceDiagonal diagonal;
   std::array<std::map<std::pair<int, int>, size_t>, 2> edge_index;
   auto collect = [&](const std::vector<Part>& set, int which) {
     half[which].assign(N, -1.0), size[which].assign(N, 0.0);
@@ -41,15 +41,11 @@ void SheetContact::set_up(const Model& model, const ElementNamer&) {
           f.n = {en[0], en[2], en[3]};
           faces[which].push_back(f);
         }
-        // The element's reference tangent, unconstrained: each node's largest diagonal entry
-        // (its in-plane stiffness, about E t) is its share of the automatic penalty.
-        const size_t nd = static_cast<size_t>(b.dofs_per_element());
-        r.assign(nd, 0.0), Ke.assign(nd * nd, 0.0);
-        b.internal(std::span<const int>(&e, 1), model.X, r.data(), Ke.data());
-        for (size_t a = 0; a < en.size(); ++a)
-          for (size_t c = 3 * a; c < 3 * a + 3; ++c)
-            stiffness[static_cast<size_t>(en[a])] =
-                std::max(stiffness[static_cast<size_t>(en[a])], Ke[c * nd + c]);
+        // Each node's largest diagonal entry of its elements' reference tangents (its
+        // in-plane stiffness, about E t) is its share of the automatic penalty.
+        diagonal(b, e, model.X, [&](int n, int, double k) {
+          stiffness[static_cast<size_t>(n)] = std::max(stiffness[static_cast<size_t>(n)], k);
+        });
         if (edges)
           for (int a = 0; a < corners; ++a) {
             const auto key = std::minmax(en[a], en[(a + 1) % corners]);
