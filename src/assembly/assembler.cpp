@@ -529,7 +529,6 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
   for (size_t bi = 0; bi < model_.blocks.size(); ++bi) {
     const auto& b = *model_.blocks[bi];
     const int nn = b.nodes_per_element();
-    const bool hrz = b.shape().lumping == shape::Lumping::kHrz;
     MatX Me(nn, nn);
     for (size_t k = 0; k < own_[bi].size(); ++k) {
       const int e = own_[bi][k];
@@ -537,10 +536,7 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
       const auto nodes = b.nodes(e);
       if (M) add_node_matrix(bi, k, Me, *M);
       if (!lumped) continue;
-      const double total = Me.sum();
-      const double diag = Me.diagonal().sum();
-      for (int i = 0; i < nn; ++i)
-        (*lumped)[nodes[i]] += hrz ? Me(i, i) * total / diag : Me.row(i).sum();
+      for (int i = 0; i < nn; ++i) (*lumped)[nodes[i]] += b.shape().lumped(Me.data(), i);
     }
   }
   // The point masses once, then the shares summed where processes share nodes.

@@ -1,6 +1,7 @@
 // The contact law at one node against a rigid surface: the normal force of the augmented
-// penalty, Coulomb friction with a tangential penalty on the slip since the anchor (stick) and
-// the return to the cone (slip), and its consistent derivative ∂f/∂x (unsymmetric in slip).
+// penalty (with a viscous part on the normal velocity while in touch, where damped), Coulomb
+// friction with a tangential penalty on the slip since the anchor (stick) and the return to
+// the cone (slip), and its consistent derivatives ∂f/∂x (unsymmetric in slip) and ∂f/∂v.
 // Fixed size, allocation-free: called for every node of a contact set at every residual.
 #pragma once
 
@@ -65,26 +66,36 @@ struct NodeInput {
   double lambda = 0;       ///< the normal multiplier (force) of the last accepted step
   double k = 0;            ///< the penalty (force per length)
   double mu = 0;           ///< the friction coefficient
+  double c = 0;            ///< the normal damping (force per velocity; 0: none)
+  Vec3 v = Vec3::Zero();   ///< the node's velocity relative to the body's point it is at
 };
 
 struct NodeResult {
   Vec3 f = Vec3::Zero();     ///< the force on the node
   Mat3 D = Mat3::Zero();     ///< ∂f/∂x (filled when asked)
+  Mat3 Dv = Mat3::Zero();    ///< ∂f/∂v, v the relative velocity (filled when asked, c > 0)
   double p = 0;              ///< the normal force
   Vec3 slip = Vec3::Zero();  ///< the elastic slip the tangential force stands for (f_T = −k slip)
   Status status = Status::kOpen;
 };
 
-/// f = p n + f_T with p = max(0, λ − k g); f_T = −k e (e = P w, P = I − n nᵀ) while |k e| <=
-/// μ p, else μ p t̂ (t̂ = −e/|e|).
+/// f = p n + f_T with p = max(0, λ − k g − c n·v) while λ − k g > 0 (in touch; 0 apart: the
+/// damping acts in touch only and never pulls); f_T = −k e (e = P w, P = I − n nᵀ) while
+/// |k e| <= μ p, else μ p t̂ (t̂ = −e/|e|).
 inline NodeResult node_force(const NodeInput& in, bool tangent) {
   NodeResult r;
-  const double p = in.lambda - in.k * in.g;
-  if (p <= 0) return r;
+  const double elastic = in.lambda - in.k * in.g;
+  if (elastic <= 0) return r;
+  const double vn = in.n.dot(in.v);
+  const double p = elastic - in.c * vn;
+  if (p <= 0) return r;  // in touch but leaving faster than the damping lets it push
   r.p = p;
   r.status = Status::kStick;
   r.f = p * in.n;
-  if (tangent) r.D = -in.k * in.n * in.n.transpose() + p * in.H;
+  // ∂p/∂x = −k n − c Hᵀ v (the normal turns under the velocity); ∂p/∂v = −c n.
+  const Vec3 dp = -in.k * in.n - in.c * (in.H.transpose() * in.v);
+  if (tangent) r.D = in.n * dp.transpose() + p * in.H;
+  if (tangent && in.c > 0) r.Dv = -in.c * in.n * in.n.transpose();
   if (in.mu <= 0) {
     r.status = Status::kSlip;  // frictionless: the node slides freely
     return r;
@@ -106,9 +117,10 @@ inline NodeResult node_force(const NodeInput& in, bool tangent) {
   const Vec3 t = -e / en;
   r.f += limit * t;
   r.slip = -(limit / in.k) * t;
-  if (tangent)
-    r.D += -in.mu * in.k * t * in.n.transpose() -
-           (limit / en) * (Mat3::Identity() - t * t.transpose()) * De;
+  if (tangent) {
+    r.D += in.mu * t * dp.transpose() - (limit / en) * (Mat3::Identity() - t * t.transpose()) * De;
+    if (in.c > 0) r.Dv += -in.mu * in.c * t * in.n.transpose();
+  }
   return r;
 }
 

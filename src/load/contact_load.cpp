@@ -32,22 +32,33 @@ void Contact::set_up(const Model& model, const ElementNamer&) {
   sheet_edges.assign(sides.begin(), sides.end());
   // Every element at a node of the set adds to its stiffness, as in the assembled matrix
   // (a sheet's edge node joined to a cable has both), but unconstrained.
+  // So does its lumped mass (the damping's scale), point masses included.
   NodePositions diagonal = NodePositions::Zero(3, N);
+  std::vector<double> mass(static_cast<size_t>(N), 0.0);
   ReferenceDiagonal reference;
+  MatX Me;
   for (const auto& block : model.blocks)
     for (int e = 0; e < block->size(); ++e) {
       const auto en = block->nodes(e);
-      if (block->holds(e) &&
-          std::any_of(en.begin(), en.end(), [&](int n) { return t[static_cast<size_t>(n)] >= 0; }))
-        reference(*block, e, model.X, [&](int n, int c, double k) { diagonal(c, n) += k; });
+      if (!block->holds(e) ||
+          std::none_of(en.begin(), en.end(), [&](int n) { return t[static_cast<size_t>(n)] >= 0; }))
+        continue;
+      reference(*block, e, model.X, [&](int n, int c, double k) { diagonal(c, n) += k; });
+      Me.resize(block->nodes_per_element(), block->nodes_per_element());
+      block->mass(e, Me.data());
+      for (size_t a = 0; a < en.size(); ++a)
+        mass[static_cast<size_t>(en[a])] += block->shape().lumped(Me.data(), static_cast<int>(a));
     }
+  for (const auto& pm : model.masses) mass[static_cast<size_t>(pm.node)] += pm.mass;
   nodes.clear(), node_thickness.clear(), node_size.clear(), node_stiffness.clear();
+  node_mass.clear();
   for (int n = 0; n < N; ++n)
     if (t[static_cast<size_t>(n)] >= 0) {
       nodes.push_back(n);
       node_thickness.push_back(thickness >= 0 ? thickness : t[static_cast<size_t>(n)]);
       node_size.push_back(h[static_cast<size_t>(n)]);
       node_stiffness.push_back(diagonal.col(n).maxCoeff());
+      node_mass.push_back(mass[static_cast<size_t>(n)]);
     }
 }
 
@@ -79,6 +90,10 @@ ContactTerm::ContactTerm(const Contact& load, const LoadSite& site) : load_(load
          hi = N ? *std::max_element(k_.begin(), k_.end()) : 0.0;
   if (site.model.piece) lo = -processes::max(-lo), hi = processes::max(hi);
   if (sums[2] > 0) k_min_ = lo, k_max_ = hi;
+  if (load.damping > 0) {  // c = 2 ζ √(k m), m the node's lumped mass
+    c_.assign(N, 0.0);
+    for (size_t i = 0; i < N; ++i) c_[i] = 2 * load.damping * std::sqrt(k_[i] * load.node_mass[i]);
+  }
   lambda_.assign(N, 0.0);
   initial_.resize(N);
   anchor_.resize(N);

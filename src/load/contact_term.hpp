@@ -61,22 +61,24 @@ class Contact final : public Load, public ContactLoad {
           fmt::format("contact {}: edge contact with a rigid mesh ({}) runs on one process only",
                       index, body.name));
     std::vector<int> kept;
-    std::vector<double> t, h, k;
+    std::vector<double> t, h, k, m;
     for (size_t i = 0; i < nodes.size(); ++i)
       if (const int l = local_of[static_cast<size_t>(nodes[i])]; l >= 0) {
         kept.push_back(l);
         t.push_back(node_thickness[i]);
         h.push_back(node_size[i]);
         k.push_back(node_stiffness[i]);
+        m.push_back(node_mass[i]);
       }
     nodes = std::move(kept), node_thickness = std::move(t), node_size = std::move(h);
-    node_stiffness = std::move(k);
+    node_stiffness = std::move(k), node_mass = std::move(m);
     parts.clear();  // the areas of the contact pressure come from the whole set only
     return !nodes.empty();
   }
   std::string summary(int) const override {
-    return fmt::format("contact {}: {} nodes against {}{}", index, nodes.size(), body.name,
-                       friction > 0 ? fmt::format(", friction {}", friction) : "");
+    return fmt::format("contact {}: {} nodes against {}{}{}", index, nodes.size(), body.name,
+                       friction > 0 ? fmt::format(", friction {}", friction) : "",
+                       damping > 0 ? fmt::format(", damping {} of critical", damping) : "");
   }
   std::unique_ptr<LoadTerm> bind(const LoadSite& site) const override;
 
@@ -85,6 +87,7 @@ class Contact final : public Load, public ContactLoad {
   // The node's largest diagonal entry of the elements' tangent at the reference, unconstrained
   // (reference_diagonal.hpp), summed over every element at the node: the penalty's scale.
   std::vector<double> node_stiffness;
+  std::vector<double> node_mass;  // its lumped mass, point masses included (the damping's scale)
   std::vector<std::pair<int, int>> sheet_edges;  // edges: true: the membranes' sides (model nodes)
 };
 
@@ -116,15 +119,22 @@ class ContactTerm final : public LoadTerm {
     if (U)
       for (int c = 0; c < 6; ++c)
         U->col(out.column + c).setZero(), W->col(out.column + c).setZero();
+    const BodyRate rate = body_rate(s.t);
+    if (out.K) damping_blocks_.clear();
     for (size_t i = 0; i < load_.nodes.size(); ++i) {
       const int n = load_.nodes[i];
       if (share && !site_.assembler.keeps_node(n)) continue;
-      contact::NodeResult r = evaluate(i, to_body(fr, s.x.col(n)), sf, out.K != nullptr);
+      const Vec3 y = to_body(fr, s.x.col(n));
+      contact::NodeResult r =
+          evaluate(i, y, sf, out.K != nullptr,
+                   c_.empty() ? Vec3::Zero() : relative_velocity(s, fr, rate, n, y));
       if (r.status == contact::Status::kOpen) continue;
       if (fr.turned) {  // the law in the body's axes: back to the global ones
         r.f = fr.R * r.f;
         r.D = fr.R * r.D * fr.R.transpose();
+        r.Dv = fr.R * r.Dv * fr.R.transpose();
       }
+      if (out.K && !c_.empty()) damping_blocks_.push_back({n, r.Dv});
       out.F.col(n) += r.f;
       if (out.K) add_block(n, r.D, *out.K);
       if (b < 0) continue;
@@ -144,6 +154,17 @@ class ContactTerm final : public LoadTerm {
       }
   }
   int low_rank_columns() const override { return load_.body_node >= 0 ? 6 : 0; }
+  bool uses_velocity() const override { return !c_.empty(); }
+  // cv ∂(−f)/∂v at the nodes in touch of the last add() with a Jacobian, and the same block at
+  // a free body's node (f_b = −f of v_n − v_b). The coupling between a node and the body is
+  // left out (outside the mesh's pattern; the stiffness's goes into the low-rank part): Newton
+  // still converges, at a rate of about the damping fraction.
+  void add_velocity_jacobian(const NodePositions&, double cv, SparseMatrix& J) const override {
+    for (const auto& [n, Dv] : damping_blocks_) {
+      add_block(n, cv * Dv, J);
+      if (load_.body_node >= 0) add_block(load_.body_node, cv * Dv, J);
+    }
+  }
   // A rotating free body: the rotation's kinetic energy and the contact moment's work on it.
   double kinetic_energy() const override { return owner_ ? spin_->rot.kinetic_energy() : 0.0; }
   double state_work() const override { return owner_ ? spin_->rot.last_work() : 0.0; }
@@ -195,6 +216,12 @@ class ContactTerm final : public LoadTerm {
   bool node_field(std::string_view name, double t, const NodePositions& x,
                   std::vector<double>& per_node) const override;
   double max_stiffness_over_mass(std::span<const double> node_mass) const override {
+    // A damped oscillator's central-difference limit is (√(1 + ζ²) − ζ) 2/ω: the penalty's ω²
+    // is counted that much larger.
+    const double z = load_.damping, shorter = std::sqrt(1 + z * z) - z;
+    return stiffness_over_mass(node_mass) / (shorter * shorter);
+  }
+  double stiffness_over_mass(std::span<const double> node_mass) const {
     double most = 0;
     // With edges a node may also take an edge pair's penalty (at most the node's own).
     const double pairs = load_.sheet_edges.empty() ? 1.0 : 2.0;
@@ -238,13 +265,15 @@ class ContactTerm final : public LoadTerm {
   }
 
  private:
-  contact::NodeResult evaluate(size_t i, const Vec3& x, double sf, bool tangent) const {
+  contact::NodeResult evaluate(size_t i, const Vec3& x, double sf, bool tangent,
+                               const Vec3& v = Vec3::Zero()) const {
     contact::NodeInput in;
     in.g = load_.body.gap(x, sf, in.n, in.H) - load_.node_thickness[i] + relaxed(i);
     in.w = x - load_.body.moved(anchor_[i], sf);
     in.lambda = lambda_[i];
     in.k = k_[i];
     in.mu = load_.friction;
+    if (!c_.empty()) in.c = c_[i], in.v = v;
     return contact::node_force(in, tangent);
   }
   // K −= ∂f/∂x in the node's equations (its frame where it has one).
@@ -282,6 +311,32 @@ class ContactTerm final : public LoadTerm {
   }
   static Vec3 to_body(const Frame& f, const Vec3& x) {
     return f.turned ? Vec3(f.C0 + f.R.transpose() * (x - f.c)) : Vec3(x - f.d);
+  }
+  // A prescribed motion's function at t ± dt, for the velocity of the body's points (a central
+  // difference, as the rigid_velocity output takes it).
+  struct BodyRate {
+    double s0 = 0, s1 = 0, dt = 0;
+  };
+  BodyRate body_rate(double t) const {
+    if (c_.empty() || load_.body_node >= 0) return {};
+    const double dt = 1e-6 * std::max(1.0, std::abs(t));
+    return {site_.model.function_value(load_.body.function, t - dt),
+            site_.model.function_value(load_.body.function, t + dt), dt};
+  }
+  // Node n's velocity relative to the body's point at it, in the frame the law is evaluated in
+  // (y: the node's position there).
+  Vec3 relative_velocity(const LoadState& s, const Frame& fr, const BodyRate& rate, int n,
+                         const Vec3& y) const {
+    const int b = load_.body_node;
+    if (b < 0) {
+      const Vec3 Y = load_.body.unmoved(y, 0.5 * (rate.s0 + rate.s1));
+      return Vec3(s.V.col(n)) -
+             (load_.body.moved(Y, rate.s1) - load_.body.moved(Y, rate.s0)) / (2 * rate.dt);
+    }
+    Vec3 v = s.V.col(n) - s.V.col(b);
+    if (!fr.turned) return v;
+    v -= spin_->rot.angular_velocity().cross(Vec3(s.x.col(n) - fr.c));
+    return fr.R.transpose() * v;
   }
   // Edge contact with a rigid mesh (contact_edges.cpp). The map from global positions to the
   // mesh's own at s = 0 (to_body, then the motion undone): affine, Y = o + L x.
@@ -340,6 +395,8 @@ class ContactTerm final : public LoadTerm {
   std::vector<Vec3> f_accepted_;  // the force on each node at the state accepted last
   std::vector<contact::Status> status_accepted_;  // and its status there
   double k_min_ = 0, k_max_ = 0;
+  std::vector<double> c_;                             // the normal damping per node (empty: none)
+  std::vector<std::pair<int, Mat3>> damping_blocks_;  // ∂f/∂v at the nodes in touch
   double penetration_ratio_ = 0;   // the largest penetration / tolerance at the last accepted step
   contact::PeakPenetration peak_;  // and over the accepted steps since the start
   contact::InitialPenetrations initial_;  // per node

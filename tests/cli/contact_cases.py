@@ -131,6 +131,24 @@ for kind in ("static", "relaxation", "dynamic", "explicit"):
               all(0 < float(r["area"]) == float(r["a0"]) < A * A for r in touching),
               f"{kind}: in touch at {len(touching)} of {len(tail)} instants of the last quarter, "
               "each with a contact area under the sheet's, the same by body and by index")
+        # With contact damping (ζ = 0.1) the sheet follows the ball whatever the round-off:
+        # gravity changed by up to 8e-13 (4 runs of 8 bounced without it), in touch at every
+        # instant of the last quarter, no impacts (the bouncing runs peaked at 3 to 6 times the
+        # mean push, the following ones at 1.4), the same mean push (the damping acts
+        # on the velocity relative to the moving ball, so a steady push takes none).
+        for dg in (0.0, 1e-13, 3e-13, 8e-13):
+            damped = copy.deepcopy(fine)
+            damped["contact"][0]["damping"] = 0.1
+            damped["loads"][0]["acceleration"][2] += dg
+            pd, out_d, _ = run(f"explicit-damped-{dg:g}", damped)
+            rows_d = [r for r in csv.DictReader(open(os.path.join(out_d, "history.csv")))
+                      if pd.returncode == 0 and float(r["time"]) >= 0.75]
+            push_d = sum(float(r["fz"]) for r in rows_d) / max(len(rows_d), 1)
+            peak_d = max((float(r["fz"]) for r in rows_d), default=0)
+            check(len(rows_d) > 400 and all(float(r["fz"]) > 0 for r in rows_d) and
+                  abs(push_d - push) < 0.005 * push and peak_d < 2 * push_d,
+                  f"{kind}, damping 0.1, gravity + {dg:g}: in touch at every instant of the last "
+                  f"quarter, mean push {push_d:.4g} N against {push:.4g} N, peak {peak_d:.4g} N")
     check(abs(float(last["bz"]) - 0.2505) < 1e-12, "the ball's centre followed its motion")
     check(abs(float(rows[2]["vz"]) + (0.052 if kind == "explicit" else 0.05)) < 1e-6,
           "the ball's velocity")
@@ -201,6 +219,60 @@ for kind in ("implicit", "explicit"):
     check(v_out >= 0.95, f"F5 {kind}: rebound speed {v_out:.4f} >= 0.95 of the impact speed")
     check(abs(e1 - e0) <= 0.05 * abs(e0 - float(rows[0]["se"])),
           f"F5 {kind}: energy within 5% ({e1 - e0:.3g} J)")
+
+# Contact damping (`damping` ζ): a node of 1 kg on a slack cable 100 m long (its penalty
+# E A / L = 1e4 N/m, so ω0 = 100 rad/s; the cable's pull as the node rises is 1e-3 N) met by a sphere rising at 1 m/s. In the sphere's frame the node comes
+# in at 1 m/s and leaves at e m/s, e the restitution of a linear spring and dashpot that never
+# pulls (Schwager & Pöschel, Granular Matter 10, 2008): contact ends where k x + c ẋ = 0, at
+# ω t* = π − atan(2βω / (ω0² − 2β²)), β = ζ ω0, ω = ω0 √(1 − ζ²), and
+# e = e^(−β t*) (β sin ωt* − ω cos ωt*) / ω. The node leaves at 1 + e m/s. Implicit (ρ∞ = 1) and
+# explicit, ζ = 0, 0.1 and 0.3.
+def restitution(zeta, w0=100.0):
+    import math
+    if zeta == 0:
+        return 1.0
+    beta, w = zeta * w0, w0 * math.sqrt(1 - zeta * zeta)
+    ts = (math.pi - math.atan(2 * beta * w / (w0 * w0 - 2 * beta * beta))) / w
+    return math.exp(-beta * ts) * (beta * math.sin(w * ts) - w * math.cos(w * ts)) / w
+
+
+for scheme in ("generalized-alpha", "central-difference"):
+    for zeta in (0.0, 0.1, 0.3):
+        m = {
+            "mesh": {"nodes": [[1, -100.0, 0.0, 0.0], [2, 0.0, 0.0, 0.0]],
+                     "elements": [{"set": "line", "type": "cable2", "connectivity": [[1, 2]]}]},
+            "materials": {"rope": {"type": "cable", "E": 1.0e8, "density": 1.0e-8}},
+            "sections": [{"elements": "line", "material": "rope", "area": 1.0e-2}],
+            "masses": [{"node": 2, "mass": 1.0}],
+            "boundary": [{"nodes": [1], "fix": ["x", "y", "z"]}],
+            "functions": {"ramp": {"type": "ramp", "duration": 1.0}},
+            "rigid_bodies": [{"name": "ball", "shape": "sphere", "center": [0, 0, -0.201],
+                              "radius": 0.2, "motion": {"displacement": [0, 0, 1.0],
+                                                         "function": "ramp"}}],
+            "contact": [{"surfaces": ["line", "ball"], "damping": zeta}],
+            "analysis": {"type": "dynamic", "time": {"end": 0.045, "step": 2.0e-5},
+                         "integrator": {"scheme": scheme}},
+            "output": {"fields": False, "interval": 1.0e-3, "history": [
+                {"name": "vz", "quantity": "velocity", "node": 2, "component": "z"},
+                {"name": "fz", "quantity": "contact_force", "body": "ball", "component": "z"}]},
+        }
+        if scheme == "generalized-alpha":
+            m["analysis"]["integrator"]["rho_inf"] = 1.0
+        name = f"damped_{scheme}_{zeta:g}"
+        p, out, _ = run(name, m)
+        check(p.returncode == 0, f"{name}: runs (exit {p.returncode}: {p.stderr.strip()[-300:]})")
+        if p.returncode != 0:
+            continue
+        rows = list(csv.DictReader(open(os.path.join(out, "history.csv"))))
+        acc = json.load(open(os.path.join(out, "summary.json")))["contact"][0]
+        e = restitution(zeta)
+        v_out = float(rows[-1]["vz"])
+        print(f"{name}: penalty {acc['penalty']}, node leaves at {v_out:.5f} m/s, "
+              f"1 + e = {1 + e:.5f}")
+        check(acc["penalty"] == [1.0e4, 1.0e4] and float(rows[-1]["fz"]) == 0,
+              f"{name}: the penalty is E A / L and the node has left the ball")
+        check(abs(v_out - (1 + e)) <= 2e-3 * e,
+              f"{name}: restitution {v_out - 1:.5f} against {e:.5f} (within 0.2%)")
 
 # Contact not kept: a penalty far too soft lets the ball through the sheet; the run must not
 # end "converged" (exit 2, the contact named), and a mildly soft one warns in summary.json.
@@ -331,6 +403,13 @@ BAD = [
      "lies inside rigid body 'ceiling'", "rigid_bodies[0].name"),
     ("area_component", lambda m: m["output"]["history"][5].update(component="z"),
      "contact_area has no component", "output.history[5].component"),
+    ("negative_damping", lambda m: m["contact"][0].update(damping=-0.1),
+     "damping", "contact[0].damping"),
+    ("overdamped", lambda m: m["contact"][0].update(damping=1.5),
+     "from 0 to 1, got 1.5", "contact[0].damping"),
+    ("sheet_damping", lambda m: m["contact"].append(
+        {"surfaces": ["sheet"], "self": True, "damping": 0.1}),
+     "damping applies to contact with a rigid body", "contact[1].damping"),
 ]
 for name, edit, message, key in BAD:
     m = copy.deepcopy(BASE)

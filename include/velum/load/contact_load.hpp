@@ -77,7 +77,10 @@ struct ContactLoad {
   double thickness = -1;
   double friction = 0;       ///< Coulomb coefficient
   double penalty_scale = 1;  ///< times the automatic penalty (docs/contact.md)
-  bool augmented = true;     ///< Lagrange multiplier updated at every accepted step
+  /// Normal damping while in touch, as a fraction of the critical damping of the node's mass on
+  /// its penalty (c = 2 ζ √(k m)); rigid bodies only. 0: the penalty is elastic.
+  double damping = 0;
+  bool augmented = true;  ///< Lagrange multiplier updated at every accepted step
   /// A free body (mass): the model's node that carries it (a point mass at body.point, its
   /// displacement the body's translation); -1: the body moves as prescribed.
   int body_node = -1;

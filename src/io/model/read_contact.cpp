@@ -307,7 +307,7 @@ void Reader::parse_contact(const Node& cs) {
     const std::string p = item("contact", i);
     if (!check_map(c, p,
                    {"surfaces", "self", "friction", "thickness", "penalty_scale", "augmented",
-                    "relax_steps", "edges"}))
+                    "relax_steps", "edges", "damping"}))
       continue;
     ContactLoad load;
     load.index = static_cast<int>(i);
@@ -411,6 +411,22 @@ void Reader::parse_contact(const Node& cs) {
         load.penalty_scale = *k;
       else
         ok = false;
+    }
+    if (has(c, "damping")) {
+      const auto z = non_negative(c, "damping", p, "the fraction of critical damping");
+      if (sheets) {
+        error(c["damping"], sub(p, "damping"),
+              "damping applies to contact with a rigid body (not yet between element sets)");
+        ok = false;
+      } else if (z && *z > 1) {
+        error(c["damping"], sub(p, "damping"),
+              fmt::format("expected a fraction of critical damping from 0 to 1, got {}", *z));
+        ok = false;
+      } else if (z) {
+        load.damping = *z;
+      } else {
+        ok = false;
+      }
     }
     if (auto a = boolean(c, "augmented", p))
       load.augmented = *a, contact_augmented_.insert(load.index);

@@ -27,27 +27,36 @@ RigidBody body_of(int shape) {
   return b;
 }
 
-// The force on a node at x against body b moved by s (anchor A at s = 0).
+// The force on a node at x against body b moved by s (anchor A at s = 0); with damping c, at
+// velocity v relative to the body.
 contact::NodeResult force(const RigidBody& b, double s, const Vec3& x, const Vec3& A, double mu,
-                          bool tangent) {
+                          bool tangent, double c = 0, const Vec3& v = Vec3::Zero()) {
   contact::NodeInput in;
   in.g = b.gap(x, s, in.n, in.H) - 0.01;
   in.w = x - b.moved(A, s);
   in.lambda = 3.0;
   in.k = 1e3;
   in.mu = mu;
+  in.c = c;
+  in.v = v;
   return contact::node_force(in, tangent);
+}
+
+// A point of body b moved by s just inside its surface (on it along its normal n, 2e-3 deep).
+Vec3 just_inside(const RigidBody& b, double s, Vec3& n) {
+  Mat3 H;
+  Vec3 x = b.moved(b.point + Vec3(0.3, 0.4, 0.2), s);
+  x -= (b.gap(x, s, n, H) + 2e-3) * n;
+  return x;
 }
 
 TEST(Contact, NodeLawMatchesFiniteDifferences) {
   const double s = 0.6;
   for (int shape = 0; shape < 3; ++shape) {
     const RigidBody b = body_of(shape);
-    // A point just inside the surface: on it along its normal, 2e-3 deep.
     Vec3 n;
     Mat3 H;
-    Vec3 x = b.moved(b.point + Vec3(0.3, 0.4, 0.2), s);
-    x -= (b.gap(x, s, n, H) + 2e-3) * n;
+    const Vec3 x = just_inside(b, s, n);
     ASSERT_NEAR(b.gap(x, s, n, H), -2e-3, 1e-12);
     // Anchors near (stick) and far (slip) along the surface.
     const Vec3 t = n.unitOrthogonal();
@@ -77,12 +86,61 @@ TEST(Contact, NodeLawMatchesFiniteDifferences) {
   }
 }
 
+// The damped law (c > 0): the normal force λ − k g − c n·v, and both derivatives, ∂f/∂x (the
+// normal turns under the velocity) and ∂f/∂v, against central differences on every surface,
+// frictionless, sticking and slipping; a node leaving faster than the damping lets the
+// penalty push is apart.
+TEST(Contact, DampedNodeLawMatchesFiniteDifferences) {
+  const double s = 0.6;
+  for (int shape = 0; shape < 3; ++shape) {
+    const RigidBody b = body_of(shape);
+    Vec3 n;
+    const Vec3 x = just_inside(b, s, n);
+    const Vec3 t = n.unitOrthogonal();
+    // Approaching, with a sliding part: the damping adds to the push.
+    const Vec3 v = -0.05 * n + 0.3 * t - 0.2 * n.cross(t);
+    for (int kind = 0; kind < 3; ++kind) {
+      const double mu = kind == 0 ? 0.0 : 0.3;
+      const Vec3 A = b.unmoved(x + (kind == 2 ? 0.01 : 1e-4) * t + 0.3e-4 * n.cross(t), s);
+      const contact::NodeResult r = force(b, s, x, A, mu, true, 40.0, v);
+      ASSERT_NE(r.status, contact::Status::kOpen);
+      if (kind > 0) {
+        EXPECT_EQ(r.status, kind == 1 ? contact::Status::kStick : contact::Status::kSlip);
+      }
+      EXPECT_NEAR(r.p, 3.0 + 1e3 * (2e-3 + 0.01) + 40.0 * 0.05, 1e-9);
+      Mat3 fd, fdv;
+      const double h = 1e-7;
+      for (int c = 0; c < 3; ++c) {
+        Vec3 e = Vec3::Zero();
+        e[c] = h;
+        fd.col(c) = (force(b, s, x + e, A, mu, false, 40.0, v).f -
+                     force(b, s, x - e, A, mu, false, 40.0, v).f) /
+                    (2 * h);
+        fdv.col(c) = (force(b, s, x, A, mu, false, 40.0, v + e).f -
+                      force(b, s, x, A, mu, false, 40.0, v - e).f) /
+                     (2 * h);
+      }
+      const double err = (r.D - fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
+      const double errv = (r.Dv - fdv).cwiseAbs().maxCoeff() / fdv.cwiseAbs().maxCoeff();
+      std::cout << "damped, shape " << shape << " kind " << kind << ": relative errors " << err
+                << " (position), " << errv << " (velocity)\n";
+      EXPECT_LT(err, 1e-6) << shape << " " << kind;
+      EXPECT_LT(errv, 1e-6) << shape << " " << kind;
+      EXPECT_LE((r.f - r.p * n).norm(), (mu + 1e-12) * r.p);
+    }
+    // Leaving at 1 m/s: −c n·v = −40 N against an elastic push of 15 N: no force.
+    const Vec3 A = b.unmoved(x, s);
+    EXPECT_EQ(force(b, s, x, A, 0.3, true, 40.0, n).status, contact::Status::kOpen);
+    EXPECT_EQ(force(b, s, x, A, 0.3, true, 40.0, n).f, Vec3::Zero());
+  }
+}
+
 // A 3 x 3 quad4 sheet held at its edges, above a sphere it is pushed onto.
 // `spin`: a free ball that rotates too; `twice`: two contact entries, each the set against the
 // ball (`twice` false with `spin`: one entry of twice the penalty, the same forces).
 // `relax`: the contact's relax_steps (the middle nodes start inside the ball).
 std::unique_ptr<Model> sheet_on_sphere(double mu, bool free = false, bool spin = false,
-                                       bool twice = false, int relax = 0) {
+                                       bool twice = false, int relax = 0, double damping = 0) {
   auto m = std::make_unique<Model>();
   test::NodeCache nodes(*m, 1e-9);
   std::vector<int> conn;
@@ -102,6 +160,7 @@ std::unique_ptr<Model> sheet_on_sphere(double mu, bool free = false, bool spin =
   cl.body.radius = 0.65;  // some middle nodes are inside by up to 2 cm
   cl.friction = mu;
   cl.relax_steps = relax;
+  cl.damping = damping;
   cl.parts.push_back({0, {0, 1, 2, 3, 4, 5, 6, 7, 8}});
   if (free) {  // the ball's node, with its mass
     cl.body_node = m->add_node(1000, cl.body.point);
@@ -148,6 +207,40 @@ TEST(Contact, TermMatrixMatchesFiniteDifferences) {
       sys.dofs().scatter(f, Fn);
       EXPECT_LT(Fn.rowwise().sum().norm(), 1e-9 * f.norm());
     }
+  }
+}
+
+// A damped contact in a system: the velocity Jacobian the system adds (cv ∂(−f)/∂v at the
+// nodes in touch) against central differences of the residual in the velocities, frictionless
+// and with friction (some nodes sticking, some slipping).
+TEST(Contact, DampedTermVelocityJacobianMatchesFiniteDifferences) {
+  for (const double mu : {0.0, 0.4}) {
+    auto m = sheet_on_sphere(mu, false, false, false, 0, 0.3);
+    MechanicalSystem sys(*m);
+    const int n = sys.size();
+    std::srand(5);
+    const VecX u0 = 2e-3 * VecX::Random(n);
+    sys.start_loads(0, u0, VecX::Zero(n));
+    const VecX u = u0 + 1e-2 * VecX::Random(n), a = VecX::Zero(n);
+    const VecX v = 0.05 * VecX::Random(n);
+    VecX r;
+    SparseMatrix J1, J0;
+    sys.evaluate(0, u, v, a, 1.0, 1.0, 0.0, r, &J1);
+    sys.evaluate(0, u, v, a, 1.0, 0.0, 0.0, r, &J0);
+    const MatX Jv = MatX(J1) - MatX(J0);
+    ASSERT_GT(Jv.cwiseAbs().maxCoeff(), 0);
+    MatX fd(n, n);
+    const double h = 1e-7;
+    for (int k = 0; k < n; ++k) {
+      VecX e = VecX::Zero(n), rp, rm;
+      e[k] = h;
+      sys.evaluate(0, u, v + e, a, 1.0, 0.0, 0.0, rp, nullptr);
+      sys.evaluate(0, u, v - e, a, 1.0, 0.0, 0.0, rm, nullptr);
+      fd.col(k) = (rp - rm) / (2 * h);
+    }
+    const double err = (Jv - fd).cwiseAbs().maxCoeff() / fd.cwiseAbs().maxCoeff();
+    std::cout << "damped, friction " << mu << ": velocity Jacobian relative error " << err << "\n";
+    EXPECT_LT(err, 1e-6) << mu;
   }
 }
 
