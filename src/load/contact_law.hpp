@@ -33,7 +33,9 @@ struct PeakPenetration {
 /// tolerance at the last accepted step (`ratio`): past kThroughRatio why the run fails, past 1
 /// a warning. Then the largest over the run (`peak`; its time NaN where not known: another
 /// process's): past kThroughRatio a warning, since a sheet a body passed through ends apart
-/// from it, on the wrong side, which the last step cannot tell from contact kept. `what` names
+/// from it, on the wrong side, which the last step cannot tell from contact kept; past 1 (and
+/// deeper than the last step's) a warning too, since every accepted state should keep within
+/// the tolerance (an impact's transient penetration often does not). `what` names
 /// the contact ("contact 0 with 'floor'"), `where` the penetration ("inside the body, through
 /// the contact thickness").
 inline std::string penetration_check(double ratio, const PeakPenetration& peak,
@@ -47,12 +49,19 @@ inline std::string penetration_check(double ratio, const PeakPenetration& peak,
   if (ratio > 1)
     warn(fmt::format("{} penetrates {:.3g} times its tolerance at the end (raise penalty_scale)",
                      what, ratio));
+  const std::string when =
+      std::isnan(peak.time) ? std::string() : fmt::format(" at t = {:.6g}", peak.time);
   if (peak.ratio > kThroughRatio)
     warn(fmt::format(
         "{}: a node went {:.3g} tolerances {}{}, apart again at the end: the penalty is too soft "
         "there (raise penalty_scale)",
-        what, peak.ratio, where,
-        std::isnan(peak.time) ? std::string() : fmt::format(" at t = {:.6g}", peak.time)));
+        what, peak.ratio, where, when));
+  else if (peak.ratio > 1 && peak.ratio > ratio)
+    warn(
+        fmt::format("{}: a node went {:.3g} times its tolerance deep{} (an accepted state; the "
+                    "tolerance: 1% of the thickness or 1e-3 of the element size): raise "
+                    "penalty_scale for less",
+                    what, peak.ratio, when));
   return {};
 }
 
