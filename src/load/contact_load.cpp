@@ -112,9 +112,15 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers, bool star
   const Frame fr = frame(s.t, s.x);
   Vec3 moment = Vec3::Zero();  // of the forces on a rotating body, about its centre
   double turning = 0;          // Σ k r²: the contact's stiffness against its rotation
+  // With damping, the accepted force (the history's contact_force, the frames' pressure) and
+  // the anchors are those add() applied, damping included; a multiplier takes the elastic
+  // part only, which is what a steady state holds.
+  const BodyRate rate = body_rate(s.t);
   for (size_t i = 0; i < load_.nodes.size(); ++i) {
     const Vec3 x = to_body(fr, s.x.col(load_.nodes[i]));  // relative to a free body
-    const contact::NodeResult r = evaluate(i, x, sf, false);
+    const contact::NodeResult r =
+        evaluate(i, x, sf, false,
+                 c_.empty() ? Vec3::Zero() : relative_velocity(s, fr, rate, load_.nodes[i], x));
     f_accepted_[i] = fr.turned ? Vec3(fr.R * r.f) : r.f;
     status_accepted_[i] = r.status;
     if (fr.turned && r.status != contact::Status::kOpen) {
@@ -132,7 +138,7 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers, bool star
     const double g = load_.body.gap(x, sf, n, H) - load_.node_thickness[i] + relaxed(i);
     const double tol = std::max(0.01 * 2 * load_.node_thickness[i], 1e-3 * load_.node_size[i]);
     if (tol > 0) penetration_ratio_ = std::max(penetration_ratio_, -g / tol);
-    if (update_multipliers) lambda_[i] = r.p;
+    if (update_multipliers) lambda_[i] = std::max(0.0, lambda_[i] - k_[i] * g);
     anchor_[i] = load_.body.unmoved(x - r.slip, sf);
   }
   if (!load_.sheet_edges.empty()) commit_edges(s, fr, sf, starting, moment, turning);
