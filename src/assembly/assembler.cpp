@@ -530,13 +530,15 @@ void Assembler::mass(SparseMatrix* M, VecX* lumped) const {
     const auto& b = *model_.blocks[bi];
     const int nn = b.nodes_per_element();
     MatX Me(nn, nn);
+    VecX share(nn);
     for (size_t k = 0; k < own_[bi].size(); ++k) {
       const int e = own_[bi][k];
       b.mass(e, Me.data());
       const auto nodes = b.nodes(e);
       if (M) add_node_matrix(bi, k, Me, *M);
       if (!lumped) continue;
-      for (int i = 0; i < nn; ++i) (*lumped)[nodes[i]] += b.shape().lumped(Me.data(), i);
+      b.shape().lump(Me.data(), share.data());
+      for (int i = 0; i < nn; ++i) (*lumped)[nodes[i]] += share[i];
     }
   }
   // The point masses once, then the shares summed where processes share nodes.

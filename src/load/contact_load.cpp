@@ -37,6 +37,7 @@ void Contact::set_up(const Model& model, const ElementNamer&) {
   std::vector<double> mass(static_cast<size_t>(N), 0.0);
   ReferenceDiagonal reference;
   MatX Me;
+  std::vector<double> lumped;
   for (const auto& block : model.blocks)
     for (int e = 0; e < block->size(); ++e) {
       const auto en = block->nodes(e);
@@ -45,9 +46,10 @@ void Contact::set_up(const Model& model, const ElementNamer&) {
         continue;
       reference(*block, e, model.X, [&](int n, int c, double k) { diagonal(c, n) += k; });
       Me.resize(block->nodes_per_element(), block->nodes_per_element());
+      lumped.resize(en.size());
       block->mass(e, Me.data());
-      for (size_t a = 0; a < en.size(); ++a)
-        mass[static_cast<size_t>(en[a])] += block->shape().lumped(Me.data(), static_cast<int>(a));
+      block->shape().lump(Me.data(), lumped.data());
+      for (size_t a = 0; a < en.size(); ++a) mass[static_cast<size_t>(en[a])] += lumped[a];
     }
   for (const auto& pm : model.masses) mass[static_cast<size_t>(pm.node)] += pm.mass;
   nodes.clear(), node_thickness.clear(), node_size.clear(), node_stiffness.clear();
@@ -115,7 +117,7 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers, bool star
   // With damping, the accepted force (the history's contact_force, the frames' pressure) and
   // the anchors are those add() applied, damping included; a multiplier takes the elastic
   // part only, which is what a steady state holds.
-  const BodyRate rate = body_rate(s.t);
+  const BodyRate rate = c_.empty() || load_.body_node >= 0 ? BodyRate{} : body_rate(s.t);
   for (size_t i = 0; i < load_.nodes.size(); ++i) {
     const Vec3 x = to_body(fr, s.x.col(load_.nodes[i]));  // relative to a free body
     const contact::NodeResult r =

@@ -40,17 +40,12 @@ std::optional<double> ContactTerm::quantity_at(std::string_view name, double t,
       return pick(rotation ? rigid::rotation_vector(spin_->rot.orientation(t))
                            : spin_->rot.angular_velocity());
     if (rotation) return pick(Vec3(sf * load_.body.rotation));
-    const double dt = 1e-6 * std::max(1.0, std::abs(t));
-    const double rate = (site_.model.function_value(load_.body.function, t + dt) -
-                         site_.model.function_value(load_.body.function, t - dt)) /
-                        (2 * dt);
-    return pick(Vec3(rate * load_.body.rotation));
+    const BodyRate r = body_rate(t);
+    return pick(Vec3((r.s1 - r.s0) / (2 * r.dt) * load_.body.rotation));
   }
   if (key == fmt::format("rigid_velocity:{}", load_.body.name)) {
-    const double dt = 1e-6 * std::max(1.0, std::abs(t));
-    const double s1 = site_.model.function_value(load_.body.function, t + dt);
-    const double s0 = site_.model.function_value(load_.body.function, t - dt);
-    return pick(Vec3((load_.body.position(s1) - load_.body.position(s0)) / (2 * dt)));
+    const BodyRate r = body_rate(t);
+    return pick(Vec3((load_.body.position(r.s1) - load_.body.position(r.s0)) / (2 * r.dt)));
   }
   if (key != fmt::format("contact_force:body={}", load_.body.name) &&
       key != fmt::format("contact_force:contact={}", load_.index))

@@ -119,7 +119,7 @@ class ContactTerm final : public LoadTerm {
     if (U)
       for (int c = 0; c < 6; ++c)
         U->col(out.column + c).setZero(), W->col(out.column + c).setZero();
-    const BodyRate rate = body_rate(s.t);
+    const BodyRate rate = c_.empty() || b >= 0 ? BodyRate{} : body_rate(s.t);
     if (out.K) damping_blocks_.clear();
     for (size_t i = 0; i < load_.nodes.size(); ++i) {
       const int n = load_.nodes[i];
@@ -221,22 +221,6 @@ class ContactTerm final : public LoadTerm {
     const double z = load_.damping, shorter = std::sqrt(1 + z * z) - z;
     return stiffness_over_mass(node_mass) / (shorter * shorter);
   }
-  double stiffness_over_mass(std::span<const double> node_mass) const {
-    double most = 0;
-    // With edges a node may also take an edge pair's penalty (at most the node's own).
-    const double pairs = load_.sheet_edges.empty() ? 1.0 : 2.0;
-    for (size_t i = 0; i < load_.nodes.size(); ++i)
-      if (const double m = node_mass[static_cast<size_t>(load_.nodes[i])]; m > 0)
-        most = std::max(most, pairs * k_[i] * (1 + load_.friction) / m);
-    // A rotating body: a node's penalty at the body's reach turns it (k r² over its least
-    // principal inertia).
-    if (spin_)
-      for (size_t i = 0; i < load_.nodes.size(); ++i) {
-        const double r = load_.body.reach + load_.node_thickness[i];
-        most = std::max(most, k_[i] * (1 + load_.friction) * r * r / spin_->rot.least_inertia());
-      }
-    return most;
-  }
   // Contact not kept: past its tolerance a warning; past the contact thickness the sheet is
   // through the body.
   std::string end_check(const std::function<void(std::string)>& warn) const override {
@@ -265,6 +249,23 @@ class ContactTerm final : public LoadTerm {
   }
 
  private:
+  // The largest penalty over its node's mass (undamped).
+  double stiffness_over_mass(std::span<const double> node_mass) const {
+    double most = 0;
+    // With edges a node may also take an edge pair's penalty (at most the node's own).
+    const double pairs = load_.sheet_edges.empty() ? 1.0 : 2.0;
+    for (size_t i = 0; i < load_.nodes.size(); ++i)
+      if (const double m = node_mass[static_cast<size_t>(load_.nodes[i])]; m > 0)
+        most = std::max(most, pairs * k_[i] * (1 + load_.friction) / m);
+    // A rotating body: a node's penalty at the body's reach turns it (k r² over its least
+    // principal inertia).
+    if (spin_)
+      for (size_t i = 0; i < load_.nodes.size(); ++i) {
+        const double r = load_.body.reach + load_.node_thickness[i];
+        most = std::max(most, k_[i] * (1 + load_.friction) * r * r / spin_->rot.least_inertia());
+      }
+    return most;
+  }
   contact::NodeResult evaluate(size_t i, const Vec3& x, double sf, bool tangent,
                                const Vec3& v = Vec3::Zero()) const {
     contact::NodeInput in;
@@ -312,13 +313,13 @@ class ContactTerm final : public LoadTerm {
   static Vec3 to_body(const Frame& f, const Vec3& x) {
     return f.turned ? Vec3(f.C0 + f.R.transpose() * (x - f.c)) : Vec3(x - f.d);
   }
-  // A prescribed motion's function at t ± dt, for the velocity of the body's points (a central
-  // difference, as the rigid_velocity output takes it).
+  // A prescribed motion's function at t ± dt, for the velocity of the body's points by a
+  // central difference (the damping's, and the rigid_velocity and rigid_angular_velocity
+  // outputs of a moved body).
   struct BodyRate {
     double s0 = 0, s1 = 0, dt = 0;
   };
   BodyRate body_rate(double t) const {
-    if (c_.empty() || load_.body_node >= 0) return {};
     const double dt = 1e-6 * std::max(1.0, std::abs(t));
     return {site_.model.function_value(load_.body.function, t - dt),
             site_.model.function_value(load_.body.function, t + dt), dt};

@@ -50,20 +50,21 @@ struct ShapeInfo {
 
   constexpr bool surface() const { return dimension == 2; }
   constexpr bool line() const { return dimension == 1; }
-  /// Node i's lumped mass from the element's consistent mass Me (nodes x nodes, either
-  /// storage order: it is symmetric) by the shape's rule: its row sum, or (HRZ) its diagonal
-  /// entry scaled so that the diagonal sums to the total.
-  double lumped(const double* Me, int i) const {
+  /// The nodes' lumped masses m (one per node) from the element's consistent mass Me (nodes x
+  /// nodes, either storage order: it is symmetric) by the shape's rule: row sums, or (HRZ) the
+  /// diagonal scaled so that it sums to the total.
+  void lump(const double* Me, double* m) const {
     const int nn = nodes;
-    if (lumping == Lumping::kRowSum) {
+    double total = 0, diag = 0;
+    for (int i = 0; i < nn; ++i) {
       double row = 0;
       for (int j = 0; j < nn; ++j) row += Me[i * nn + j];
-      return row;
+      m[i] = row;
+      total += row;
+      diag += Me[i * nn + i];
     }
-    double total = 0, diag = 0;
-    for (int j = 0; j < nn * nn; ++j) total += Me[j];
-    for (int j = 0; j < nn; ++j) diag += Me[j * nn + j];
-    return Me[i * nn + i] * total / diag;
+    if (lumping == Lumping::kHrz)
+      for (int i = 0; i < nn; ++i) m[i] = Me[i * nn + i] * total / diag;
   }
   /// The local nodes of edge i (ends first).
   constexpr std::span<const int> edge(int i) const {
