@@ -3,8 +3,9 @@
 The square of compare-ccx (side 1.2/sqrt(2) m, E = 588 MPa, nu = 0.4, t = 0.6 mm, edges held,
 a small dome so that the flat sheet is not singular) on an N x N quad4 mesh, loaded by a 5 kPa
 follower pressure ramped linearly from 0 at t = 0 to its full value at the end time, run to
-that time by central differences in both codes, each at its own stable step: Velum at 0.9 of
-its estimate, CalculiX's *DYNAMIC, EXPLICIT with its automatic increment (with DIRECT CalculiX
+that time by central differences in both codes, each at its own stable step: Velum at its
+default safety (0.6 of its estimate since 2026-12-07, 0.9 before: the readings in
+docs/performance.md up to then took 2/3 of today's steps), CalculiX's *DYNAMIC, EXPLICIT with its automatic increment (with DIRECT CalculiX
 2.20 never advances past t = 0 on membranes). Printed: steps, CPU, CPU per element-step, the
 centre's height at the end (CalculiX prints the centre at every increment: that is how its
 increments are counted), and the CPU ratio for the same simulated time, printed only when the

@@ -67,18 +67,19 @@ void Contact::set_up(const Model& model, const ElementNamer&) {
 ContactTerm::ContactTerm(const Contact& load, const LoadSite& site) : load_(load), site_(site) {
   // The automatic penalty: the largest diagonal entry of the node's block of the reference
   // tangent, unconstrained (the sheet's in-plane stiffness, E t for a membrane), times
-  // penalty_scale; a node held in all three directions takes the mean of the others, as
-  // before the entries were unconstrained (a smaller one, over a held corner's small mass,
-  // would lengthen an explicit run's step, which the cases of docs/contact.md were not
-  // measured at). Each process holds the whole set's figures (Contact::set_up, whole model).
+  // penalty_scale; a node held in all three directions takes the mean of the others (it never
+  // moves: the figure only enters the reported range, not the forces or the explicit step).
+  // Each process holds the whole set's figures (Contact::set_up, whole model).
   const size_t N = load.nodes.size();
   k_.assign(N, 0.0);
+  moves_.assign(N, 0);
   double sums[3] = {0, 0, static_cast<double>(N)};  // of k > 0, their count, the set's nodes
   for (size_t i = 0; i < N; ++i) {
     const int n = load.nodes[i];
     bool moves = false;
     for (int c = 0; c < 3; ++c) moves = moves || site.dofs.equation(n, c) >= 0;
     k_[i] = moves ? load.node_stiffness[i] : 0.0;
+    moves_[i] = moves;
     if (k_[i] > 0 && site.assembler.keeps_node(n)) sums[0] += k_[i], ++sums[1];
   }
   if (site.model.piece) processes::sum(sums, 3);

@@ -249,13 +249,14 @@ class ContactTerm final : public LoadTerm {
   }
 
  private:
-  // The largest penalty over its node's mass (undamped).
+  // The largest penalty over its node's mass (undamped), over the nodes that move (a node held
+  // in all three directions has no mode for its penalty to stiffen).
   double stiffness_over_mass(std::span<const double> node_mass) const {
     double most = 0;
     // With edges a node may also take an edge pair's penalty (at most the node's own).
     const double pairs = load_.sheet_edges.empty() ? 1.0 : 2.0;
     for (size_t i = 0; i < load_.nodes.size(); ++i)
-      if (const double m = node_mass[static_cast<size_t>(load_.nodes[i])]; m > 0)
+      if (const double m = node_mass[static_cast<size_t>(load_.nodes[i])]; m > 0 && moves_[i])
         most = std::max(most, pairs * k_[i] * (1 + load_.friction) / m);
     // A rotating body: a node's penalty at the body's reach turns it (k r² over its least
     // principal inertia).
@@ -383,6 +384,7 @@ class ContactTerm final : public LoadTerm {
   const Contact& load_;
   LoadSite site_;
   std::vector<double> k_, lambda_;
+  std::vector<char> moves_;      // per node: some direction free on this process
   std::vector<int> slot_of_;     // edges: per model node, its index in load_.nodes (-1: none)
   contact::FaceTree edge_tree_;  // edges: over the mesh's sharp edges, in its frame at s = 0
   std::vector<contact::Box> edge_boxes_;  // edges: the tree's boxes (its queries read them)

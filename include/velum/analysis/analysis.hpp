@@ -36,8 +36,11 @@ struct FormFindingSettings {
 /// Central difference's step (analysis.integrator; docs/performance.md, explicit dynamics).
 struct ExplicitStepSettings {
   /// The run's step is safety x the stable step estimated (capped by time.step), in (0, 1]:
-  /// the estimate is a power iteration, which approaches ω_max from below.
-  double safety = 0.9;
+  /// the estimate is a power iteration, which approaches ω_max from below. 0.6 keeps the
+  /// stiffest mode at h ω <= 1.2, below central difference's nonlinear resonances of orders 4
+  /// and 3 (h ω = √2, √3), where a struck sheet's energy grows though h ω < 2 (measured bands
+  /// in docs/performance.md, "Nonlinear resonance").
+  double safety = 0.6;
   /// Re-estimate the stable step from the current state at every trust check
   /// (kExplicitCheckInterval steps, output times); false: at the start only.
   bool from_current_state = true;

@@ -103,6 +103,7 @@ TEST(ExplicitChecks, ABlowUpFailsTheRunWithinTheInterval) {
   // CurrentOne tests the re-estimated step on a ramped pressure.)
   AnalysisSettings settings = explicit_run(1.0);
   settings.explicit_step.from_current_state = false;
+  settings.explicit_step.safety = 0.9;  // the old default: at 0.6 this strike is survived
   const AnalysisResult r = run_analysis(sys, settings, observe);
   EXPECT_FALSE(r.loop.completed);
   EXPECT_TRUE(r.loop.reason.find("implausible") != std::string::npos ||
