@@ -238,14 +238,17 @@ class ContactTerm final : public LoadTerm {
         "inside the body, through the contact thickness", warn);
   }
   std::string account_json() const override {
+    // Over every process's nodes (under mpirun each process's writer asks at the same
+    // outputs, ResultsWriter::write); the peak's time that of the process holding it.
+    const double ratio = processes::max(penetration_ratio_), peak = processes::max(peak_.ratio);
+    const double peak_time = processes::max(peak_.ratio == peak ? peak_.time : -INFINITY);
     return fmt::format(
         "{{\"contact\": {}, \"body\": \"{}\", \"penalty\": [{:.6g}, {:.6g}], "
         "\"max_penetration_ratio\": {:.6g}, \"kept\": {}, \"initial_penetrations\": {}, "
         "\"initial_max_depth\": {:.6g}, \"peak_penetration_ratio\": {:.6g}, "
         "\"peak_penetration_time\": {:.6g}}}",
-        load_.index, load_.body.name, k_min_, k_max_, penetration_ratio_,
-        penetration_ratio_ <= 1 ? "true" : "false", initial_.count(), initial_.depth(), peak_.ratio,
-        peak_.time);
+        load_.index, load_.body.name, k_min_, k_max_, ratio, ratio <= 1 ? "true" : "false",
+        initial_.count(), initial_.depth(), peak, peak_time);
   }
 
  private:

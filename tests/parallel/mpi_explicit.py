@@ -9,10 +9,12 @@ CASE (all by default):
   steps with mass damping;
 - cable-gas: the same sheet with a cable across it hanging a point mass, and the pressure from
   a gas chamber (the volume under the sheet) instead of a fixed pressure;
-- contact: the prestressed sheet pushed up by its pressure onto a fixed rigid sphere above it.
+- contact: the prestressed sheet pushed up by its pressure onto a fixed rigid sphere above it;
+- contact-far: the same with the sphere over the second process's part of the sheet.
 Each case runs once on one process (no mpirun) and under `mpirun -np 2`: every history column
 must agree within 1e-9 of the column's largest magnitude, the summary's status and step count
-must be the same, and the frames must be the one-process frames as pieces (frame_errors).
+must be the same, the contact's account in the summary the same (its figures over every
+process's nodes), and the frames must be the one-process frames as pieces (frame_errors).
 The sheet also stops at a checkpoint half way and goes on with --restart on 2 processes: the
 uninterrupted run's history and energies. A free rigid body (a `mass` on the body) is refused
 on several processes with a message naming the body.
@@ -82,9 +84,12 @@ def model(case, end=0.1):
         # The contact case pressed slowly and damped near critically (a creep into contact,
         # not an impact: a bouncing sheet's history turns on round-off, 1e-12 of the pressure
         # changed it by 8%).
-        functions = f"  ramp: {{type: ramp, duration: {0.05 if case == 'contact' else 0.01}}}"
-    if case == "contact":
-        bodies = ("rigid_bodies:\n  - {name: ball, shape: sphere, center: [0.45, 0.55, 0.31],"
+        functions = f"  ramp: {{type: ramp, duration: {0.05 if case.startswith('contact') else 0.01}}}"
+    if case.startswith("contact"):
+        # contact-far: the sphere over the second process's part (the summary's contact account
+        # then comes from the other process).
+        y = 0.75 if case == "contact-far" else 0.55
+        bodies = (f"rigid_bodies:\n  - {{name: ball, shape: sphere, center: [0.45, {y}, 0.31],"
                   " radius: 0.3}\n")
         contact = "contact:\n  - {surfaces: [sheet, ball], penalty_scale: 0.1}\n"
         history += [
@@ -114,7 +119,7 @@ analysis:
   type: dynamic
   integrator: {{scheme: central-difference}}
   time: {{end: {end}, step: 1.0e-3}}  # 0.9 of the stable step
-  damping: {{mass: {400.0 if case == 'contact' else 20.0}}}
+  damping: {{mass: {400.0 if case.startswith('contact') else 20.0}}}
   linear_solver: petsc
 output:
   directory: out
@@ -127,7 +132,7 @@ output:
 
 def main():
     velum, out = sys.argv[1], sys.argv[2]
-    cases = sys.argv[3:] or ["sheet", "cable-gas", "contact"]
+    cases = sys.argv[3:] or ["sheet", "cable-gas", "contact", "contact-far"]
     env = fresh(out)
     errors = []
     for case in cases:
@@ -146,6 +151,17 @@ def main():
             if s1.get(key) != s2.get(key):
                 errors.append(f"{case}: summary {key} {s2.get(key)} on 2 processes, {s1.get(key)} "
                               "on one")
+        # The contact's account (docs/contact.md, summary.json `contact`): its figures over
+        # every process's nodes, not the first process's alone.
+        for c1, c2 in zip(s1.get("contact", []), s2.get("contact", [])):
+            for key in ("max_penetration_ratio", "peak_penetration_ratio",
+                        "peak_penetration_time", "initial_penetrations"):
+                a, b = c1.get(key), c2.get(key)
+                if not (isinstance(a, (int, float)) and isinstance(b, (int, float)) and
+                        abs(a - b) <= 1e-6 * max(abs(a), abs(b), 1e-30)):
+                    errors.append(f"{case}: contact account {key} {b} on 2 processes, {a} on one")
+        if case.startswith("contact") and not s1.get("contact"):
+            errors.append(f"{case}: no contact account in summary.json")
         if s1.get("integrator") != "central-difference" or s1.get("steps", 0) < 2000:
             errors.append(f"{case}: {s1.get('steps')} steps of {s1.get('integrator')}")
         share = s2.get("processes", {}).get("elements", [])
