@@ -10,6 +10,7 @@
 #include <cmath>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "velum/math/types.hpp"
 
@@ -20,12 +21,21 @@ namespace velum::contact {
 inline constexpr double kThroughRatio = 100;
 
 /// The largest penetration over its tolerance at any accepted step, and when: a contact whose
-/// last state is apart (a sheet bouncing on a body) may have gone deep on the way.
-/// Since the run's start or its restart (checkpoints do not carry it).
+/// last state is apart (a sheet bouncing on a body) may have gone deep on the way. Carried
+/// through checkpoints, so that a restarted run's end check sees the whole run's.
 struct PeakPenetration {
   double ratio = 0, time = 0;
   void note(double r, double t) {
     if (r > ratio) ratio = r, time = t;
+  }
+  /// At the end of a contact's saved state, behind a tag: a checkpoint written before it was
+  /// carried (2026-12-07) has the next load's length there, a count, never the tag.
+  static constexpr double kTag = -0x1.5eedp+1000;
+  void save(std::vector<double>& out) const { out.insert(out.end(), {kTag, ratio, time}); }
+  size_t restore(const std::vector<double>& in, size_t at) {
+    if (at + 3 > in.size() || in[at] != kTag) return at;  // an older checkpoint: from here on
+    ratio = in[at + 1], time = in[at + 2];
+    return at + 3;
   }
 };
 

@@ -187,6 +187,7 @@ class ContactTerm final : public LoadTerm {
     if (owner_) spin_->rot.save(out);
     if (edge_friction()) save_edges(out);
     initial_.save(out);
+    peak_.save(out);
   }
   size_t restore_state(const std::vector<double>& in, size_t at) override {
     const size_t rotation = owner_ ? rigid::Rotation::kSaved : 0;
@@ -201,6 +202,7 @@ class ContactTerm final : public LoadTerm {
     if (owner_) at = spin_->rot.restore(in, at);
     if (edge_friction()) at = restore_edges(in, at);
     at = initial_.restore(in, at);
+    at = peak_.restore(in, at);
     started_ = true;  // the state is the saved one, not a new start's
     return at;
   }

@@ -127,6 +127,7 @@ class SheetContactTerm final : public LoadTerm {
       }
     initial_.save(out);
     if (load_.edges) save_edges(out);
+    peak_.save(out);
   }
   size_t restore_state(const std::vector<double>& in, size_t at) override {
     const size_t per = load_.friction > 0 ? 8 : 2;
@@ -144,6 +145,7 @@ class SheetContactTerm final : public LoadTerm {
       }
     at = initial_.restore(in, at);
     if (load_.edges) at = restore_edges(in, at);
+    at = peak_.restore(in, at);
     started_ = true;  // the state is the saved one, not a new start's
     return at;
   }

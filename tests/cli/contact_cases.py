@@ -236,6 +236,31 @@ for kind in ("implicit", "explicit"):
           f"F5 {kind}: peak penetration {peak:.4g} tolerances, warned: {deep}")
     check(abs(e1 - e0) <= 0.05 * abs(e0 - float(rows[0]["se"])),
           f"F5 {kind}: energy within 5% ({e1 - e0:.3g} J)")
+    # Stopped at a checkpoint after the impact (t = 0.15, the ball apart) and continued with
+    # --restart: the same history, and the peak (checkpoints carry it) with its warning.
+    if kind == "explicit":
+        staged = copy.deepcopy(m)
+        staged["output"]["checkpoint"] = {"interval": 0.05}
+        staged["analysis"]["time"]["end"] = 0.15
+        _, out_b, _ = run("bounce_explicit_first", staged)
+        staged["analysis"]["time"]["end"] = 0.25
+        path = os.path.join(WORK, "bounce_explicit_rest.yaml")
+        with open(path, "w") as f:
+            yaml.safe_dump(staged, f, default_flow_style=None, sort_keys=False)
+        pr = subprocess.run([VELUM, "run", path, "--restart", out_b, "--quiet"],
+                            capture_output=True, text=True, timeout=120)
+        s_b = json.load(open(os.path.join(out_b, "summary.json")))
+        same = (open(os.path.join(out, "history.csv")).read() ==
+                open(os.path.join(out_b, "history.csv")).read())
+        c_b = s_b["contact"][0]
+        check(pr.returncode == 0 and same and
+              c_b["peak_penetration_ratio"] == summary["contact"][0]["peak_penetration_ratio"] and
+              c_b["peak_penetration_time"] == summary["contact"][0]["peak_penetration_time"] and
+              len([w for w in s_b["warnings"] if "times its tolerance deep" in w]) == len(deep),
+              f"F5 explicit, restarted at t = 0.15: the same history ({same}), peak "
+              f"{c_b['peak_penetration_ratio']:.4g} at t = {c_b['peak_penetration_time']:.4g} "
+              f"against {peak:.4g}, warnings {s_b['warnings']} (exit {pr.returncode}: "
+              f"{pr.stderr.strip()[-200:]})")
 
 # Contact damping (`damping` ζ): a node of 1 kg on a slack cable 100 m long (its penalty
 # E A / L = 1e4 N/m, so ω0 = 100 rad/s; the cable's pull as the node rises is 1e-3 N) met by a sphere rising at 1 m/s. In the sphere's frame the node comes
