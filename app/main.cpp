@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   const bool huge_page_heap = velum::run::request_huge_page_heap();
   velum::choose_blas_kernels(argv);
   if (huge_page_heap) velum::run::start_again(argv);
+  velum::stop_idle_blas_threads();  // run_model starts as many as the run's threads
   velum::io::prepare_standard_streams();
   // Under mpirun every process runs this same program on the same model (docs/parallel.md).
   if (!velum::processes::start(&argc, &argv)) return velum::run::kExitBadInput;

@@ -19,13 +19,11 @@
 #include "velum/io/form_model.hpp"
 #include "velum/io/run_control.hpp"
 #include "velum/parallel/processes.hpp"
+#include "velum/solve/blas_kernels.hpp"
 
 // Present when the BLAS behind SuiteSparse is OpenBLAS (Debian's alternatives), absent (null)
 // with the reference BLAS.
 extern "C" void openblas_set_num_threads(int) __attribute__((weak));
-// OpenBLAS's own (the function it registers for fork): ends its worker threads; a later
-// openblas_set_num_threads starts them again.
-extern "C" void blas_thread_shutdown_() __attribute__((weak));
 
 namespace velum::run {
 namespace {
@@ -104,8 +102,7 @@ RunOutcome run_model(ModelInput& input, const RunControls& controls) {
   // On one thread OpenBLAS never hands work to its workers, which it started when it was
   // loaded and which spin (sched_yield) for 2^28 clock ticks (about 0.1 s) before they sleep:
   // CPU of another core that a one-thread run would pay for. Ended here.
-  if (omp_get_max_threads() == 1 && openblas_set_num_threads && blas_thread_shutdown_)
-    blas_thread_shutdown_();
+  if (omp_get_max_threads() == 1) stop_idle_blas_threads();
   if (opt.output) input.output.directory = *opt.output;
   out.directory = input.output.directory;
   if (opt.restart && input.model.piece) {  // (the same decision on every process)

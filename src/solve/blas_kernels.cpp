@@ -62,6 +62,12 @@ bool OpenBlasKernels::worth_it(std::string_view active_core, const CpuFeatures& 
   return cpu.avx512 && one_of(lower(active_core), {"skylakex", "cooperlake", "sapphirerapids"});
 }
 
+void stop_idle_blas_threads() {
+  // OpenBLAS's own, the function it registers for fork (not in its header).
+  if (auto* shutdown = reinterpret_cast<void (*)()>(dlsym(RTLD_DEFAULT, "blas_thread_shutdown_")))
+    shutdown();
+}
+
 const OpenBlasKernels& OpenBlasKernels::loaded() {
   static const OpenBlasKernels blas = [] {
     OpenBlasKernels b;

@@ -79,6 +79,12 @@ class SerialOpenBlas {
   int threads_ = 0;
 };
 
+/// OpenBLAS starts its worker threads when it is loaded, and each spins (sched_yield) for about
+/// 0.1 s before it sleeps: while a model is read that is another core's CPU, which a one-thread
+/// `velum check` paid for (100 ms against 54). Ends them (the next openblas_set_num_threads or
+/// threaded call starts them again); nothing without OpenBLAS.
+void stop_idle_blas_threads();
+
 /// To be called first in main(): when blas_coretype_to_request names kernels, sets
 /// OPENBLAS_CORETYPE and re-executes /proc/self/exe with the same arguments (the variable, now
 /// set, stops a second re-execution). Returns only when nothing was done or exec failed.
