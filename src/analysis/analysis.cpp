@@ -307,12 +307,22 @@ class EnergyAccount {
 // bag inflated from its fold, with or without wrinkling) those in-plane modes gain energy
 // step after step, and smaller steps do not stop it (the 15 x 15 slack bag under 2 kPa: 152 J
 // created against 6.6 J of work at ρ∞ 0.8 with a step of 1e-4, none at ρ∞ 0.5; inflated by gas
-// with wrinkling it needed ρ∞ 0). A failed energy balance says so.
-std::string weak_dissipation_hint(const AnalysisSettings& settings, const std::string& why) {
+// with wrinkling it needed ρ∞ 0). Central difference at a safety above the default meets its
+// nonlinear resonances (docs/performance.md). A failed energy balance says which.
+std::string energy_failure_hint(const AnalysisSettings& settings, const std::string& why) {
   if (why.find("energy balance fails") == std::string::npos ||
-      settings.type != AnalysisSettings::Type::kDynamic || settings.scheme != "generalized-alpha" ||
-      settings.rho_inf <= 0.5)
+      settings.type != AnalysisSettings::Type::kDynamic)
     return {};
+  // Above 0.65 the stiffest mode's h ω passes 1.3, toward the resonances of orders 4 and 3.
+  if (const double safety = settings.explicit_step.safety;
+      settings.explicit_steps() && safety > 0.65)
+    return fmt::format(
+        "; central difference at safety {:g} puts the stiffest mode at h ω up to {:.2f}, among its "
+        "nonlinear resonances (h ω = √2, √3), where a struck sheet gains energy: "
+        "analysis.integrator.safety 0.6 (the default) stays below them (docs/performance.md, "
+        "\"Nonlinear resonance\")",
+        safety, 2 * safety);
+  if (settings.scheme != "generalized-alpha" || settings.rho_inf <= 0.5) return {};
   return fmt::format(
       "; generalized-alpha with rho_inf {:g} keeps most of the highest frequencies, which a "
       "slack or wrinkling sheet going taut can pump: analysis.integrator.rho_inf: 0 damps them "
@@ -497,13 +507,13 @@ AnalysisResult march(MechanicalSystem& sys, const AnalysisSettings& settings,
   if (unchecked != 0 && implausible.empty()) energy.settle(result.loop.t, s, E);
   if (!implausible.empty()) {
     result.loop.stopped = false;
-    result.loop.reason = implausible + weak_dissipation_hint(settings, implausible);
+    result.loop.reason = implausible + energy_failure_hint(settings, implausible);
   }
   if (result.loop.completed && energy.balanced()) {
     if (std::string off = plausible.final_balance(result.loop.t, energy.balance(E), warn);
         !off.empty()) {
       result.loop.completed = false;
-      result.loop.reason = off + weak_dissipation_hint(settings, off);
+      result.loop.reason = off + energy_failure_hint(settings, off);
     }
   }
   if (result.loop.completed)
