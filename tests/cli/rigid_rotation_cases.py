@@ -226,7 +226,7 @@ if len(errors) == 2:
 
 # Central difference's nonlinear resonances (docs/performance.md, "Nonlinear resonance"): with a
 # soft penalty the sheet alone sets the step, and the strike rings it. At safety 0.9 (h ω = 1.80
-# for its stiffest mode, by the third-order resonance at √3) its energy grows within 2 ms of the
+# for its stiffest mode, by the third-order resonance at √3) its energy grows within 10 ms of the
 # strike though h ω < 2; the default (0.6, h ω = 1.20) keeps it. Either way a run that gains
 # energy must say so: never "converged" with the energy created.
 for safety in (None, 0.9):
