@@ -313,15 +313,16 @@ std::string energy_failure_hint(const AnalysisSettings& settings, const std::str
   if (why.find("energy balance fails") == std::string::npos ||
       settings.type != AnalysisSettings::Type::kDynamic)
     return {};
-  // Above 0.65 the stiffest mode's h ω passes 1.3, toward the resonances of orders 4 and 3.
+  // The step is at most safety x 2/ω_max: the stiffest mode's h ω up to 2 safety.
+  using Step = ExplicitStepSettings;
   if (const double safety = settings.explicit_step.safety;
-      settings.explicit_steps() && safety > 0.65)
+      settings.explicit_steps() && 2 * safety > Step::kBelowResonances)
     return fmt::format(
         "; central difference at safety {:g} puts the stiffest mode at h ω up to {:.2f}, among its "
         "nonlinear resonances (h ω = √2, √3), where a struck sheet gains energy: "
-        "analysis.integrator.safety 0.6 (the default) stays below them (docs/performance.md, "
+        "analysis.integrator.safety {:g} (the default) stays below them (docs/performance.md, "
         "\"Nonlinear resonance\")",
-        safety, 2 * safety);
+        safety, 2 * safety, Step::kDefaultSafety);
   if (settings.scheme != "generalized-alpha" || settings.rho_inf <= 0.5) return {};
   return fmt::format(
       "; generalized-alpha with rho_inf {:g} keeps most of the highest frequencies, which a "

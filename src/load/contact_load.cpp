@@ -118,7 +118,7 @@ void ContactTerm::move_on(const LoadState& s, bool update_multipliers, bool star
   // With damping, the accepted force (the history's contact_force, the frames' pressure) and
   // the anchors are those add() applied, damping included; a multiplier takes the elastic
   // part only, which is what a steady state holds.
-  const BodyRate rate = c_.empty() || load_.body_node >= 0 ? BodyRate{} : body_rate(s.t);
+  const BodyRate rate = damping_rate(s.t);
   for (size_t i = 0; i < load_.nodes.size(); ++i) {
     const Vec3 x = to_body(fr, s.x.col(load_.nodes[i]));  // relative to a free body
     const contact::NodeResult r =

@@ -119,7 +119,7 @@ class ContactTerm final : public LoadTerm {
     if (U)
       for (int c = 0; c < 6; ++c)
         U->col(out.column + c).setZero(), W->col(out.column + c).setZero();
-    const BodyRate rate = c_.empty() || b >= 0 ? BodyRate{} : body_rate(s.t);
+    const BodyRate rate = damping_rate(s.t);
     if (out.K) damping_blocks_.clear();
     for (size_t i = 0; i < load_.nodes.size(); ++i) {
       const int n = load_.nodes[i];
@@ -325,6 +325,11 @@ class ContactTerm final : public LoadTerm {
   struct BodyRate {
     double s0 = 0, s1 = 0, dt = 0;
   };
+  // The rate the damping needs: a moved body's (none without damping; a free body has its
+  // own velocity).
+  BodyRate damping_rate(double t) const {
+    return c_.empty() || load_.body_node >= 0 ? BodyRate{} : body_rate(t);
+  }
   BodyRate body_rate(double t) const {
     const double dt = 1e-6 * std::max(1.0, std::abs(t));
     return {site_.model.function_value(load_.body.function, t - dt),

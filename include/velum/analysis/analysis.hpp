@@ -40,7 +40,11 @@ struct ExplicitStepSettings {
   /// stiffest mode at h ω <= 1.2, below central difference's nonlinear resonances of orders 4
   /// and 3 (h ω = √2, √3), where a struck sheet's energy grows though h ω < 2 (measured bands
   /// in docs/performance.md, "Nonlinear resonance").
-  double safety = 0.6;
+  static constexpr double kDefaultSafety = 0.6;
+  /// h ω of the stiffest mode below the fourth-order band's measured edge (1.35): a step at a
+  /// safety past half of it may meet the resonances.
+  static constexpr double kBelowResonances = 1.3;
+  double safety = kDefaultSafety;
   /// Re-estimate the stable step from the current state at every trust check
   /// (kExplicitCheckInterval steps, output times); false: at the start only.
   bool from_current_state = true;
