@@ -20,7 +20,11 @@ class SecantUpdates {
   explicit SecantUpdates(int capacity = 10) : capacity_(capacity), alpha_(capacity) {}
 
   /// Forgets every pair (a fresh factorisation: they described the old one's error).
-  void clear() { count_ = 0, open_ = false; }
+  /// The slots are taken again from the first (newest_ back to none): a run then holds only
+  /// as many vectors as one factorisation's pairs ever reached, not the capacity's (Hencky
+  /// n = 64: 17 of 21 vectors of 294 kB, each page of them first touched; heap peak 56.6 to
+  /// 55.4 MB).
+  void clear() { count_ = 0, open_ = false, newest_ = -1; }
   /// A correction is about to be taken from the state whose residual is r.
   void open(const VecX& r);
   /// Ends the open pair: `s` the correction taken in full, `r` the residual where it led.

@@ -60,6 +60,18 @@ TEST(SymmetryCheck, RejectsAMissingTransposeOnEitherSide) {
   }
 }
 
+// symmetric() walks the lower entries only and meets the upper ones as their partners: an upper
+// or a lower entry without its transpose is still found when the pattern changed after map().
+TEST(SymmetryCheck, TheLowerWalkFindsAnUnpairedEntryOnEitherSide) {
+  SymmetryCheck c;
+  ASSERT_TRUE(c.map(from(5, symmetric_entries())));
+  for (const auto& [i, j] : {std::pair{3, 1}, std::pair{1, 3}, std::pair{4, 2}, std::pair{2, 4}}) {
+    auto t = symmetric_entries();
+    t.emplace_back(i, j, 1.0);
+    EXPECT_FALSE(c.symmetric(from(5, t))) << i << "," << j;
+  }
+}
+
 // symmetric() stops at the first pair that decides: the same answer as the full walk, whether
 // the deciding pair comes first or last, and with an infinite entry.
 TEST(SymmetryCheck, EarlyStopGivesTheFullWalksAnswer) {
