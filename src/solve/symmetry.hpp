@@ -20,8 +20,8 @@ class SymmetryCheck {
  public:
   /// Checks the pattern; false when it is structurally unsymmetric.
   bool map(const SparseMatrix& A) {
-    double dmax = 0, vmax = 0;
-    structural_ = walk(A, dmax, vmax);
+    double dmax = 0;
+    structural_ = walk(A, dmax);
     partner_.clear();
     if (structural_ && A.nonZeros() >= kMapped) map_partners(A);
     return structural_;
@@ -33,60 +33,44 @@ class SymmetryCheck {
   bool symmetric(const SparseMatrix& A) {
     if (!structural_) return false;
     if (static_cast<Eigen::Index>(partner_.size()) == A.nonZeros()) return mapped_check(A);
-    // Eigen's maximum vectorises (a loop of std::max carries its result from entry to entry);
-    // PropagateNumbers skips a NaN as std::max(vmax, NaN) did.
-    const Eigen::Index nnz = A.nonZeros();
-    const double vmax = nnz > 0 ? Eigen::Map<const Eigen::ArrayXd>(A.valuePtr(), nnz)
-                                      .abs()
-                                      .template maxCoeff<Eigen::PropagateNumbers>()
-                                : 0.0;
+    const double vmax = largest(A);
     if (!(vmax > 0) || !std::isfinite(vmax)) return asymmetry(A) <= kTolerance;  // the full walk
     double dmax = 0;
-    return walk_lower(A, dmax, kTolerance * vmax) && dmax <= kTolerance * vmax;
+    return walk(A, dmax, kTolerance * vmax) && dmax <= kTolerance * vmax;
   }
   /// max |a_ij − a_ji| / max |a_ij| (0 for a zero matrix), infinity on an unsymmetric pattern.
   double asymmetry(const SparseMatrix& A) {
-    double dmax = 0, vmax = 0;
-    if (!structural_ || !walk(A, dmax, vmax)) return std::numeric_limits<double>::infinity();
+    double dmax = 0;
+    if (!structural_ || !walk(A, dmax)) return std::numeric_limits<double>::infinity();
+    const double vmax = largest(A);
     return vmax > 0 ? dmax / vmax : 0.0;
   }
   static constexpr double kTolerance = 1e-10;
 
  private:
-  // For every strictly lower entry (i, j), column i's next unvisited upper entry must be
-  // (j, i): columns are visited in order, so each column's cursor advances monotonically.
-  // One pass gives the largest |a_ij − a_ji| and the largest |a_ij|.
-  // With a finite `stop`, returns (true) as soon as dmax exceeds it.
-  bool walk(const SparseMatrix& A, double& dmax, double& vmax,
-            double stop = std::numeric_limits<double>::infinity()) {
-    const int n = static_cast<int>(A.outerSize());
-    const int* outer = A.outerIndexPtr();
-    const int* inner = A.innerIndexPtr();
-    const double* v = A.valuePtr();
-    cursor_.assign(outer, outer + n);
-    for (int j = 0; j < n; ++j)
-      for (int k = outer[j]; k < outer[j + 1]; ++k) {
-        const int i = inner[k];
-        vmax = std::max(vmax, std::abs(v[k]));
-        if (i <= j) continue;  // upper and diagonal: upper entries are met from the other side
-        const int m = cursor_[i]++;
-        if (m >= outer[i + 1] || inner[m] != j) return false;
-        dmax = std::max(dmax, std::abs(v[k] - v[m]));
-        if (dmax > stop) return true;
-      }
-    for (int j = 0; j < n; ++j)  // every upper entry met
-      if (cursor_[j] < outer[j + 1] && inner[cursor_[j]] < j) return false;
-    return true;
+  // max |a_ij|. Eigen's maximum vectorises (a loop of std::max carries its result from entry
+  // to entry); PropagateNumbers skips a NaN as std::max(vmax, NaN) does.
+  static double largest(const SparseMatrix& A) {
+    const Eigen::Index nnz = A.nonZeros();
+    return nnz > 0 ? Eigen::Map<const Eigen::ArrayXd>(A.valuePtr(), nnz)
+                         .abs()
+                         .template maxCoeff<Eigen::PropagateNumbers>()
+                   : 0.0;
   }
 
-  // walk()'s pairs, the largest |a_ij| being known, over the strictly lower entries only: when
-  // column j is reached, every entry above its diagonal has been met from its own column
-  // (i < j), so j's cursor stands on the diagonal (or on the first entry below it). Half the
-  // entries, and no branch between upper and lower ones: on a 0.99M-entry Jacobian of a grid
-  // (3 DOFs a node, nine-node stencil) with the caches flushed, 1.8 ms against walk()'s 3.8 ms
-  // (with the maximum's pass in both). Folding the maximum into this walk instead read each
-  // value once but took 2.1 ms: its loop-carried maxima, not the memory, set the pace.
-  bool walk_lower(const SparseMatrix& A, double& dmax, double stop) {
+  // For every strictly lower entry (i, j), column i's next unvisited upper entry must be
+  // (j, i): columns are visited in order, so each column's cursor advances monotonically, and
+  // when column j is reached every entry above its diagonal has been met from its own column
+  // (i < j): j's cursor stands on the diagonal (or on the first entry below it). So only the
+  // lower entries are walked (the upper ones met as their partners), with no branch between
+  // the two: on a 0.99M-entry Jacobian of a grid (3 DOFs a node, nine-node stencil) with the
+  // caches flushed, 1.8 ms against 3.8 ms for a walk of every entry (with the maximum's pass
+  // in both). Folding the maximum into this walk read each value once but took 2.1 ms: its
+  // loop-carried maxima, not the memory, set the pace.
+  // Gives the largest |a_ij − a_ji|; false on an unsymmetric pattern. With a finite `stop`,
+  // returns (true) as soon as dmax exceeds it.
+  bool walk(const SparseMatrix& A, double& dmax,
+            double stop = std::numeric_limits<double>::infinity()) {
     const int n = static_cast<int>(A.outerSize());
     const int* outer = A.outerIndexPtr();
     const int* inner = A.innerIndexPtr();
