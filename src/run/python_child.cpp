@@ -14,8 +14,8 @@ namespace velum::run {
 
 int run_python(const std::string& command, std::vector<std::string> words,
                const std::vector<std::pair<std::string, std::string>>& environment) {
-  words.insert(words.begin(), kPython);
-  std::vector<char*> argv;
+  std::string interpreter = kPython;
+  std::vector<char*> argv{interpreter.data()};
   for (auto& w : words) argv.push_back(w.data());
   argv.push_back(nullptr);
   std::fflush(stdout);
