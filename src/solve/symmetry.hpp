@@ -34,16 +34,13 @@ class SymmetryCheck {
     if (!structural_) return false;
     if (static_cast<Eigen::Index>(partner_.size()) == A.nonZeros()) return mapped_check(A);
     const double vmax = largest(A);
-    if (!(vmax > 0) || !std::isfinite(vmax)) return asymmetry(A) <= kTolerance;  // the full walk
+    if (!(vmax > 0) || !std::isfinite(vmax)) return ratio(A, vmax) <= kTolerance;  // full walk
     double dmax = 0;
     return walk(A, dmax, kTolerance * vmax) && dmax <= kTolerance * vmax;
   }
   /// max |a_ij − a_ji| / max |a_ij| (0 for a zero matrix), infinity on an unsymmetric pattern.
   double asymmetry(const SparseMatrix& A) {
-    double dmax = 0;
-    if (!structural_ || !walk(A, dmax)) return std::numeric_limits<double>::infinity();
-    const double vmax = largest(A);
-    return vmax > 0 ? dmax / vmax : 0.0;
+    return structural_ ? ratio(A, largest(A)) : std::numeric_limits<double>::infinity();
   }
   static constexpr double kTolerance = 1e-10;
 
@@ -56,6 +53,13 @@ class SymmetryCheck {
                          .abs()
                          .template maxCoeff<Eigen::PropagateNumbers>()
                    : 0.0;
+  }
+
+  // asymmetry() with the largest |a_ij| already known.
+  double ratio(const SparseMatrix& A, double vmax) {
+    double dmax = 0;
+    if (!walk(A, dmax)) return std::numeric_limits<double>::infinity();
+    return vmax > 0 ? dmax / vmax : 0.0;
   }
 
   // For every strictly lower entry (i, j), column i's next unvisited upper entry must be

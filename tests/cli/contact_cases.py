@@ -120,7 +120,7 @@ for kind in ("static", "relaxation", "dynamic", "explicit"):
         # reaction, smoothed by the sheet, does.
         fine = copy.deepcopy(m)
         fine["output"].update(interval=5.0e-4, fields=False)
-        # The sheet's weight, which the edges carry besides the push (1 kg/m² over 1 m²).
+        # The sheet's weight, which the edges carry besides the push: density x thickness x area x g.
         weight = (m["materials"]["pvc"]["density"] * m["sections"][0]["thickness"] * A * A *
                   -m["loads"][0]["acceleration"][2])
         pf, out_fine, _ = run("explicit-fine", fine)
