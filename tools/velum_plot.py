@@ -23,19 +23,38 @@ import xml.etree.ElementTree as ET
 # A thread count the user set is kept; OPENBLAS_CORETYPE is never touched.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-try:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import meshio
-    import numpy as np
-    from matplotlib.collections import LineCollection, PolyCollection
-    from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
-except ImportError as missing:
+def missing_library(missing):
     print(f"velum plot: error: {missing.name} is missing (Debian: apt-get install "
           "python3-matplotlib python3-meshio)", file=sys.stderr)
     sys.exit(3)
+
+
+try:
+    import meshio
+    import numpy as np
+except ImportError as missing:
+    missing_library(missing)
+
+# matplotlib (0.27 s of a start's 0.5 s) is loaded at the first drawing, after every check of
+# the input that comes before it: bad input is told without it.
+matplotlib = plt = LineCollection = PolyCollection = Line3DCollection = Poly3DCollection = None
+
+
+def load_matplotlib():
+    global matplotlib, plt, LineCollection, PolyCollection, Line3DCollection, Poly3DCollection
+    if plt is not None:
+        return
+    try:
+        import matplotlib as mpl
+
+        mpl.use("Agg")
+        import matplotlib.pyplot as pyplot
+        from matplotlib.collections import LineCollection, PolyCollection
+        from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
+    except ImportError as missing:
+        missing_library(missing)
+    matplotlib, plt = mpl, pyplot
+
 
 # The boundary of each membrane cell, through its mid-side nodes (VTK/Gmsh order: corners,
 # then mid-sides), so that curved quadratic elements are drawn curved.
@@ -221,6 +240,7 @@ def plot_shape(mesh, time, field, nodal, scale, view, path, dpi):
     lo, hi = (shown.min(), shown.max()) if shown.size else (0.0, 1.0)
     if hi <= lo:
         lo, hi = lo - 0.5 * max(abs(lo), 1e-30), hi + 0.5 * max(abs(hi), 1e-30)
+    load_matplotlib()
     norm = matplotlib.colors.Normalize(lo, hi)
     cmap = matplotlib.colormaps["viridis"]
 
@@ -306,6 +326,7 @@ def plot_history(folder, columns, path, dpi):
             raise BadInput(f"no column '{c}' in history.csv; columns: {', '.join(available)}")
     if not columns or data.size == 0:
         return False
+    load_matplotlib()
     fig, axes = plt.subplots(len(columns), 1, sharex=True, squeeze=False,
                              figsize=(7, 1.2 + 1.8 * len(columns)))
     for ax, c in zip(axes[:, 0], columns):
