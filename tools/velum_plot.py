@@ -45,15 +45,14 @@ def load_matplotlib():
     if plt is not None:
         return
     try:
-        import matplotlib as mpl
+        import matplotlib
 
-        mpl.use("Agg")
-        import matplotlib.pyplot as pyplot
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
         from matplotlib.collections import LineCollection, PolyCollection
         from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
     except ImportError as missing:
         missing_library(missing)
-    matplotlib, plt = mpl, pyplot
 
 
 # The boundary of each membrane cell, through its mid-side nodes (VTK/Gmsh order: corners,
