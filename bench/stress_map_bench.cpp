@@ -16,13 +16,13 @@ namespace {
 
 using namespace velum;
 
-PlaneStressLaw linear_law() {
+PlaneStressLaw orthotropic_law() {
   return PlaneStressLaw::orthotropic("bench", 2000, 1000, 0.3, 400, false);
 }
 
 /// The linear law on an 11 x 11 grid with a cubic stiffening, G12 as the linear law's.
 SheetLaw map_law() {
-  const Mat3 Q = linear_law().Q();
+  const Mat3 Q = orthotropic_law().Q();
   StressMapData d;
   for (int k = -4; k <= 6; ++k) d.e1.push_back(0.025 * k), d.e2.push_back(0.025 * k);
   for (double e2 : d.e2)
@@ -62,11 +62,11 @@ Mat3 deformation() {
 }
 
 template <class Shape>
-struct Case {
+struct ElementCase {
   using M = Membrane<Shape>;
   typename M::Points pts;
   typename M::Nodes x;
-  explicit Case(const Mat3& Q) {
+  explicit ElementCase(const Mat3& Q) {
     typename M::Nodes X;
     const auto nodes = Shape::nodes();
     const bool tri = Shape::kNodes == 3 || Shape::kNodes == 6;
@@ -85,8 +85,8 @@ struct Case {
   }
 };
 
-SheetLaw law_of(int which) {
-  return which == 0 ? SheetLaw(PointwiseLinear(linear_law())) : map_law();
+SheetLaw linear_or_map(int which) {
+  return which == 0 ? SheetLaw(PointwiseLinear(orthotropic_law())) : map_law();
 }
 
 void label(benchmark::State& state) {
@@ -95,7 +95,7 @@ void label(benchmark::State& state) {
 
 // The law alone, at strains spread over the grid.
 void BM_SheetLawEvaluate(benchmark::State& state) {
-  const SheetLaw law = law_of(static_cast<int>(state.range(0)));
+  const SheetLaw law = linear_or_map(static_cast<int>(state.range(0)));
   Vec3 E[64];
   for (int k = 0; k < 64; ++k)
     E[k] = Vec3(0.002 * (k % 8) - 0.004, 0.003 * (k / 8) - 0.006, 0.001 * (k % 5));
@@ -112,8 +112,8 @@ void BM_SheetLawEvaluate(benchmark::State& state) {
 
 template <class Shape>
 void BM_MembraneForceLaw(benchmark::State& state) {
-  const SheetLaw law = law_of(static_cast<int>(state.range(0)));
-  Case<Shape> c(law.reference_stiffness());
+  const SheetLaw law = linear_or_map(static_cast<int>(state.range(0)));
+  ElementCase<Shape> c(law.reference_stiffness());
   const LawPoints policy{&law};
   typename Membrane<Shape>::Vector r;
   for (auto _ : state) {
@@ -128,8 +128,8 @@ void BM_MembraneForceLaw(benchmark::State& state) {
 
 template <class Shape>
 void BM_MembraneForceTangentLaw(benchmark::State& state) {
-  const SheetLaw law = law_of(static_cast<int>(state.range(0)));
-  Case<Shape> c(law.reference_stiffness());
+  const SheetLaw law = linear_or_map(static_cast<int>(state.range(0)));
+  ElementCase<Shape> c(law.reference_stiffness());
   const LawPoints policy{&law};
   typename Membrane<Shape>::Vector r;
   typename Membrane<Shape>::Matrix K;

@@ -24,10 +24,6 @@ double angle2(const Vec2d& a, const Vec2d& b) {
   return std::atan2(std::abs(cross2(a, b)), a.dot(b));
 }
 
-bool has_vertex(const std::array<int, 3>& t, int v) {
-  return t[0] == v || t[1] == v || t[2] == v;
-}
-
 // The closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection 5.1.5),
 // as barycentric weights.
 Vec3 closest_weights(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -146,6 +142,22 @@ Vec3 TriangleSurface::position(const SurfacePoint& p) const {
   return Vec3::Zero();
 }
 
+std::vector<int> TriangleSurface::faces_of(const SurfacePoint& p) const {
+  switch (p.kind) {
+    case SurfacePoint::Kind::Vertex:
+      return faces_at(p.vertex);
+    case SurfacePoint::Kind::Edge: {
+      std::vector<int> out;
+      for (int f : faces_at(p.a))
+        if (has_vertex(tris_[static_cast<size_t>(f)], p.b)) out.push_back(f);
+      return out;
+    }
+    case SurfacePoint::Kind::Face:
+      return {p.face};
+  }
+  return {};
+}
+
 SurfacePoint locate(const TriangleSurface& s, const Vec3& p, double snap, double* distance) {
   const auto& x = s.x();
   double best = std::numeric_limits<double>::infinity();
@@ -191,23 +203,6 @@ SurfacePoint locate(const TriangleSurface& s, const Vec3& p, double snap, double
 
 namespace {
 
-// The triangles a surface point lies in.
-std::vector<int> faces_of(const TriangleSurface& s, const SurfacePoint& p) {
-  switch (p.kind) {
-    case SurfacePoint::Kind::Vertex:
-      return s.faces_at(p.vertex);
-    case SurfacePoint::Kind::Edge: {
-      std::vector<int> out;
-      for (int f : s.faces_at(p.a))
-        if (has_vertex(s.triangles()[static_cast<size_t>(f)], p.b)) out.push_back(f);
-      return out;
-    }
-    case SurfacePoint::Kind::Face:
-      return {p.face};
-  }
-  return {};
-}
-
 // Dijkstra on the edges from `from` to `to`: the vertices passed, in order (an endpoint that is
 // a vertex included).
 std::vector<int> edge_path(const TriangleSurface& s, const SurfacePoint& from,
@@ -222,12 +217,12 @@ std::vector<int> edge_path(const TriangleSurface& s, const SurfacePoint& from,
   auto seed = [&](int v, double d) {
     if (d < dist[static_cast<size_t>(v)]) dist[static_cast<size_t>(v)] = d, queue.push({d, v});
   };
-  for (int f : faces_of(s, from))
+  for (int f : s.faces_of(from))
     for (int v : s.triangles()[static_cast<size_t>(f)])
       seed(v, from.kind == SurfacePoint::Kind::Vertex ? (v == from.vertex ? 0.0 : HUGE_VAL)
                                                       : (x.col(v) - p0).norm());
   std::unordered_map<int, double> target;  // vertex -> remaining distance to `to`
-  for (int f : faces_of(s, to))
+  for (int f : s.faces_of(to))
     for (int v : s.triangles()[static_cast<size_t>(f)])
       if (to.kind != SurfacePoint::Kind::Vertex || v == to.vertex)
         target[v] = (x.col(v) - p1).norm();
@@ -431,7 +426,7 @@ bool same_point(const SurfacePoint& a, const SurfacePoint& b) {
 SurfacePath geodesic(const TriangleSurface& s, const SurfacePoint& from, const SurfacePoint& to) {
   SurfacePath out;
   const Vec3 p0 = s.position(from), p1 = s.position(to);
-  const auto f0 = faces_of(s, from), f1 = faces_of(s, to);
+  const auto f0 = s.faces_of(from), f1 = s.faces_of(to);
   for (int f : f0)
     if (std::find(f1.begin(), f1.end(), f) != f1.end()) {
       out.points = {from, to};

@@ -15,19 +15,6 @@ uint64_t edge_key(int a, int b) {
   return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint64_t>(std::max(a, b));
 }
 
-bool has_vertex(const std::array<int, 3>& t, int v) {
-  return t[0] == v || t[1] == v || t[2] == v;
-}
-
-std::vector<int> faces_with(const TriangleSurface& s, const SurfacePoint& p) {
-  std::vector<int> out;
-  if (p.kind == SurfacePoint::Kind::Vertex) return s.faces_at(p.vertex);
-  if (p.kind == SurfacePoint::Kind::Face) return {p.face};
-  for (int f : s.faces_at(p.a))
-    if (has_vertex(s.triangles()[static_cast<size_t>(f)], p.b)) out.push_back(f);
-  return out;
-}
-
 // A convex polygon (corners and points on a triangle's edges, in order round it) cut into
 // triangles, each time the ear of largest smallest angle that is a triangle and leaves a
 // polygon of three corners or more (points on a straight run are no corners).
@@ -161,7 +148,7 @@ void SeamCutter::cut(const std::vector<SurfacePoint>& in, int seam) {
       along.push_back({node[k], node[k + 1]});
       continue;
     }
-    const auto fp = faces_with(s, p), fq = faces_with(s, q);
+    const auto fp = s.faces_of(p), fq = s.faces_of(q);
     int face = -1;
     for (int f : fp)
       if (std::find(fq.begin(), fq.end(), f) != fq.end()) face = f;

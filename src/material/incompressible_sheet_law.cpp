@@ -6,16 +6,15 @@
 #include <limits>
 
 #include "velum/material/plane_stress.hpp"
+#include "voigt_pairs.hpp"
 
 namespace velum {
 namespace {
 
-// Voigt rows of the symmetric 2x2 index pairs: (0,0), (1,1), (0,1).
-constexpr int kI[3] = {0, 1, 0}, kJ[3] = {0, 1, 1};
+using voigt_pairs::kI;
+using voigt_pairs::kJ;
+using voigt_pairs::voigt;
 
-Vec3 voigt(const Mat2& A) {
-  return {A(0, 0), A(1, 1), A(0, 1)};
-}
 /// (A ⊗ B)_{ijkl} = A_ij B_kl as a Voigt matrix (rows ij, columns kl).
 Mat3 outer(const Mat2& A, const Mat2& B) {
   return voigt(A) * voigt(B).transpose();

@@ -10,15 +10,13 @@
 
 #include "dense_kernels.hpp"
 #include "ordering.hpp"
+#include "supernodal_panels.hpp"
 
 namespace velum {
-namespace {
 
-using Panel = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
-using ConstPanel = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
-using Segment = Eigen::Map<Eigen::VectorXd>;
-
-}  // namespace
+using supernodal::ConstPanel;
+using supernodal::Panel;
+using supernodal::Segment;
 
 bool SupernodalLu::analyze(const SparseMatrix& A) {
   factorized_ = false;
@@ -108,8 +106,9 @@ bool SupernodalLu::factor_supernode(int s) {
   dense::solve_lower_transposed(l + w, ld, m, upper_t, w, w, nullptr);
   dense::solve_lower_transposed(ub, m, m, unit_lower, w, w, nullptr);
   // A NaN multiplier must fail the test below: the maximum propagates it.
-  const double multiplier =
-      ConstPanel(l + w, m, w, Eigen::OuterStride<>(ld)).cwiseAbs().maxCoeff<Eigen::PropagateNaN>();
+  const double multiplier = ConstPanel<double>(l + w, m, w, Eigen::OuterStride<>(ld))
+                                .cwiseAbs()
+                                .maxCoeff<Eigen::PropagateNaN>();
   largest_multiplier_ = std::max(largest_multiplier_, multiplier);
   if (!(multiplier <= kMultiplierLimit)) {
     status_ = fmt::format(
@@ -128,8 +127,8 @@ void SupernodalLu::scatter_update(int s) {
   const int w = st_.width(s), m = st_.below(s);
   if (m == 0) return;
   const double* l = values_.data() + st_.l_panel[s];
-  const Panel Lb(const_cast<double*>(l) + w, m, w, Eigen::OuterStride<>(w + m));
-  const Panel Ub(values_.data() + st_.u_panel[s], m, w, Eigen::OuterStride<>(m));
+  const Panel<double> Lb(const_cast<double*>(l) + w, m, w, Eigen::OuterStride<>(w + m));
+  const Panel<double> Ub(values_.data() + st_.u_panel[s], m, w, Eigen::OuterStride<>(m));
   Eigen::Map<Eigen::MatrixXd> W(update_.data(), m, m);
   W.noalias() = Lb * Ub.transpose();
   const int* b = st_.rows.data() + st_.below_begin[s];
@@ -165,12 +164,12 @@ bool SupernodalLu::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
     const double* l = values_.data() + st_.l_panel[s];
     for (int k = f; k < f + w; ++k)
       if (swap_[k] != k) std::swap(y_[k], y_[swap_[k]]);
-    const Panel D(const_cast<double*>(l), w, w, Eigen::OuterStride<>(w + m));
-    Segment ys(y_.data() + f, w);
+    const Panel<double> D(const_cast<double*>(l), w, w, Eigen::OuterStride<>(w + m));
+    Segment<double> ys(y_.data() + f, w);
     D.triangularView<Eigen::UnitLower>().solveInPlace(ys);
     if (m == 0) continue;
-    const Panel Lb(const_cast<double*>(l) + w, m, w, Eigen::OuterStride<>(w + m));
-    Segment g(gather_.data(), m);
+    const Panel<double> Lb(const_cast<double*>(l) + w, m, w, Eigen::OuterStride<>(w + m));
+    Segment<double> g(gather_.data(), m);
     g.noalias() = Lb * ys;
     const int* r = st_.rows.data() + st_.below_begin[s];
     for (int i = 0; i < m; ++i) y_[r[i]] -= g[i];
@@ -178,15 +177,15 @@ bool SupernodalLu::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   for (int s = st_.supernodes() - 1; s >= 0; --s) {
     const int f = st_.first[s], w = st_.width(s), m = st_.below(s);
     const double* l = values_.data() + st_.l_panel[s];
-    Segment ys(y_.data() + f, w);
+    Segment<double> ys(y_.data() + f, w);
     if (m > 0) {
       const int* r = st_.rows.data() + st_.below_begin[s];
-      Segment g(gather_.data(), m);
+      Segment<double> g(gather_.data(), m);
       for (int i = 0; i < m; ++i) g[i] = y_[r[i]];
-      const Panel Ub(values_.data() + st_.u_panel[s], m, w, Eigen::OuterStride<>(m));
+      const Panel<double> Ub(values_.data() + st_.u_panel[s], m, w, Eigen::OuterStride<>(m));
       ys.noalias() -= Ub.transpose() * g;
     }
-    const Panel D(const_cast<double*>(l), w, w, Eigen::OuterStride<>(w + m));
+    const Panel<double> D(const_cast<double*>(l), w, w, Eigen::OuterStride<>(w + m));
     D.triangularView<Eigen::Upper>().solveInPlace(ys);
   }
   x.resize(n);

@@ -1,6 +1,6 @@
 // What the supernodal Cholesky's factorisation (supernodal_cholesky.cpp) and its solves
 // (supernodal_cholesky_solve.cpp) share: views of L's panels in either scalar, and the threads
-// a split factorisation or solve runs on.
+// a split factorisation or solve runs on. The supernodal LU (supernodal_lu.cpp) takes the views.
 #pragma once
 
 #include <omp.h>

@@ -21,6 +21,11 @@ struct SurfacePoint {
   Vec3 weights = Vec3::Zero();  ///< Face: barycentric weights of the face's corners
 };
 
+/// Whether triangle t has corner v.
+inline bool has_vertex(const std::array<int, 3>& t, int v) {
+  return t[0] == v || t[1] == v || t[2] == v;
+}
+
 /// Triangles on nodes with their edge adjacency; the nodes may be shared with other surfaces
 /// (indices into x). Every edge belongs to one or two triangles (checked: manifold).
 class TriangleSurface {
@@ -33,6 +38,8 @@ class TriangleSurface {
   int across(int f, int a, int b) const;
   /// Triangles at vertex v (unordered).
   const std::vector<int>& faces_at(int v) const { return at_[static_cast<size_t>(v)]; }
+  /// The triangles point p lies in (one, those of an edge, or those at a vertex).
+  std::vector<int> faces_of(const SurfacePoint& p) const;
   bool on_boundary(int v) const { return boundary_[static_cast<size_t>(v)]; }
   /// Sum of the triangles' angles at v (2 pi on a flat interior vertex).
   double angle_sum(int v) const { return angle_sum_[static_cast<size_t>(v)]; }

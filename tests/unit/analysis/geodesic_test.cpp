@@ -22,7 +22,7 @@ struct Mesh {
 };
 
 // (nu x nv) cells of f(s, t), s, t in [0, 1], two triangles each; `ring`: s = 1 is s = 0.
-Mesh grid(int nu, int nv, const std::function<Vec3(double, double)>& f, bool ring = false) {
+Mesh surface_grid(int nu, int nv, const std::function<Vec3(double, double)>& f, bool ring = false) {
   Mesh m;
   const int cols = ring ? nu : nu + 1;
   m.x.resize(3, cols * (nv + 1));
@@ -53,7 +53,7 @@ double polyline_length(const TriangleSurface& s, const SurfacePath& p) {
 
 TEST(Geodesic, StraightSegmentOnAPlate) {
   // An irregular plate: interior nodes moved in the plane.
-  Mesh m = grid(12, 9, [](double s, double t) {
+  Mesh m = surface_grid(12, 9, [](double s, double t) {
     const double ds = (s > 0 && s < 1 && t > 0 && t < 1) ? 0.02 * std::sin(37 * s + 11 * t) : 0;
     const double dt = (s > 0 && s < 1 && t > 0 && t < 1) ? 0.02 * std::cos(23 * s - 7 * t) : 0;
     return Vec3(1.2 * s + ds, 0.9 * t + dt, 0.0);
@@ -78,7 +78,7 @@ TEST(Geodesic, HelixOnACylinder) {
   // cylinder the chord shortens the turn by at most R dphi (delta^2 / 24), delta = 2 pi / 48.
   const double R = 1.5, H = 4.0;
   const int nu = 48, nv = 20;
-  const Mesh m = grid(
+  const Mesh m = surface_grid(
       nu, nv,
       [&](double s, double t) {
         return Vec3(R * std::cos(2 * M_PI * s), R * std::sin(2 * M_PI * s), H * t);
@@ -163,7 +163,7 @@ TEST(Geodesic, GreatCircleOnASphereConvergesUnderRefinement) {
 }
 
 TEST(Seams, ChordAcrossAPlateSplitsTrianglesIntoTwoPanels) {
-  const Mesh m = grid(6, 4, [](double s, double t) { return Vec3(3 * s, 2 * t, 0); });
+  const Mesh m = surface_grid(6, 4, [](double s, double t) { return Vec3(3 * s, 2 * t, 0); });
   const Vec3 a(0.0, 0.37, 0), b(3.0, 1.71, 0);
   const double below = 3 * (a.y() + b.y()) / 2, h = std::hypot(0.5, 0.5);
   for (double snap : {0.0, 0.2}) {
@@ -201,7 +201,7 @@ TEST(Seams, ChordAcrossAPlateSplitsTrianglesIntoTwoPanels) {
 }
 
 TEST(Seams, ASeamEndingInsideAPanelIsRefused) {
-  const Mesh m = grid(6, 4, [](double s, double t) { return Vec3(3 * s, 2 * t, 0); });
+  const Mesh m = surface_grid(6, 4, [](double s, double t) { return Vec3(3 * s, 2 * t, 0); });
   SeamCutter cut(m.x, m.tris);
   cut.add_node_path({0, 8, 16}, 0);  // from the corner inwards, stopping inside
   int count = 0;
@@ -215,7 +215,7 @@ TEST(Seams, HemisphereCutIntoGoresAlongMeridians) {
   const double R = 1.5;
   for (int N : {12, 16}) {
     const int nu = 6 * N, nv = 24;
-    Mesh g = grid(
+    Mesh g = surface_grid(
         nu, nv,
         [&](double s, double t) {
           const double phi = 2 * M_PI * s, theta = M_PI / 2 * t;

@@ -13,7 +13,7 @@ namespace velum {
 namespace {
 
 double jacobian_error(double rayleigh_stiffness, double cu, double cv, double ca) {
-  auto model = pressurised_square(3);
+  auto model = velum::pressurised_square(3);
   model->rayleigh_mass = 2.0;
   model->rayleigh_stiffness = rayleigh_stiffness;
   MechanicalSystem sys(*model);

@@ -53,7 +53,7 @@ double wrap(const NodePositions& x, int i) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
-void check_tangent(const ElementBlock& b, const NodePositions& x0) {
+void check_tangent_by_differences(const ElementBlock& b, const NodePositions& x0) {
   const int nd = b.dofs_per_element();
   const std::vector<int> e{0};
   Eigen::VectorXd r(nd), rp(nd), rm(nd);
@@ -140,7 +140,7 @@ TEST(SlidingCableFriction, TangentMatchesCentralDifferencesSlipping) {
   NodePositions x = X;
   x.col(4) += Vec3(0.004, 0.001, -0.002);
   x.col(2) += Vec3(0.001, 0.003, 0.001);
-  check_tangent(*b, x);
+  check_tangent_by_differences(*b, x);
 }
 
 TEST(SlidingCableFriction, TangentMatchesCentralDifferencesMixed) {
@@ -153,7 +153,7 @@ TEST(SlidingCableFriction, TangentMatchesCentralDifferencesMixed) {
   NodePositions x = pulled;
   x.col(4) -= Vec3(0.0004, 0, 0);
   x.col(0) -= Vec3(0.002, 0.0005, 0);
-  check_tangent(*b, x);
+  check_tangent_by_differences(*b, x);
   const double s3 = b->sliding()->slip(0, 3, pulled);
   EXPECT_DOUBLE_EQ(b->sliding()->slip(0, 3, x), s3);
   EXPECT_LT(b->sliding()->slip(0, 1, x), b->sliding()->slip(0, 1, pulled));
@@ -166,7 +166,7 @@ TEST(SlidingCableFriction, TangentMatchesCentralDifferencesSticking) {
   NodePositions x = 1.001 * X;
   x.col(2) += Vec3(0.0002, -0.0001, 0.0001);
   x.col(3) += Vec3(-0.0001, 0.0001, 0);
-  check_tangent(*b, x);
+  check_tangent_by_differences(*b, x);
   for (int i = 1; i <= 3; ++i) EXPECT_EQ(b->sliding()->slip(0, i, x), 0) << "node " << i;
 }
 
@@ -186,7 +186,7 @@ TEST(SlidingCableFriction, ReefedLineIsShorterAndCutLineCarriesNothing) {
     const double T = b->output(0, X).cable_force;
     const double lam = 1 / 0.99;
     EXPECT_NEAR(T, kArea * kSteel.E * 0.5 * (lam * lam - 1) * lam, 1e-9 * T) << "mu " << mu;
-    if (mu > 0) check_tangent(*b, X);
+    if (mu > 0) check_tangent_by_differences(*b, X);
     b->set_time(2);
     EXPECT_EQ(b->output(0, X).cable_force, 0);
     Eigen::VectorXd r(15);

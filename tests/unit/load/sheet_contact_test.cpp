@@ -170,7 +170,7 @@ TEST(SheetContact, FaceTreeRebuildsWhenFacesMoveApart) {
   }
 }
 
-constexpr double kT = 1e-3, kE = 1e9, kQ = 2000.0;
+constexpr double kThickness = 1e-3, kE = 1e9, kQ = 2000.0;
 
 struct LoopRun {
   std::vector<StepReport> reports;
@@ -218,17 +218,18 @@ TwoSheets two_sheets(double overlap, int relax_steps) {
   TwoSheets ts;
   ts.m = std::make_unique<Model>();
   Model& m = *ts.m;
-  const double h = ts.a / ts.n, z = kT - overlap;
+  const double h = ts.a / ts.n, z = kThickness - overlap;
   for (int layer = 0; layer < 2; ++layer) {
     test::NodeCache nodes(m, 1e-9);
     std::vector<int> conn;
     test::mesh_patch(
         nodes, [&](double u, double v) { return Vec3(ts.a * u, ts.a * v, layer * z); }, ts.n, ts.n,
         "quad4", conn);
-    const double S = layer ? 1000.0 / kT : 0.0;
+    const double S = layer ? 1000.0 / kThickness : 0.0;
     test::add_membrane(
         m, "quad4", std::move(conn),
-        SheetLaw(PlaneStressLaw::isotropic("iso", kE, 0.3)).with_prestress({S, S, 0}), 1000.0, kT);
+        SheetLaw(PlaneStressLaw::isotropic("iso", kE, 0.3)).with_prestress({S, S, 0}), 1000.0,
+        kThickness);
   }
   std::vector<int> held, inner;
   for (int i = 0; i < m.num_nodes(); ++i) {
@@ -268,10 +269,10 @@ TEST(SheetContact, TwoSheetsPressedTogetherBalanceAndStayApart) {
   double least = 0, qmid = 0;
   for (int n = 0; n < ts.m->num_nodes(); ++n)
     if (!std::isnan(g[static_cast<size_t>(n)])) least = std::min(least, g[static_cast<size_t>(n)]);
-  const int mid = test::nearest_node(*ts.m, Vec3(0.2, 0.2, kT));
+  const int mid = test::nearest_node(*ts.m, Vec3(0.2, 0.2, kThickness));
   qmid = q[static_cast<size_t>(mid)];
 
-  const double tol = std::max(0.01 * kT, 1e-3 * ts.a / ts.n);
+  const double tol = std::max(0.01 * kThickness, 1e-3 * ts.a / ts.n);
   std::cout << "two sheets: contact force " << Fz << " against the load " << -ts.load << " ("
             << test::percent(Fz, -ts.load) << "%), least gap " << least << " (tolerance " << tol
             << "), pressure at the middle " << qmid << " (load " << kQ << ")\n";
@@ -348,15 +349,15 @@ TEST(SheetContact, WholeJacobianOnAnisotropicSheetsMatchesFiniteDifferences) {
     test::mesh_patch(
         nodes,
         [&](double u, double v) {
-          return Vec3(a * u + shift, a * v + 0.3 * shift, layer * (kT - overlap));
+          return Vec3(a * u + shift, a * v + 0.3 * shift, layer * (kThickness - overlap));
         },
         n, n, "quad4", conn);
-    test::add_membrane(*m, "quad4", std::move(conn), law, 1000.0, kT);
+    test::add_membrane(*m, "quad4", std::move(conn), law, 1000.0, kThickness);
   }
   std::vector<int> held, skew;
   for (int i = 0; i < m->num_nodes(); ++i) {
     const Vec3 X = m->X.col(i);
-    const bool lower = X.z() < 0.5 * kT;
+    const bool lower = X.z() < 0.5 * kThickness;
     const double x0 = lower ? 0.0 : 0.5 * h, y0 = lower ? 0.0 : 0.15 * h;
     const bool at_x0 = X.x() < x0 + 1e-9, at_y0 = X.y() < y0 + 1e-9;
     const bool at_x1 = X.x() > x0 + a - 1e-9, at_y1 = X.y() > y0 + a - 1e-9;
@@ -428,7 +429,7 @@ TEST(SheetContact, InitialPenetrationsAreReportedAndRelaxed) {
     const std::vector<double> g = sys.load_node_field("contact_gap", 1, r.x);
     double least = 0;
     for (int n : ts.inner) least = std::min(least, g[static_cast<size_t>(n)]);
-    EXPECT_GT(least, -std::max(0.01 * kT, 1e-3 * ts.a / ts.n)) << "relax " << relax;
+    EXPECT_GT(least, -std::max(0.01 * kThickness, 1e-3 * ts.a / ts.n)) << "relax " << relax;
   }
   // Relaxed, the first step starts from a small force instead of the whole overlap's.
   EXPECT_LT(first_residual[1], 0.5 * first_residual[0]);
@@ -489,10 +490,10 @@ Fold fold(double c) {
         return Vec3(L + R * std::sin(phi), y, R - R * std::cos(phi));
       },
       nu, nv, "quad4", conn);
-  const double S = 100.0 / kT;  // a light prestress: the free layer is not a mechanism
+  const double S = 100.0 / kThickness;  // a light prestress: the free layer is not a mechanism
   test::add_membrane(m, "quad4", std::move(conn),
                      SheetLaw(PlaneStressLaw::isotropic("iso", kE, 0.3)).with_prestress({S, S, 0}),
-                     1000.0, kT);
+                     1000.0, kThickness);
   std::vector<int> held, free;
   const double h = len / nu;
   for (int i = 0; i < m.num_nodes(); ++i) {

@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "fd_error.hpp"
 #include "velum/material/incompressible_sheet_law.hpp"
 #include "velum/material/sheet_law.hpp"
 #include "velum/material/sheet_law_wrappers.hpp"
@@ -15,13 +16,13 @@
 namespace velum {
 namespace {
 
-constexpr double kMu = 2.0e5;
+constexpr double kShearModulus = 2.0e5;
 
 IncompressibleSheetLaw neo() {
-  return IncompressibleSheetLaw::neo_hookean("rubber", kMu);
+  return IncompressibleSheetLaw::neo_hookean("rubber", kShearModulus);
 }
 IncompressibleSheetLaw mooney() {
-  return IncompressibleSheetLaw::mooney_rivlin("mr", 0.5 * kMu, 0.12 * kMu);
+  return IncompressibleSheetLaw::mooney_rivlin("mr", 0.5 * kShearModulus, 0.12 * kShearModulus);
 }
 
 /// Green-Lagrange strain (engineering Voigt) of principal stretches l1 along θ and l2 across.
@@ -31,11 +32,6 @@ Vec3 stretch_strain(double l1, double l2, double theta) {
   return {e1 * c * c + e2 * s * s, e1 * s * s + e2 * c * c, 2 * (e1 - e2) * c * s};
 }
 
-/// Largest entry of |C − central differences of S| over the largest entry of C, and the
-/// same for S against the energy's differences (relative to |S|).
-struct FdError {
-  double tangent = 0, stress = 0;
-};
 FdError fd_error(const SheetLaw& law, const Vec3& E, double h = 1e-6) {
   SheetResponse r;
   law.evaluate(E, r);
@@ -89,15 +85,15 @@ TEST(IncompressibleSheetLaw, EquibiaxialAndUniaxialStretchesMatchTheirClosedForm
       SheetResponse r;
       law.evaluate(stretch_strain(l, l, 0.3), {}, r);
       const double S = 2 * (1 - std::pow(l, -6)) * (C1 + C2 * l * l);
-      EXPECT_NEAR(r.S[0], S, 1e-12 * kMu);
-      EXPECT_NEAR(r.S[1], S, 1e-12 * kMu);
-      EXPECT_NEAR(r.S[2], 0, 1e-12 * kMu);
+      EXPECT_NEAR(r.S[0], S, 1e-12 * kShearModulus);
+      EXPECT_NEAR(r.S[1], S, 1e-12 * kShearModulus);
+      EXPECT_NEAR(r.S[2], 0, 1e-12 * kShearModulus);
       EXPECT_NEAR(law.thickness_ratio(stretch_strain(l, l, 0.3), {}), 1 / (l * l), 1e-14);
       // Uniaxial: λ2 = λ^(−1/2) leaves S22 = 0 and S11 = 2 C1 (1 − λ⁻³) + 2 C2 (λ⁻¹ − λ⁻⁴).
       law.evaluate(stretch_strain(l, 1 / std::sqrt(l), 0), {}, r);
-      EXPECT_NEAR(r.S[1], 0, 1e-12 * kMu);
+      EXPECT_NEAR(r.S[1], 0, 1e-12 * kShearModulus);
       EXPECT_NEAR(r.S[0], 2 * C1 * (1 - std::pow(l, -3)) + 2 * C2 * (1 / l - std::pow(l, -4)),
-                  1e-12 * kMu);
+                  1e-12 * kShearModulus);
     }
   }
 }
@@ -138,7 +134,7 @@ TEST(IncompressibleSheetLaw, TensionFieldIsTheUniaxialStateAlongTheStretch) {
 }
 
 TEST(IncompressibleSheetLaw, WrinkledTangentMatchesFiniteDifferencesWithPrestressAndShear) {
-  const Vec3 S0(0.05 * kMu, 0.02 * kMu, 0.01 * kMu);
+  const Vec3 S0(0.05 * kShearModulus, 0.02 * kShearModulus, 0.01 * kShearModulus);
   const SheetLaw law = SheetLaw(mooney()).with_prestress(S0).with_wrinkling(0);
   EXPECT_EQ(law.prestress(), S0);
   SheetResponse r;

@@ -9,6 +9,7 @@
 
 #include <cmath>
 
+#include "fd_error.hpp"
 #include "velum/material/plane_stress.hpp"
 #include "velum/material/plastic_sheet_law.hpp"
 #include "velum/material/sheet_law.hpp"
@@ -16,22 +17,19 @@
 namespace velum {
 namespace {
 
-constexpr double kE = 1.1e9, kNu = 0.45, kYield = 16e6, kH = 6e7;
+constexpr double kEtfeModulus = 1.1e9, kEtfePoisson = 0.45, kYield = 16e6, kH = 6e7;
 
 PlasticSheetLaw bilinear() {
-  return PlasticSheetLaw::bilinear("etfe", kE, kNu, kYield, kH);
+  return PlasticSheetLaw::bilinear("etfe", kEtfeModulus, kEtfePoisson, kYield, kH);
 }
 PlasticSheetLaw tabulated() {
-  return PlasticSheetLaw::tabulated("etfe", kE, kNu,
+  return PlasticSheetLaw::tabulated("etfe", kEtfeModulus, kEtfePoisson,
                                     {{0, 16e6}, {0.01, 19e6}, {0.05, 23e6}, {0.3, 30e6}});
 }
 PlasticSheetLaw perfect() {
-  return PlasticSheetLaw::tabulated("etfe", kE, kNu, {{0, 16e6}});
+  return PlasticSheetLaw::tabulated("etfe", kEtfeModulus, kEtfePoisson, {{0, 16e6}});
 }
 
-struct FdError {
-  double tangent = 0, stress = 0;
-};
 FdError fd_error(const PlasticSheetLaw& law, const Vec3& E, std::span<const double> h) {
   SheetResponse r;
   law.evaluate(E, h, r);
@@ -89,7 +87,7 @@ TEST(PlasticSheetLaw, AlgorithmicTangentMatchesFiniteDifferences) {
   // Elastic states return the elastic law.
   SheetResponse r;
   bilinear().evaluate(Vec3(0.001, 0.0, 0.0), {}, r);
-  EXPECT_EQ(r.C, PlaneStressLaw::isotropic("q", kE, kNu).Q());
+  EXPECT_EQ(r.C, PlaneStressLaw::isotropic("q", kEtfeModulus, kEtfePoisson).Q());
 }
 
 /// Uniaxial stress S = (s, 0, 0) at E11 = e: E22 solved for S22 = 0 from history h.
@@ -107,18 +105,20 @@ Vec3 uniaxial(const PlasticSheetLaw& law, double e, std::span<const double> h, d
 TEST(PlasticSheetLaw, UniaxialLoadUnloadCycleMatchesTheClosedForm) {
   const PlasticSheetLaw law = bilinear();
   double h[4] = {0, 0, 0, 0};
-  const double ey = kYield / kE, emax = 0.04;
+  const double ey = kYield / kEtfeModulus, emax = 0.04;
   // Loading: s = E e up to yield, then s = (σ_y0 + H e)/(1 + H/E).
-  auto loading = [&](double e) { return e <= ey ? kE * e : (kYield + kH * e) / (1 + kH / kE); };
-  const double smax = loading(emax), amax = emax - smax / kE;
+  auto loading = [&](double e) {
+    return e <= ey ? kEtfeModulus * e : (kYield + kH * e) / (1 + kH / kEtfeModulus);
+  };
+  const double smax = loading(emax), amax = emax - smax / kEtfeModulus;
   auto closed = [&](double e, int phase) {
     if (phase == 0) return loading(e);
-    const double s = smax - kE * (emax - e);  // elastic unloading
-    const double sy = kYield + kH * amax;     // reverse yield at −σ_y(α_max)
+    const double s = smax - kEtfeModulus * (emax - e);  // elastic unloading
+    const double sy = kYield + kH * amax;               // reverse yield at −σ_y(α_max)
     if (s >= -sy) return s;
     // Reverse hardening: α grows from α_max as the plastic strain falls below α_max.
     // s = −(σ_y0 + H α), e = s/E + ε_p, ε_p = α_max − (α − α_max).
-    return -(kYield + kH * (2 * amax - e)) / (1 + kH / kE);
+    return -(kYield + kH * (2 * amax - e)) / (1 + kH / kEtfeModulus);
   };
   double worst = 0, e22 = 0;
   int steps = 0;
@@ -133,7 +133,7 @@ TEST(PlasticSheetLaw, UniaxialLoadUnloadCycleMatchesTheClosedForm) {
   };
   for (int k = 1; k <= 40; ++k) drive(emax * k / 40, 0);
   // Unloaded to zero stress: the strain left is α_max (the plastic strain along the load).
-  const double eres = emax - smax / kE;
+  const double eres = emax - smax / kEtfeModulus;
   for (int k = 1; k <= 20; ++k) drive(emax + (eres - emax) * k / 20, 1);
   SheetResponse r;
   uniaxial(law, eres, h, e22, r);
@@ -164,7 +164,7 @@ TEST(PlasticSheetLaw, WrinkledFoilYieldsInUniaxialTensionAlongTheWrinkles) {
   SheetResponse r;
   law.evaluate(E, h, r);
   ASSERT_EQ(r.state, WrinkleState::kWrinkled);
-  const double S = (kYield + kH * e) / (1 + kH / kE);
+  const double S = (kYield + kH * e) / (1 + kH / kEtfeModulus);
   EXPECT_NEAR((r.S - S * Vec3(c * c, s * s, c * s)).cwiseAbs().maxCoeff(), 0, 1e-8 * S);
   // Its tangent against central differences.
   Mat3 C_fd;
@@ -181,9 +181,9 @@ TEST(PlasticSheetLaw, WrinkledFoilYieldsInUniaxialTensionAlongTheWrinkles) {
   std::printf("wrinkled plastic foil: relative FD error of the tangent %.2e\n", err);
   EXPECT_LT(err, 1e-5);
   law.base().update_state(E, h);
-  EXPECT_NEAR(h[3], e - S / kE, 1e-9);  // α = the uniaxial plastic strain along θ
+  EXPECT_NEAR(h[3], e - S / kEtfeModulus, 1e-9);  // α = the uniaxial plastic strain along θ
   const double ep_nn = h[0] * c * c + h[1] * s * s + h[2] * c * s;
-  EXPECT_NEAR(ep_nn, e - S / kE, 1e-9);
+  EXPECT_NEAR(ep_nn, e - S / kEtfeModulus, 1e-9);
 }
 
 TEST(PlasticSheetLaw, BadConstantsAndCurvesAreRefused) {
@@ -195,26 +195,29 @@ TEST(PlasticSheetLaw, BadConstantsAndCurvesAreRefused) {
     }
     return std::string();
   };
-  EXPECT_NE(message([] { PlasticSheetLaw::bilinear("f", kE, kNu, 0, kH); }).find("yield stress"),
+  EXPECT_NE(message([] {
+              PlasticSheetLaw::bilinear("f", kEtfeModulus, kEtfePoisson, 0, kH);
+            }).find("yield stress"),
             std::string::npos);
   EXPECT_NE(message([] {
-              PlasticSheetLaw::bilinear("f", kE, kNu, kYield, -1);
+              PlasticSheetLaw::bilinear("f", kEtfeModulus, kEtfePoisson, kYield, -1);
             }).find("hardening modulus"),
             std::string::npos);
   EXPECT_NE(message([] {
-              PlasticSheetLaw::tabulated("f", kE, kNu, {{0, 1e6}, {0, 2e6}});
+              PlasticSheetLaw::tabulated("f", kEtfeModulus, kEtfePoisson, {{0, 1e6}, {0, 2e6}});
             }).find("must ascend"),
             std::string::npos);
   EXPECT_NE(message([] {
-              PlasticSheetLaw::tabulated("f", kE, kNu, {{0, 2e6}, {0.1, 1e6}});
+              PlasticSheetLaw::tabulated("f", kEtfeModulus, kEtfePoisson, {{0, 2e6}, {0.1, 1e6}});
             }).find("falls"),
             std::string::npos);
   EXPECT_NE(message([] {
-              PlasticSheetLaw::tabulated("f", kE, kNu, {{0.01, 2e6}});
+              PlasticSheetLaw::tabulated("f", kEtfeModulus, kEtfePoisson, {{0.01, 2e6}});
             }).find("start at plastic strain 0"),
             std::string::npos);
-  EXPECT_NE(message([] { PlasticSheetLaw::bilinear("f", -1, kNu, kYield, kH); }).find("'f'"),
-            std::string::npos);
+  EXPECT_NE(
+      message([] { PlasticSheetLaw::bilinear("f", -1, kEtfePoisson, kYield, kH); }).find("'f'"),
+      std::string::npos);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "fabric_response.hpp"
 #include "velum/material/plane_stress.hpp"
 #include "velum/material/sheet_law.hpp"
 #include "velum/material/stress_map_sheet_law.hpp"
@@ -15,13 +16,8 @@
 namespace velum {
 namespace {
 
-/// A fabric-like response: stiffening in its own direction, coupled to the other.
-double s11(double e1, double e2) {
-  return 600 * e1 + 9000 * e1 * e1 * e1 + 150 * e2 + 4000 * e1 * e2 * e2;
-}
-double s22(double e1, double e2) {
-  return 400 * e2 + 20000 * e2 * e2 * e2 + 150 * e1 + 3000 * e1 * e1 * e2;
-}
+using fabric_response::s11;
+using fabric_response::s22;
 
 StressMapData fabric_data(bool shear_curve) {
   StressMapData d;

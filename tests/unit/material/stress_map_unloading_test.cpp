@@ -10,18 +10,15 @@
 #include <cstdio>
 #include <string>
 
+#include "fabric_response.hpp"
 #include "velum/material/sheet_law.hpp"
 #include "velum/material/stress_map_sheet_law.hpp"
 
 namespace velum {
 namespace {
 
-double s11(double e1, double e2) {
-  return 600 * e1 + 9000 * e1 * e1 * e1 + 150 * e2 + 4000 * e1 * e2 * e2;
-}
-double s22(double e1, double e2) {
-  return 400 * e2 + 20000 * e2 * e2 * e2 + 150 * e1 + 3000 * e1 * e1 * e2;
-}
+using fabric_response::s11;
+using fabric_response::s22;
 
 constexpr double kWarp = 2000, kFill = 1500;
 

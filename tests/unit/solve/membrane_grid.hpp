@@ -1,10 +1,13 @@
 // The pattern of a membrane Jacobian for the sparse-solver tests: an nx x ny grid of nodes,
 // quad4 elements, 3 equations per node (every `drop`-th equation removed when drop > 0, as
 // constraints remove components), each equation coupled with every equation of its node and of
-// the neighbouring nodes. The tests fill it with their own values.
+// the neighbouring nodes. The tests fill it with their own values. Also how they judge a solve.
 #pragma once
 
+#include <Eigen/Core>
 #include <vector>
+
+#include "velum/math/sparse.hpp"
 
 namespace velum {
 
@@ -33,5 +36,16 @@ struct MembraneGrid {
   std::vector<int> index;  ///< equation of each node component, -1 when removed
   int n = 0;               ///< equations
 };
+
+/// |A x - b| relative to |A| |x|.
+inline double relative_residual(const SparseMatrix& A, const Eigen::VectorXd& x,
+                                const Eigen::VectorXd& b) {
+  return (A * x - b).norm() / (A.norm() * x.norm());
+}
+
+/// The right-hand side the sparse-solver tests solve for: n values from -1 to 2.
+inline Eigen::VectorXd rhs(Eigen::Index n) {
+  return Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
+}
 
 }  // namespace velum

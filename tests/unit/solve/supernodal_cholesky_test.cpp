@@ -52,15 +52,6 @@ SparseMatrix spd_membrane_matrix(int nx, int ny, unsigned seed, int drop = 0, do
   return A;
 }
 
-double relative_residual(const SparseMatrix& A, const Eigen::VectorXd& x,
-                         const Eigen::VectorXd& b) {
-  return (A * x - b).norm() / (A.norm() * x.norm());
-}
-
-Eigen::VectorXd rhs(Eigen::Index n) {
-  return Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
-}
-
 TEST(SupernodalCholesky, SolvesMembraneMatricesLikeDenseLltAndCholmod) {
   for (const int drop : {0, 7}) {
     const SparseMatrix A = spd_membrane_matrix(14, 11, 3, drop);

@@ -50,15 +50,6 @@ void set_first_diagonal_block(const SupernodalStructure& st, double diagonal, Sp
       if (in_first[it.row()] && in_first[j]) it.valueRef() = it.row() == j ? diagonal : 0.0;
 }
 
-double relative_residual(const SparseMatrix& A, const Eigen::VectorXd& x,
-                         const Eigen::VectorXd& b) {
-  return (A * x - b).norm() / (A.norm() * x.norm());
-}
-
-Eigen::VectorXd rhs(Eigen::Index n) {
-  return Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
-}
-
 TEST(SupernodalLu, SolvesMembraneMatricesLikeKluAndDenseLu) {
   for (const int drop : {0, 7}) {
     const SparseMatrix A = membrane_matrix(14, 11, 3, drop);
