@@ -17,12 +17,10 @@ using velum::contact::Box;
 
 using Sheet = velum::bench::WavySheet;
 
-Sheet sheet(long faces, double shift = 0) {
-  return velum::bench::wavy_sheet(faces, shift);
-}
+using velum::bench::wavy_sheet;
 
 void BM_FaceTreeBuild(benchmark::State& state) {
-  const Sheet s = sheet(static_cast<int>(state.range(0)));
+  const Sheet s = wavy_sheet(static_cast<int>(state.range(0)));
   velum::contact::FaceTree tree;
   for (auto _ : state) {
     tree.build(s.boxes);
@@ -33,8 +31,8 @@ void BM_FaceTreeBuild(benchmark::State& state) {
 
 // One evaluation: refit to the moved faces, then every node's query.
 void BM_FaceTreeRefitAndQuery(benchmark::State& state) {
-  const Sheet s = sheet(static_cast<int>(state.range(0)));
-  const Sheet moved = sheet(static_cast<int>(state.range(0)), 0.01);
+  const Sheet s = wavy_sheet(static_cast<int>(state.range(0)));
+  const Sheet moved = wavy_sheet(static_cast<int>(state.range(0)), 0.01);
   velum::contact::FaceTree tree;
   tree.build(s.boxes);
   long found = 0;
@@ -50,7 +48,7 @@ void BM_FaceTreeRefitAndQuery(benchmark::State& state) {
 
 // Every face for every node (1% of the nodes, scaled up in the counter).
 void BM_BruteForceQuery(benchmark::State& state) {
-  const Sheet s = sheet(static_cast<int>(state.range(0)));
+  const Sheet s = wavy_sheet(static_cast<int>(state.range(0)));
   long found = 0;
   const size_t step = 100;
   for (auto _ : state)

@@ -28,14 +28,12 @@ using velum::contact::Box;
 
 using Sheet = velum::bench::WavySheet;
 
-Sheet sheet(long faces, double shift = 0) {
-  return velum::bench::wavy_sheet(faces, shift);
-}
+using velum::bench::wavy_sheet;
 
 // Two sheets, alternated so every evaluation moves every face.
 struct Pair {
   Sheet a, b;
-  explicit Pair(long faces) : a(sheet(faces)), b(sheet(faces, 0.01)) {}
+  explicit Pair(long faces) : a(wavy_sheet(faces)), b(wavy_sheet(faces, 0.01)) {}
   const Sheet& at(long k) const { return k % 2 ? b : a; }
 };
 

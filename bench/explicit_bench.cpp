@@ -7,10 +7,10 @@
 // Arguments: elements per side, 0 quad4 / 1 tri3, 0 elastic / 1 wrinkling, threads, steps.
 #include <benchmark/benchmark.h>
 #include <omp.h>
-#include <sys/resource.h>
 
 #include <chrono>
 
+#include "process_cpu.hpp"
 #include "square_membrane.hpp"
 #include "velum/analysis/analysis.hpp"
 #include "velum/material/linear_sheet_law.hpp"
@@ -20,12 +20,7 @@ namespace {
 
 using namespace velum;
 
-double process_cpu() {
-  rusage ru{};
-  getrusage(RUSAGE_SELF, &ru);
-  return static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
-         1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
-}
+using velum::bench::process_cpu;
 
 // The square of clamped_square (E t = 1e6 N/m, ν = 0.3, ρ t = 1 kg/m²), prestressed to
 // 1 kN/m both ways, under 100 Pa follower pressure.

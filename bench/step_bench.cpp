@@ -7,10 +7,10 @@
 // (getrusage; the honest figure on a shared, loaded machine); `peak_rss_MB` is the process's
 // peak resident set.
 #include <benchmark/benchmark.h>
-#include <sys/resource.h>
 
 #include <chrono>
 
+#include "process_cpu.hpp"
 #include "square_membrane.hpp"
 #include "velum/analysis/analysis.hpp"
 #include "velum/model/model.hpp"
@@ -25,12 +25,7 @@ double seconds_since(Clock::time_point t0) {
 }
 
 // User + system CPU seconds of the whole process (all threads).
-double process_cpu() {
-  rusage ru{};
-  getrusage(RUSAGE_SELF, &ru);
-  return static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
-         1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
-}
+using velum::bench::process_cpu;
 
 void BM_ImplicitStep(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));

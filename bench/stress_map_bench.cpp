@@ -55,7 +55,7 @@ class PointwiseLinear final : public SheetLawBase {
   LinearSheetLaw law_;
 };
 
-Mat3 deformation() {
+Mat3 rotated_stretch() {
   Mat3 F;
   F << 1.08, 0.05, 0.0, -0.03, 0.97, 0.0, 0.02, 0.04, 1.0;
   return Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()).toRotationMatrix() * F;
@@ -81,7 +81,7 @@ struct ElementCase {
         {Vec3(std::cos(th), std::sin(th), 0), Vec3(-std::sin(th), std::cos(th), 0), Vec3::UnitZ()},
         M::centre_normal(X));
     M::setup(X, Q, axes, 0.01, pts);
-    x = deformation() * X;
+    x = rotated_stretch() * X;
   }
 };
 

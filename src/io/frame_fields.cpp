@@ -9,7 +9,7 @@
 namespace velum::io {
 namespace {
 
-constexpr double kDeg = 180.0 / std::numbers::pi;
+constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;
 constexpr double kAbsent = std::numeric_limits<double>::quiet_NaN();
 
 struct Spec {
@@ -118,7 +118,7 @@ FrameFields evaluate_cells(const Model& model, const NodePositions& x,
       put(c[kTrueStressMin], k, s.min);
       put(c[kStressDirMax], k, s.dir_max);
       put(c[kStressDirMin], k, s.dir_min);
-      put(c[kFiberAngleChange], k, s.fiber_angle_change * kDeg);
+      put(c[kFiberAngleChange], k, s.fiber_angle_change * kDegreesPerRadian);
       put(c[kStress11], k, s.sheet[0]);
       put(c[kStress22], k, s.sheet[1]);
       put(c[kStress12], k, s.sheet[2]);

@@ -5,6 +5,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "velum/io/json_text.hpp"
+
 namespace velum::io {
 namespace {
 
@@ -23,16 +25,6 @@ void write_text(const std::filesystem::path& file, const std::string& text) {
   out << text;
   out.close();
   if (!out) throw std::runtime_error(fmt::format("{}: cannot write", file.string()));
-}
-
-std::string json_escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) continue;
-    o += c;
-  }
-  return o;
 }
 
 std::string dxf_polyline(const std::vector<Vec2>& poly, const char* layer) {
@@ -113,11 +105,11 @@ void write_patterns(const std::filesystem::path& dir, const std::vector<PatternP
     for (size_t k = 0; k < p.flat.outline.size(); ++k)
       outline += fmt::format("{}{}", k ? ", " : "", p.node_ids[p.flat.outline[k]]);
     json += fmt::format(
-        "{}\n    {{\"name\": \"{}\", \"area_3d\": {:.17g}, \"area_flat\": {:.17g}, "
+        "{}\n    {{\"name\": {}, \"area_3d\": {:.17g}, \"area_flat\": {:.17g}, "
         "\"area_cut\": {:.17g}, \"max_strain\": {:.17g}, \"iterations\": {},\n     \"outline\": "
         "[{}],\n"
         "     \"nodes\": [{}]}}",
-        i ? "," : "", json_escape(p.name), p.flat.area_3d, p.flat.area_flat,
+        i ? "," : "", json_string(p.name), p.flat.area_3d, p.flat.area_flat,
         std::abs(signed_area(p.cut)), p.flat.max_strain, p.flat.iterations, outline, nodes);
     write_text(dir / (p.name + ".dxf"), panel_dxf(p));
     Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);

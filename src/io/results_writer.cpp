@@ -1,5 +1,6 @@
 #include "velum/io/results_writer.hpp"
 
+#include "velum/io/json_text.hpp"
 #include "velum/parallel/model_piece.hpp"
 #include "velum/parallel/processes.hpp"
 
@@ -68,21 +69,6 @@ constexpr double kDeg = 180.0 / std::numbers::pi;
 
 std::string json_number(double v) {
   return std::isfinite(v) ? fmt::format("{:.12g}", v) : "null";
-}
-
-std::string json_string(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\')
-      o += '\\', o += c;
-    else if (c == '\n')
-      o += "\\n";
-    else if (static_cast<unsigned char>(c) < 0x20)
-      o += fmt::format("\\u{:04x}", static_cast<int>(c));
-    else
-      o += c;
-  }
-  return o + "\"";
 }
 
 }  // namespace

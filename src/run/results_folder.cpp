@@ -6,30 +6,18 @@
 
 #include "progress.hpp"
 #include "run_parts.hpp"
+#include "velum/io/json_text.hpp"
 
 namespace velum::run {
 namespace {
-
-std::string json_escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '"' || c == '\\')
-      o += '\\', o += c;
-    else if (static_cast<unsigned char>(c) < 0x20)
-      o += fmt::format("\\u{:04x}", static_cast<int>(c));
-    else
-      o += c;
-  }
-  return o;
-}
 
 /// Marks DIR as holding a run in progress and removes what a previous run left that the new
 /// one might not overwrite (its frames and their index).
 void begin_results(const std::filesystem::path& dir, const std::filesystem::path& model) {
   write_file_atomically(dir / "summary.json",
-                        fmt::format("{{\n  \"status\": \"running\",\n  \"model\": \"{}\",\n  "
+                        fmt::format("{{\n  \"status\": \"running\",\n  \"model\": {},\n  "
                                     "\"pid\": {}\n}}\n",
-                                    json_escape(model.string()), getpid()));
+                                    json_string(model.string()), getpid()));
   std::error_code ec;
   std::filesystem::remove(dir / "results.pvd", ec);
   if (std::filesystem::is_directory(dir / "frames", ec))
@@ -86,9 +74,9 @@ bool open_results(const ModelInput& input, MechanicalSystem& system,
     try {
       write_file_atomically(
           dir / "summary.json",
-          fmt::format("{{\n  \"status\": \"failed\",\n  \"reason\": \"the results could not be "
-                      "written: {}\",\n  \"model\": \"{}\"\n}}\n",
-                      json_escape(e.what()), json_escape(input.file.string())));
+          fmt::format("{{\n  \"status\": \"failed\",\n  \"reason\": {},\n  \"model\": {}\n}}\n",
+                      json_string(fmt::format("the results could not be written: {}", e.what())),
+                      json_string(input.file.string())));
     } catch (const OutputError&) {
     }
     return false;

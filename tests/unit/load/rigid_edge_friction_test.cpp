@@ -101,7 +101,7 @@ TEST(RigidEdgeFriction, TermMatrixMatchesFiniteDifferencesInStickAndSlip) {
     }
 }
 
-struct Slide {
+struct RidgeSlide {
   bool completed = false;
   std::vector<double> ratio;  ///< per side crossing the ridge
   int stick = 0, slip = 0;
@@ -110,13 +110,13 @@ struct Slide {
 
 // The strip pressed onto a fixed wedge (its ridge 1 mm below the strip) by 2 N at each inner
 // node up to t = 1, then its ends moved along the ridge by `slide` up to t = 2 (static).
-Slide run_slide(double mu, double slide) {
+RidgeSlide run_ridge_slide(double mu, double slide) {
   auto m = test::strip(true, slide);
   add_contact(*m, test::wedge(-1e-3), mu);
   MechanicalSystem sys(*m);
   State s = test::state_from(sys, NodePositions::Zero(3, m->num_nodes()));
   const test::PureNewtonRun run = test::pure_newton_run(sys, s, 2, 0.1, 1.1);
-  Slide out;
+  RidgeSlide out;
   out.completed = run.completed;
   out.first = run.first;
   out.last = run.last;
@@ -141,7 +141,7 @@ Slide run_slide(double mu, double slide) {
 
 TEST(RigidEdgeFriction, SlidingStripIsMuTimesTheNormalForce) {
   for (const double mu : {0.2, 0.5}) {
-    const Slide sl = run_slide(mu, 0.005);
+    const RidgeSlide sl = run_ridge_slide(mu, 0.005);
     ASSERT_TRUE(sl.completed);
     for (const double r : sl.ratio) EXPECT_NEAR(r / mu, 1.0, 1e-6);
     EXPECT_EQ(sl.stick, 0);
@@ -152,7 +152,7 @@ TEST(RigidEdgeFriction, SlidingStripIsMuTimesTheNormalForce) {
 }
 
 TEST(RigidEdgeFriction, StripSticksWhenSlidALittle) {
-  const Slide sl = run_slide(0.5, 1e-8);
+  const RidgeSlide sl = run_ridge_slide(0.5, 1e-8);
   ASSERT_TRUE(sl.completed);
   for (const double r : sl.ratio) {
     EXPECT_LT(r, 0.9 * 0.5);

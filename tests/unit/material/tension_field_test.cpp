@@ -14,7 +14,7 @@
 namespace velum {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
+constexpr double kRadiansPerDegree = std::numbers::pi / 180;
 
 std::vector<std::pair<std::string, PlaneStressLaw>> all_laws() {
   auto laws = test::test_laws();
@@ -60,7 +60,7 @@ TEST(TensionField, E3UniaxialStressPlusWrinkleContractionIsRecoveredExactly) {
       const SheetLaw law = SheetLaw(elastic).with_prestress(S0).with_wrinkling(0.0);
       for (const double deg : {30.0, 60.0, 100.0, 145.0}) {
         for (const double beta : {-1e-3, -0.05}) {
-          const double s = 12.0, th = deg * kDeg;
+          const double s = 12.0, th = deg * kRadiansPerDegree;
           const Vec3 E = wrinkled_strain(elastic.Q(), S0, s, beta, th);
           SheetResponse r;
           law.evaluate(E, r);
@@ -98,7 +98,7 @@ TEST(TensionField, TangentMatchesFiniteDifferencesWhenWrinkledAndSlack) {
         // The tension at 30° and 60° to the stiff axis m1 (E1 > E2 for every law here).
         for (const double deg : {30.0, 60.0})
           for (const double beta : {-2e-3, -0.03})
-            strains.push_back(wrinkled_strain(Q, S0, 8.0, beta, deg * kDeg));
+            strains.push_back(wrinkled_strain(Q, S0, 8.0, beta, deg * kRadiansPerDegree));
       }
       int wrinkled = 0, slack = 0;
       for (int k = 0; k < 400 && (wrinkled < 6 || slack < 3); ++k) {
@@ -173,7 +173,7 @@ TEST(TensionField, SpuriousRootsWithNegativeTensionAreRejected) {
   // projection leaves with principal stresses (4.03, −1.42)): the law's answer is uniaxial.
   const auto ortho = PlaneStressLaw::orthotropic("o", 10000, 1000, 0.3, 500, false);
   const SheetLaw law = SheetLaw(ortho).with_wrinkling(0.0);
-  const double th = 60 * kDeg;
+  const double th = 60 * kRadiansPerDegree;
   const Vec3 E = wrinkled_strain(ortho.Q(), Vec3::Zero(), 4.0, -0.01, th);
   SheetResponse r;
   law.evaluate(E, r);

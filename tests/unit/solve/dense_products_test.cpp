@@ -16,15 +16,15 @@ namespace velum {
 namespace {
 
 template <class T>
-using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+using DenseMatrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
 
 // |computed − exact| within (k + 2) eps (|before| + |A| |B|ᵀ) entry by entry, the exact
 // before + alpha A Bᵀ in long double from the same rounded inputs; with `lower`, the entries on
 // and below the diagonal only.
 template <class T>
-void expect_close(const Matrix<T>& computed, const Matrix<T>& before, T alpha, const Matrix<T>& A,
-                  const Matrix<T>& B, int k, bool lower = false) {
-  using Wide = Matrix<long double>;
+void expect_close(const DenseMatrix<T>& computed, const DenseMatrix<T>& before, T alpha,
+                  const DenseMatrix<T>& A, const DenseMatrix<T>& B, int k, bool lower = false) {
+  using Wide = DenseMatrix<long double>;
   const Wide exact = before.template cast<long double>() +
                      static_cast<long double>(alpha) * (A.template cast<long double>() *
                                                         B.template cast<long double>().transpose());
@@ -44,9 +44,10 @@ void check_gemm(int m, int n, int k, T alpha) {
   SCOPED_TRACE(testing::Message() << "m = " << m << ", n = " << n << ", k = " << k << ", "
                                   << (sizeof(T) == 4 ? "float" : "double"));
   // Column strides larger than the rows (as in the panels): A and B inside taller matrices.
-  const Matrix<T> A_store = Matrix<T>::Random(m + 3, k), B_store = Matrix<T>::Random(n + 5, k);
-  Matrix<T> C_store = Matrix<T>::Random(m + 2, n);
-  const Matrix<T> C_before = C_store;
+  const DenseMatrix<T> A_store = DenseMatrix<T>::Random(m + 3, k),
+                       B_store = DenseMatrix<T>::Random(n + 5, k);
+  DenseMatrix<T> C_store = DenseMatrix<T>::Random(m + 2, n);
+  const DenseMatrix<T> C_before = C_store;
   dense::gemm_abt<T>(m, n, k, alpha, A_store.data() + 1, m + 3, B_store.data() + 2, n + 5,
                      C_store.data(), m + 2);
   expect_close<T>(C_store.topRows(m), C_before.topRows(m), alpha, A_store.middleRows(1, m),
@@ -70,14 +71,14 @@ template <class T>
 void check_syrk(int n, int k, T alpha) {
   SCOPED_TRACE(testing::Message() << "n = " << n << ", k = " << k << ", "
                                   << (sizeof(T) == 4 ? "float" : "double"));
-  const Matrix<T> A_store = Matrix<T>::Random(n + 4, k);
-  Matrix<T> C_store = Matrix<T>::Random(n + 3, n);
-  const Matrix<T> C_before = C_store;
+  const DenseMatrix<T> A_store = DenseMatrix<T>::Random(n + 4, k);
+  DenseMatrix<T> C_store = DenseMatrix<T>::Random(n + 3, n);
+  const DenseMatrix<T> C_before = C_store;
   dense::syrk_lower<T>(n, k, alpha, A_store.data() + 4, n + 4, C_store.data(), n + 3);
   // The strict upper triangle untouched; the lower one (with the diagonal) the product.
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < j; ++i) ASSERT_EQ(C_store(i, j), C_before(i, j)) << i << ", " << j;
-  const Matrix<T> A = A_store.bottomRows(n);
+  const DenseMatrix<T> A = A_store.bottomRows(n);
   expect_close<T>(C_store.topRows(n), C_before.topRows(n), alpha, A, A, k, true);
   EXPECT_TRUE(C_store.bottomRows(3) == C_before.bottomRows(3));
 }
@@ -102,10 +103,10 @@ TEST(DenseProducts, LowerTriangleAgainstItsDefinition) {
 // SupernodalCholesky::update_columns does) gives the whole call's bits.
 TEST(DenseProducts, EntriesIndependentOfTheCall) {
   const int m = 461, k = 300;
-  const Matrix<float> A = Matrix<float>::Random(m, k);
-  Matrix<float> whole = Matrix<float>::Zero(m, m);
+  const DenseMatrix<float> A = DenseMatrix<float>::Random(m, k);
+  DenseMatrix<float> whole = DenseMatrix<float>::Zero(m, m);
   dense::syrk_lower<float>(m, k, 1.0f, A.data(), m, whole.data(), m);
-  Matrix<float> pieces = Matrix<float>::Zero(m, m);
+  DenseMatrix<float> pieces = DenseMatrix<float>::Zero(m, m);
   for (const auto& [begin, end] : {std::pair{0, 5}, {5, 53}, {53, 200}, {200, m}}) {
     const int cols = end - begin, below = m - end;
     dense::syrk_lower<float>(cols, k, 1.0f, A.data() + begin, m, pieces.data() + begin * m + begin,
@@ -123,28 +124,29 @@ template <class T>
 void check_narrow(int m, int n, int k) {
   SCOPED_TRACE(testing::Message() << "m = " << m << ", n = " << n << ", k = " << k << ", "
                                   << (sizeof(T) == 4 ? "float" : "double"));
-  const Matrix<T> A_store = Matrix<T>::Random(m + 3, k), B_store = Matrix<T>::Random(n + 5, k);
-  Matrix<T> C_store = Matrix<T>::Random(m + 2, n);
-  const Matrix<T> C_before = C_store;
+  const DenseMatrix<T> A_store = DenseMatrix<T>::Random(m + 3, k),
+                       B_store = DenseMatrix<T>::Random(n + 5, k);
+  DenseMatrix<T> C_store = DenseMatrix<T>::Random(m + 2, n);
+  const DenseMatrix<T> C_before = C_store;
   dense::gemm_abt_narrow<T>(m, n, k, A_store.data() + 1, m + 3, B_store.data() + 2, n + 5,
                             C_store.data(), m + 2);
   expect_close<T>(C_store.topRows(m), C_before.topRows(m), T(1), A_store.middleRows(1, m),
                   B_store.middleRows(2, n), k);
   EXPECT_TRUE(C_store.bottomRows(2) == C_before.bottomRows(2));
-  Matrix<T> packed = C_before;
+  DenseMatrix<T> packed = C_before;
   dense::gemm_abt<T>(m, n, k, T(1), A_store.data() + 1, m + 3, B_store.data() + 2, n + 5,
                      packed.data(), m + 2);
   EXPECT_TRUE(packed == C_store);
   // The lower-triangle form, n x n.
-  Matrix<T> L_store = Matrix<T>::Random(n + 3, n);
-  const Matrix<T> L_before = L_store;
+  DenseMatrix<T> L_store = DenseMatrix<T>::Random(n + 3, n);
+  const DenseMatrix<T> L_before = L_store;
   dense::syrk_lower_narrow<T>(n, k, B_store.data() + 2, n + 5, L_store.data(), n + 3);
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < j; ++i) ASSERT_EQ(L_store(i, j), L_before(i, j)) << i << ", " << j;
-  const Matrix<T> B = B_store.middleRows(2, n);
+  const DenseMatrix<T> B = B_store.middleRows(2, n);
   expect_close<T>(L_store.topRows(n), L_before.topRows(n), T(1), B, B, k, true);
   EXPECT_TRUE(L_store.bottomRows(3) == L_before.bottomRows(3));
-  Matrix<T> L_packed = L_before;
+  DenseMatrix<T> L_packed = L_before;
   dense::syrk_lower<T>(n, k, T(1), B_store.data() + 2, n + 5, L_packed.data(), n + 3);
   EXPECT_TRUE(L_packed == L_store);
 }
@@ -169,8 +171,9 @@ TEST(DenseProducts, NarrowProductsAgainstTheirDefinitionAndThePackedBits) {
   }
   // Cut as SupernodalCholesky::update_columns cuts an update: the whole call's bits.
   const int m = 173, k = 24;
-  const Matrix<float> A = Matrix<float>::Random(m, k);
-  Matrix<float> whole = Matrix<float>::Zero(m, m), pieces = Matrix<float>::Zero(m, m);
+  const DenseMatrix<float> A = DenseMatrix<float>::Random(m, k);
+  DenseMatrix<float> whole = DenseMatrix<float>::Zero(m, m),
+                     pieces = DenseMatrix<float>::Zero(m, m);
   dense::syrk_lower_narrow<float>(m, k, A.data(), m, whole.data(), m);
   for (const auto& [begin, end] : {std::pair{0, 5}, {5, 53}, {53, 100}, {100, m}}) {
     const int cols = end - begin, below = m - end;
