@@ -63,7 +63,7 @@ TEST(SheetFriction, PairTangentMatchesCentralDifferences) {
   }
 }
 
-constexpr double kT = 1e-3, kE = 1e9, kQ = 2000.0;
+constexpr double kSheetThickness = 1e-3, kSheetModulus = 1e9, kPressure = 2000.0;
 
 struct Pulled {
   std::unique_ptr<Model> m;
@@ -83,17 +83,19 @@ Pulled pulled_sheet(double mu, double pull) {
     std::vector<int> conn;
     const double a = layer ? 0.2 : 0.4, o = layer ? x0 : 0.0;
     test::mesh_patch(
-        nodes, [&](double u, double v) { return Vec3(o + a * u, o + a * v, layer * kT); },
+        nodes,
+        [&](double u, double v) { return Vec3(o + a * u, o + a * v, layer * kSheetThickness); },
         layer ? 4 : 8, layer ? 4 : 8, "quad4", conn);
-    const double S = layer ? 1000.0 / kT : 0.0;
+    const double S = layer ? 1000.0 / kSheetThickness : 0.0;
     test::add_membrane(
         m, "quad4", std::move(conn),
-        SheetLaw(PlaneStressLaw::isotropic("iso", kE, 0.3)).with_prestress({S, S, 0}), 1000.0, kT);
+        SheetLaw(PlaneStressLaw::isotropic("iso", kSheetModulus, 0.3)).with_prestress({S, S, 0}),
+        1000.0, kSheetThickness);
   }
   std::vector<int> lower, upper;
   for (int i = 0; i < m.num_nodes(); ++i) {
     const Vec3 X = m.X.col(i);
-    if (X.z() < 0.5 * kT) {
+    if (X.z() < 0.5 * kSheetThickness) {
       lower.push_back(i);
       continue;
     }
@@ -106,7 +108,7 @@ Pulled pulled_sheet(double mu, double pull) {
     // The node's area: h² inside, halved on an edge.
     const bool ey = X.y() < x0 + 1e-9 || X.y() > x0 + 0.2 - 1e-9;
     const double area = h * h * (ey ? 0.5 : 1.0);
-    m.point_loads.push_back({{i}, Vec3(0, 0, -kQ * area), -1});
+    m.point_loads.push_back({{i}, Vec3(0, 0, -kPressure * area), -1});
   }
   m.fixed.push_back({lower, {true, true, true}});
   m.fixed.push_back({upper, {false, true, false}});
