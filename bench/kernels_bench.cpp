@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "rotated_stretch.hpp"
 #include "velum/element/cable.hpp"
 #include "velum/element/membrane.hpp"
 #include "velum/material/plane_stress.hpp"
@@ -21,11 +22,7 @@ PlaneStressLaw bench_law() {
   return PlaneStressLaw::anisotropic("bench", c);
 }
 
-Mat3 deformation() {
-  Mat3 F;
-  F << 1.08, 0.05, 0.0, -0.03, 0.97, 0.0, 0.02, 0.04, 1.0;
-  return Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()).toRotationMatrix() * F;
-}
+using velum::bench::rotated_stretch;
 
 template <class Shape>
 struct MembraneCase {
@@ -49,7 +46,7 @@ struct MembraneCase {
         {Vec3(std::cos(th), std::sin(th), 0), Vec3(-std::sin(th), std::cos(th), 0), Vec3::UnitZ()},
         M::centre_normal(X));
     M::setup(X, bench_law().Q(), axes, 0.01, pts);
-    x = deformation() * X;
+    x = rotated_stretch() * X;
   }
 };
 
@@ -143,7 +140,7 @@ struct CableCase {
     X.col(1) = Vec3(1, 0.2, 0.1);
     if constexpr (Shape::kNodes == 3) X.col(2) = Vec3(0.5, 0.12, 0.04);
     C::setup(X, law.E, 2.2783e-4, pts);
-    x = 1.01 * deformation() * X;
+    x = 1.01 * rotated_stretch() * X;
   }
 };
 

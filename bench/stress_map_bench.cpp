@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "rotated_stretch.hpp"
 #include "velum/element/membrane.hpp"
 #include "velum/material/plane_stress.hpp"
 #include "velum/material/sheet_law.hpp"
@@ -55,11 +56,7 @@ class PointwiseLinear final : public SheetLawBase {
   LinearSheetLaw law_;
 };
 
-Mat3 rotated_stretch() {
-  Mat3 F;
-  F << 1.08, 0.05, 0.0, -0.03, 0.97, 0.0, 0.02, 0.04, 1.0;
-  return Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()).toRotationMatrix() * F;
-}
+using velum::bench::rotated_stretch;
 
 template <class Shape>
 struct ElementCase {
