@@ -4,7 +4,6 @@
 // of size ~1 with axes at 30 degrees, in a deformed state (stretch, shear and rotation).
 #include <benchmark/benchmark.h>
 
-#include <Eigen/Geometry>
 #include <cmath>
 
 #include "rotated_stretch.hpp"

@@ -4,7 +4,6 @@
 // deformed state of kernels_bench.cpp. items_per_second counts integration points.
 #include <benchmark/benchmark.h>
 
-#include <Eigen/Geometry>
 #include <cmath>
 
 #include "rotated_stretch.hpp"
